@@ -1,0 +1,269 @@
+#include "host/cl/runtime.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "host/cl/embedded_kernels.h"
+#include "host/error.h"
+
+namespace caustica {
+namespace {
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+std::string trim(std::string s) {
+  while (!s.empty() && (s.back() == '\0' || std::isspace(static_cast<unsigned char>(s.back())))) s.pop_back();
+  size_t i = 0;
+  while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+  return s.substr(i);
+}
+
+std::string type_name(cl_device_type t) {
+  if (t & CL_DEVICE_TYPE_GPU) return "gpu";
+  if (t & CL_DEVICE_TYPE_CPU) return "cpu";
+  if (t & CL_DEVICE_TYPE_ACCELERATOR) return "accelerator";
+  return "other";
+}
+
+uint64_t fnv1a(const std::string& s, uint64_t h = 1469598103934665603ull) {
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+const std::map<std::string, const std::string*>& embedded_index() {
+  static const std::map<std::string, const std::string*> index = [] {
+    std::map<std::string, const std::string*> m;
+    for (const auto& f : embedded_kernel_files()) m[f.path] = &f.text;
+    return m;
+  }();
+  return index;
+}
+
+void expand_into(const std::string& name, const std::string& text, std::set<std::string>& included,
+                 std::ostringstream& out) {
+  out << "#line 1 \"" << name << "\"\n";
+  std::istringstream in(text);
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    std::string t = trim(line);
+    if (t.rfind("#include", 0) == 0) {
+      size_t q0 = t.find('"');
+      size_t q1 = q0 == std::string::npos ? q0 : t.find('"', q0 + 1);
+      if (q0 != std::string::npos && q1 != std::string::npos) {
+        std::string inc = t.substr(q0 + 1, q1 - q0 - 1);
+        // Shared headers are written relative to the repository root for the
+        // C++ side ("kernels/shared/types.h"); accept both spellings.
+        if (inc.rfind("kernels/", 0) == 0) inc = inc.substr(8);
+        const auto& index = embedded_index();
+        auto it = index.find(inc);
+        if (it == index.end())
+          throw Error(name + ":" + std::to_string(line_no) + ": kernel include \"" + inc +
+                      "\" is not an embedded kernel file (kernels/" + inc + ")");
+        if (included.insert(inc).second) expand_into(inc, *it->second, included, out);
+        out << "#line " << (line_no + 1) << " \"" << name << "\"\n";
+        continue;
+      }
+    }
+    out << line << '\n';
+  }
+}
+
+std::string device_string(const cl::Device& d, cl_device_info what) {
+  std::string s;
+  d.getInfo(what, &s);
+  return trim(s);
+}
+
+}  // namespace
+
+std::string cl_error_name(cl_int code) {
+  switch (code) {
+    case CL_DEVICE_NOT_FOUND: return "CL_DEVICE_NOT_FOUND";
+    case CL_OUT_OF_RESOURCES: return "CL_OUT_OF_RESOURCES";
+    case CL_OUT_OF_HOST_MEMORY: return "CL_OUT_OF_HOST_MEMORY";
+    case CL_MEM_OBJECT_ALLOCATION_FAILURE: return "CL_MEM_OBJECT_ALLOCATION_FAILURE";
+    case CL_BUILD_PROGRAM_FAILURE: return "CL_BUILD_PROGRAM_FAILURE";
+    case CL_INVALID_VALUE: return "CL_INVALID_VALUE";
+    case CL_INVALID_KERNEL_ARGS: return "CL_INVALID_KERNEL_ARGS";
+    case CL_INVALID_WORK_GROUP_SIZE: return "CL_INVALID_WORK_GROUP_SIZE";
+    case CL_INVALID_BUFFER_SIZE: return "CL_INVALID_BUFFER_SIZE";
+    case CL_PLATFORM_NOT_FOUND_KHR: return "CL_PLATFORM_NOT_FOUND_KHR (no OpenCL driver installed)";
+    default: return "OpenCL error " + std::to_string(code);
+  }
+}
+
+std::string expand_kernel_source(const std::string& root_name, const std::string& root_text) {
+  std::set<std::string> included{root_name};
+  std::ostringstream out;
+  expand_into(root_name, root_text, included, out);
+  return out.str();
+}
+
+std::vector<DeviceInfo> list_devices() {
+  std::vector<DeviceInfo> result;
+  std::vector<cl::Platform> platforms;
+  cl_int err = cl::Platform::get(&platforms);
+  if (err != CL_SUCCESS && err != CL_PLATFORM_NOT_FOUND_KHR)
+    throw Error("cannot list OpenCL platforms: " + cl_error_name(err));
+  for (size_t p = 0; p < platforms.size(); ++p) {
+    std::vector<cl::Device> devices;
+    try {
+      platforms[p].getDevices(CL_DEVICE_TYPE_ALL, &devices);
+    } catch (const cl::Error&) {
+      continue;  // a platform without devices
+    }
+    std::string pname;
+    platforms[p].getInfo(CL_PLATFORM_NAME, &pname);
+    for (auto& d : devices) {
+      DeviceInfo info;
+      info.index = static_cast<int>(result.size());
+      info.platform_index = static_cast<int>(p);
+      info.platform_name = trim(pname);
+      info.name = device_string(d, CL_DEVICE_NAME);
+      info.vendor = device_string(d, CL_DEVICE_VENDOR);
+      info.device_version = device_string(d, CL_DEVICE_VERSION);
+      info.driver_version = device_string(d, CL_DRIVER_VERSION);
+      info.type = type_name(d.getInfo<CL_DEVICE_TYPE>());
+      info.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+      info.global_mem_bytes = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+      info.device = d;
+      result.push_back(info);
+    }
+  }
+  return result;
+}
+
+DeviceInfo select_device(const std::string& requested) {
+  std::string spec = requested;
+  if (spec.empty()) {
+    if (const char* env = std::getenv("CAUSTICA_DEVICE")) spec = env;
+  }
+  auto devices = list_devices();
+  if (devices.empty())
+    throw Error("no OpenCL device found: install an OpenCL driver (Debian: apt-get install pocl-opencl-icd)");
+  auto listing = [&] {
+    std::string s = "available devices:";
+    for (auto& d : devices) s += "\n  [" + std::to_string(d.index) + "] " + d.type + "  " + d.name + "  (" + d.platform_name + ")";
+    return s;
+  };
+  std::string s = lower(trim(spec));
+  if (s.empty()) {
+    for (auto& d : devices)
+      if (d.type == "gpu") return d;
+    for (auto& d : devices)
+      if (d.type == "cpu") return d;
+    return devices.front();
+  }
+  if (std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); })) {
+    size_t idx = std::stoul(s);
+    if (idx < devices.size()) return devices[idx];
+    throw Error("--device " + spec + ": no device with that index; " + listing());
+  }
+  if (s == "cpu" || s == "gpu") {
+    for (auto& d : devices)
+      if (d.type == s) return d;
+    throw Error("--device " + spec + ": no " + s + " device; " + listing());
+  }
+  for (auto& d : devices)
+    if (lower(d.name).find(s) != std::string::npos || lower(d.platform_name).find(s) != std::string::npos) return d;
+  throw Error("--device " + spec + ": no device name or platform contains \"" + spec + "\"; " + listing());
+}
+
+Runtime::Runtime(const DeviceInfo& device) : info_(device) {
+  try {
+    context_ = cl::Context(info_.device);
+    queue_ = cl::CommandQueue(context_, info_.device);
+  } catch (const cl::Error& e) {
+    throw Error("cannot create an OpenCL context on " + info_.name + ": " + e.what() + " (" + cl_error_name(e.err()) + ")");
+  }
+}
+
+std::string Runtime::cache_directory() {
+  if (const char* env = std::getenv("CAUSTICA_CACHE_DIR")) return env;
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME")) return std::string(xdg) + "/caustica";
+  if (const char* home = std::getenv("HOME")) return std::string(home) + "/.cache/caustica";
+  return "/tmp/caustica-cache";
+}
+
+BuiltProgram Runtime::build_file(const std::string& path, const std::string& options) {
+  const auto& index = embedded_index();
+  auto it = index.find(path);
+  if (it == index.end()) throw Error("kernel file \"" + path + "\" is not embedded in this binary");
+  return build_source(path, *it->second, options);
+}
+
+BuiltProgram Runtime::build_source(const std::string& name, const std::string& text, const std::string& raw_options) {
+  const std::string source = expand_kernel_source(name, text);
+  const std::string options = "-cl-std=CL1.2 " + raw_options;
+  auto t0 = std::chrono::steady_clock::now();
+  BuiltProgram built;
+
+  uint64_t key = fnv1a(source);
+  key = fnv1a(options, key);
+  key = fnv1a(info_.platform_name + "|" + info_.name + "|" + info_.driver_version + "|" + info_.device_version, key);
+  char key_hex[17];
+  std::snprintf(key_hex, sizeof key_hex, "%016llx", static_cast<unsigned long long>(key));
+  const std::filesystem::path cache_file = std::filesystem::path(cache_directory()) / (std::string(key_hex) + ".bin");
+
+  if (cache_enabled_) {
+    std::ifstream in(cache_file, std::ios::binary);
+    if (in) {
+      std::vector<unsigned char> binary((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      try {
+        cl::Program::Binaries binaries{binary};
+        cl::Program program(context_, {info_.device}, binaries);
+        program.build({info_.device}, options.c_str());
+        built.program = program;
+        built.from_cache = true;
+      } catch (const cl::Error&) {
+        built.from_cache = false;  // stale or foreign binary: rebuild below
+      }
+    }
+  }
+  if (!built.from_cache) {
+    cl::Program program(context_, source);
+    try {
+      program.build({info_.device}, options.c_str());
+    } catch (const cl::Error&) {
+      std::string log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device);
+      throw Error("OpenCL kernel build failed for " + name + " on " + info_.name + " with options [" + options +
+                  "]:\n" + log);
+    }
+    built.program = program;
+    if (cache_enabled_) {
+      try {
+        auto binaries = program.getInfo<CL_PROGRAM_BINARIES>();
+        if (!binaries.empty() && !binaries[0].empty()) {
+          std::error_code ec;
+          std::filesystem::create_directories(cache_file.parent_path(), ec);
+          const auto tmp = cache_file.string() + ".tmp" + std::to_string(std::rand());
+          std::ofstream out(tmp, std::ios::binary);
+          out.write(reinterpret_cast<const char*>(binaries[0].data()), static_cast<std::streamsize>(binaries[0].size()));
+          out.close();
+          std::filesystem::rename(tmp, cache_file, ec);  // atomic publish; concurrent writers are harmless
+        }
+      } catch (const std::exception&) {
+        // A cache that cannot be written only costs the next run a cold build.
+      }
+    }
+  }
+  built.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return built;
+}
+
+}  // namespace caustica

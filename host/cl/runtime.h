@@ -1,0 +1,77 @@
+// OpenCL plumbing: device listing and portable selection, a context + queue,
+// and program builds from the embedded kernel sources with an on-disk cache of
+// built binaries keyed by (source hash, options, device, driver).
+#pragma once
+
+#include <CL/opencl.hpp>
+
+#include <string>
+#include <vector>
+
+namespace caustica {
+
+struct DeviceInfo {
+  int index = -1;  // position in list_devices(), across all platforms
+  int platform_index = -1;
+  std::string platform_name;
+  std::string name;
+  std::string vendor;
+  std::string type;  // "cpu", "gpu", "accelerator", "other"
+  std::string device_version;
+  std::string driver_version;
+  unsigned compute_units = 0;
+  size_t global_mem_bytes = 0;
+  cl::Device device;
+};
+
+std::vector<DeviceInfo> list_devices();
+
+// spec: "" (then $CAUSTICA_DEVICE, then the default: first GPU, else first
+// CPU, else device 0), a decimal index, "cpu", "gpu", or a case-insensitive
+// substring of the device or platform name. Throws caustica::Error listing
+// the available devices when nothing matches.
+DeviceInfo select_device(const std::string& spec);
+
+struct BuiltProgram {
+  cl::Program program;
+  double build_ms = 0.0;  // wall time of compile (cold) or cache load + link (warm)
+  bool from_cache = false;
+};
+
+// Expands `#include "..."` directives against the embedded kernel files
+// (paths relative to kernels/), each file once, with #line markers so build
+// logs point at the original file and line.
+std::string expand_kernel_source(const std::string& root_name, const std::string& root_text);
+
+class Runtime {
+ public:
+  explicit Runtime(const DeviceInfo& device);
+
+  const DeviceInfo& device_info() const { return info_; }
+  cl::Context& context() { return context_; }
+  cl::CommandQueue& queue() { return queue_; }
+
+  // Builds an embedded kernel file (e.g. "render.cl") with the given -D
+  // options. Throws caustica::Error with the build log on failure.
+  BuiltProgram build_file(const std::string& path, const std::string& options);
+  // Builds source text that may #include embedded files (used by tests).
+  BuiltProgram build_source(const std::string& name, const std::string& text, const std::string& options);
+
+  // Disables the on-disk cache (tests that time or exercise cold builds).
+  void set_cache_enabled(bool enabled) { cache_enabled_ = enabled; }
+  static std::string cache_directory();
+
+ private:
+  DeviceInfo info_;
+  cl::Context context_;
+  cl::CommandQueue queue_;
+  bool cache_enabled_ = true;
+};
+
+// Rounds n up to a multiple of the local size (PoCL picks local size 1 for
+// awkward global sizes).
+inline size_t round_up(size_t n, size_t multiple) { return (n + multiple - 1) / multiple * multiple; }
+
+std::string cl_error_name(cl_int code);
+
+}  // namespace caustica

@@ -1,0 +1,117 @@
+/* Device data layout shared by the C++ host and OpenCL C kernels.
+ *
+ * Rules: plain C only; every struct is a multiple of 16 bytes with explicit
+ * padding; vectors are 16-byte float4 (xyz used, w documented per field);
+ * the host static_asserts every sizeof/offsetof (host/cl/layout_check.cpp).
+ * Nothing here may depend on the scene: scene-dependent choices are -D flags
+ * (see host/scene/features.h), kept coarse so programs stay cacheable. */
+#ifndef CAUSTICA_SHARED_TYPES_H
+#define CAUSTICA_SHARED_TYPES_H
+
+#ifdef __OPENCL_C_VERSION__
+typedef float4 cs_float4;
+typedef uint cs_uint;
+typedef int cs_int;
+#define CS_ALIGN16
+#else
+#include <cstdint>
+struct alignas(16) cs_float4 {
+  float x, y, z, w;
+};
+typedef uint32_t cs_uint;
+typedef int32_t cs_int;
+#endif
+
+/* Primitive references in BVH leaf order: type in the top 2 bits, index into
+ * that type's array in the low 30 bits. */
+#define PRIM_SPHERE 0u
+#define PRIM_CYLINDER 1u
+#define PRIM_TRIANGLE 2u
+#define PRIM_TYPE_SHIFT 30u
+#define PRIM_INDEX_MASK 0x3FFFFFFFu
+#define PRIM_NONE 0xFFFFFFFFu
+
+typedef struct {
+  cs_float4 center_radius; /* xyz centre, w radius */
+  cs_uint material;
+  cs_uint pad0, pad1, pad2;
+} Sphere; /* 32 bytes */
+
+typedef struct {
+  cs_float4 center_radius; /* xyz centre, w radius */
+  cs_float4 axis_half;     /* xyz unit axis, w half length (the JSON "height") */
+  cs_uint material;
+  cs_uint pad0, pad1, pad2;
+} Cylinder; /* 48 bytes */
+
+typedef struct {
+  cs_float4 v0, v1, v2; /* xyz positions, w unused (0) */
+  cs_uint material;
+  cs_uint pad0, pad1, pad2;
+} Triangle; /* 64 bytes */
+
+/* Flattened BVH2 node, depth-first: an inner node's left child is the next
+ * node, its right child is `offset`; a leaf (count > 0) owns prim refs
+ * [offset, offset + count). */
+typedef struct {
+  float lo_x, lo_y, lo_z;
+  cs_uint offset;
+  float hi_x, hi_y, hi_z;
+  cs_uint count;
+} BvhNode; /* 32 bytes */
+
+#define MATERIAL_REFLECTIVE 1u
+#define MATERIAL_REFRACTIVE 2u
+
+typedef struct {
+  cs_float4 diffuse;  /* rgb diffuse colour, w = kd */
+  cs_float4 specular; /* rgb specular colour, w = ks */
+  float specular_exponent;
+  float reflectivity; /* weight of the mirror ray when MATERIAL_REFLECTIVE */
+  float ior;          /* refractive index when MATERIAL_REFRACTIVE */
+  float ka;           /* ambient coefficient (times the diffuse colour) */
+  cs_uint flags;
+  cs_int texture; /* -1: none (textures arrive with the scene-breadth work) */
+  cs_uint pad0, pad1;
+} Material; /* 64 bytes */
+
+typedef struct {
+  cs_float4 position;  /* xyz, w unused */
+  cs_float4 intensity; /* rgb, w unused */
+} PointLight; /* 32 bytes */
+
+/* Pinhole camera: a pixel centre (px + 0.5, py + 0.5) maps to
+ * forward + (2 (px+0.5)/W - 1) * right + (1 - 2 (py+0.5)/H) * up, where
+ * right and up are pre-scaled by tan(fov/2) * aspect and tan(fov/2). */
+typedef struct {
+  cs_float4 position;
+  cs_float4 forward; /* unit */
+  cs_float4 right;   /* scaled */
+  cs_float4 up;      /* scaled */
+  cs_uint width, height;
+  cs_uint pixel_offset; /* first pixel of this chunk (row-major) */
+  cs_uint pixel_count;  /* pixels in this chunk */
+} CameraGPU; /* 80 bytes */
+
+#define RENDER_MODE_BINARY 0u
+#define RENDER_MODE_PHONG 1u
+
+/* Per-launch constants of the shading stage. */
+typedef struct {
+  cs_float4 background; /* rgb, w unused */
+  cs_uint mode;
+  cs_uint light_count;
+  cs_uint max_depth;   /* nbounces: secondary rays are spawned while depth < max_depth */
+  cs_uint ray_capacity;
+  cs_uint shadow_capacity;
+  float min_weight; /* rays whose weight falls below this are not spawned */
+  cs_uint pad0, pad1;
+} ShadeParams; /* 48 bytes */
+
+/* Film contributions are accumulated as 64-bit fixed point so that the sum is
+ * independent of the order in which work-items add (deterministic images on
+ * any device, thread count or work-group size). */
+#define FILM_FIXED_SCALE 16777216.0f /* 2^24 */
+#define FILM_MAX_CONTRIBUTION 65536.0f
+
+#endif /* CAUSTICA_SHARED_TYPES_H */

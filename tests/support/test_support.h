@@ -1,0 +1,26 @@
+// Helpers shared by the test executables: one OpenCL runtime on the test
+// device (PoCL's CPU device unless CAUSTICA_TEST_DEVICE says otherwise), paths
+// to the repository and to ../shared (tests that need it skip when absent).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "host/cl/runtime.h"
+
+namespace caustica::test {
+
+Runtime& runtime();
+std::string source_dir();
+// "<repo>/../shared" or $CAUSTICA_SHARED_DIR; empty when it does not exist.
+std::string shared_dir();
+std::string binary_path();  // the caustica executable
+// A fresh temporary directory for this test.
+std::string temp_dir();
+
+}  // namespace caustica::test
+
+#define CAUSTICA_REQUIRE_SHARED(var)                                   \
+  const std::string var = ::caustica::test::shared_dir();              \
+  if (var.empty()) GTEST_SKIP() << "../shared not present: skipped"
