@@ -1,0 +1,311 @@
+#include "host/image/image_io.h"
+
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+#include <tinyexr.h>  // Debian's libtinyexr.so carries the implementation
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
+
+namespace caustica {
+namespace {
+
+constexpr const char* kSupported = ".ppm, .png, .pfm, .exr";
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+[[noreturn]] void fail_write(const std::string& path, const std::string& why) {
+  throw Error("cannot write image '" + path + "': " + why);
+}
+
+[[noreturn]] void fail_read(const std::string& path, const std::string& why) {
+  throw Error("cannot read image '" + path + "': " + why);
+}
+
+std::string size_str(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+template <typename Img>
+void check_consistent(const std::string& path, const Img& img) {
+  if (img.width <= 0 || img.height <= 0)
+    fail_write(path, "image is empty (" + size_str(img.width, img.height) + ")");
+  if (img.rgb.size() != img.pixel_count() * 3)
+    fail_write(path, "image says " + size_str(img.width, img.height) + " but holds " +
+                         std::to_string(img.rgb.size()) + " values");
+}
+
+struct FileCloser {
+  void operator()(std::FILE* f) const {
+    if (f) std::fclose(f);
+  }
+};
+using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
+
+FilePtr open_for_write(const std::string& path) {
+  FilePtr f(std::fopen(path.c_str(), "wb"));
+  if (!f) fail_write(path, std::string("could not open for writing: ") + std::strerror(errno));
+  return f;
+}
+
+void write_all(const std::string& path, FilePtr f, const std::string& bytes) {
+  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f.get()) == bytes.size();
+  std::FILE* raw = f.release();
+  // fclose flushes: a full disk often only shows up here.
+  if (std::fclose(raw) != 0 || !ok) fail_write(path, std::string("write failed: ") + std::strerror(errno));
+}
+
+std::string read_all(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail_read(path, std::string("could not open: ") + std::strerror(errno));
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+void write_ppm(const std::string& path, const Image8& img) {
+  auto f = open_for_write(path);
+  std::string out = "P3\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n255\n";
+  out.reserve(out.size() + img.rgb.size() * 4);
+  for (size_t i = 0; i < img.rgb.size(); i += 3) {
+    out += std::to_string(img.rgb[i]);
+    out += ' ';
+    out += std::to_string(img.rgb[i + 1]);
+    out += ' ';
+    out += std::to_string(img.rgb[i + 2]);
+    out += '\n';
+  }
+  write_all(path, std::move(f), out);
+}
+
+void write_png(const std::string& path, const Image8& img) {
+  if (!stbi_write_png(path.c_str(), img.width, img.height, 3, img.rgb.data(), img.width * 3))
+    fail_write(path, "stb_image_write could not write the PNG (is the directory there and writable?)");
+}
+
+void put_le32(std::string& out, float v) {
+  uint32_t bits;
+  std::memcpy(&bits, &v, 4);
+  for (int b = 0; b < 4; ++b) out += static_cast<char>((bits >> (8 * b)) & 0xffu);
+}
+
+void write_pfm(const std::string& path, const ImageF& hdr, float scale) {
+  auto f = open_for_write(path);
+  // Negative scale = little-endian; the magnitude is conventionally 1.
+  std::string out = "PF\n" + std::to_string(hdr.width) + " " + std::to_string(hdr.height) + "\n-1.0\n";
+  out.reserve(out.size() + hdr.rgb.size() * 4);
+  for (int y = hdr.height - 1; y >= 0; --y) {  // PFM stores the bottom row first
+    const float* row = hdr.at(0, y);
+    for (int i = 0; i < hdr.width * 3; ++i) put_le32(out, row[i] * scale);
+  }
+  write_all(path, std::move(f), out);
+}
+
+// Our own SaveEXR: the library's returns early on a write error without
+// freeing its header arrays, so every failed write would leak. Here the
+// header and planes live in vectors.
+void write_exr(const std::string& path, const ImageF& hdr, float scale) {
+  const size_t n = hdr.pixel_count();
+  // Planar channels in B, G, R order, the order EXR viewers expect.
+  std::vector<float> planes[3];
+  for (int c = 0; c < 3; ++c) {
+    planes[c].resize(n);
+    const int src = 2 - c;
+    for (size_t i = 0; i < n; ++i) planes[c][i] = hdr.rgb[3 * i + src] * scale;
+  }
+  unsigned char* plane_ptrs[3];
+  for (int c = 0; c < 3; ++c) plane_ptrs[c] = reinterpret_cast<unsigned char*>(planes[c].data());
+
+  EXRImage image;
+  InitEXRImage(&image);
+  image.num_channels = 3;
+  image.images = plane_ptrs;
+  image.width = hdr.width;
+  image.height = hdr.height;
+
+  std::vector<EXRChannelInfo> channels(3);
+  const char* names[3] = {"B", "G", "R"};
+  for (int c = 0; c < 3; ++c) {
+    std::memset(&channels[c], 0, sizeof(EXRChannelInfo));
+    std::strncpy(channels[c].name, names[c], sizeof(channels[c].name) - 1);
+    channels[c].x_sampling = channels[c].y_sampling = 1;
+  }
+  // Full float in and out: references keep their precision.
+  std::vector<int> pixel_types(3, TINYEXR_PIXELTYPE_FLOAT), requested(3, TINYEXR_PIXELTYPE_FLOAT);
+  EXRHeader header;
+  InitEXRHeader(&header);
+  header.num_channels = 3;
+  header.channels = channels.data();
+  header.pixel_types = pixel_types.data();
+  header.requested_pixel_types = requested.data();
+  header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
+
+  const char* err = nullptr;
+  const int rc = SaveEXRImageToFile(&image, &header, path.c_str(), &err);
+  if (rc != TINYEXR_SUCCESS) {
+    std::string why = err ? err : ("tinyexr error " + std::to_string(rc));
+    if (err) FreeEXRErrorMessage(err);
+    fail_write(path, why);
+  }
+}
+
+// ASCII PPM: '#' comments may appear between any two tokens.
+Image8 read_p3(const std::string& path, const std::string& bytes) {
+  size_t pos = 2;  // past "P3"
+  auto next_int = [&](const char* what) -> long {
+    for (;;) {
+      while (pos < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[pos]))) ++pos;
+      if (pos < bytes.size() && bytes[pos] == '#') {
+        while (pos < bytes.size() && bytes[pos] != '\n') ++pos;
+        continue;
+      }
+      break;
+    }
+    size_t start = pos;
+    long v = 0;
+    while (pos < bytes.size() && std::isdigit(static_cast<unsigned char>(bytes[pos]))) {
+      v = v * 10 + (bytes[pos] - '0');
+      if (v > 1000000000L) fail_read(path, std::string("P3 ") + what + " is out of range");
+      ++pos;
+    }
+    if (pos == start) fail_read(path, std::string("P3 file ends or is malformed where the ") + what + " should be");
+    return v;
+  };
+  const long w = next_int("width"), h = next_int("height"), maxval = next_int("maxval");
+  if (w <= 0 || h <= 0 || w > 65535 || h > 65535) fail_read(path, "P3 size " + size_str(w, h) + " is not valid");
+  if (maxval <= 0 || maxval > 65535) fail_read(path, "P3 maxval " + std::to_string(maxval) + " is not in 1..65535");
+  Image8 img(static_cast<int>(w), static_cast<int>(h));
+  for (auto& out : img.rgb) {
+    const long v = next_int("pixel value");
+    if (v > maxval) fail_read(path, "P3 value " + std::to_string(v) + " exceeds maxval " + std::to_string(maxval));
+    out = static_cast<uint8_t>((v * 255 + maxval / 2) / maxval);
+  }
+  return img;
+}
+
+}  // namespace
+
+bool is_hdr_path(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  return ext == ".pfm" || ext == ".exr";
+}
+
+void write_image(const std::string& path, const ImageF& hdr, const DisplaySettings& display) {
+  const std::string ext = lower_extension(path);
+  if (ext != ".ppm" && ext != ".png" && ext != ".pfm" && ext != ".exr")
+    fail_write(path, "unknown extension '" + ext + "' (supported: " + kSupported + ")");
+  check_consistent(path, hdr);
+  validate(display);
+  if (ext == ".pfm") return write_pfm(path, hdr, display.exposure_scale);
+  if (ext == ".exr") return write_exr(path, hdr, display.exposure_scale);
+  write_image8(path, to_display(hdr, display));
+}
+
+void write_image8(const std::string& path, const Image8& img) {
+  const std::string ext = lower_extension(path);
+  if (ext != ".ppm" && ext != ".png")
+    fail_write(path, "unknown extension '" + ext + "' for an 8-bit image (supported: .ppm, .png)");
+  check_consistent(path, img);
+  if (ext == ".ppm") return write_ppm(path, img);
+  write_png(path, img);
+}
+
+Image8 read_image8(const std::string& path) {
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail_read(path, std::string("could not open: ") + std::strerror(errno));
+    char magic[2] = {0, 0};
+    in.read(magic, 2);
+    if (magic[0] == 'P' && magic[1] == '3') return read_p3(path, read_all(path));
+  }
+  int w = 0, h = 0, n = 0;
+  std::unique_ptr<unsigned char, void (*)(void*)> data(stbi_load(path.c_str(), &w, &h, &n, 3), stbi_image_free);
+  if (!data) {
+    const char* why = stbi_failure_reason();
+    fail_read(path, std::string("stb_image: ") + (why ? why : "unknown error"));
+  }
+  Image8 img(w, h);
+  std::memcpy(img.rgb.data(), data.get(), img.rgb.size());
+  return img;
+}
+
+ImageF read_pfm(const std::string& path) {
+  const std::string bytes = read_all(path);
+  size_t pos = 0;
+  auto token = [&](const char* what) {
+    while (pos < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[pos]))) ++pos;
+    size_t start = pos;
+    while (pos < bytes.size() && !std::isspace(static_cast<unsigned char>(bytes[pos]))) ++pos;
+    if (pos == start) fail_read(path, std::string("PFM header ends before the ") + what);
+    return bytes.substr(start, pos - start);
+  };
+  const std::string magic = token("magic");
+  int channels = 0;
+  if (magic == "PF") channels = 3;
+  else if (magic == "Pf") channels = 1;
+  else fail_read(path, "not a PFM file (magic '" + magic.substr(0, 8) + "', expected PF or Pf)");
+  const std::string ws = token("width"), hs = token("height"), ss = token("scale");
+  char* end = nullptr;
+  const long w = std::strtol(ws.c_str(), &end, 10);
+  if (*end) fail_read(path, "PFM width '" + ws + "' is not an integer");
+  const long h = std::strtol(hs.c_str(), &end, 10);
+  if (*end) fail_read(path, "PFM height '" + hs + "' is not an integer");
+  const double scale = std::strtod(ss.c_str(), &end);
+  if (*end || scale == 0.0 || !std::isfinite(scale)) fail_read(path, "PFM scale '" + ss + "' is not a non-zero number");
+  if (w <= 0 || h <= 0 || w > 1 << 20 || h > 1 << 20) fail_read(path, "PFM size " + size_str(w, h) + " is not valid");
+  ++pos;  // exactly one whitespace byte separates the header from the data
+  const size_t count = static_cast<size_t>(w) * h * channels;
+  if (pos > bytes.size() || bytes.size() - pos < count * 4)
+    fail_read(path, "PFM data is truncated: " + size_str(w, h) + " needs " + std::to_string(count * 4) +
+                        " bytes, file has " + std::to_string(pos > bytes.size() ? 0 : bytes.size() - pos));
+  const bool little = scale < 0;
+  ImageF img(static_cast<int>(w), static_cast<int>(h));
+  const auto* p = reinterpret_cast<const unsigned char*>(bytes.data() + pos);
+  for (long y = h - 1; y >= 0; --y) {  // bottom row first in the file
+    for (long x = 0; x < w; ++x) {
+      float* px = img.at(static_cast<int>(x), static_cast<int>(y));
+      for (int c = 0; c < channels; ++c, p += 4) {
+        const uint32_t bits = little ? (uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24)
+                                     : (uint32_t(p[3]) | uint32_t(p[2]) << 8 | uint32_t(p[1]) << 16 | uint32_t(p[0]) << 24);
+        std::memcpy(&px[c], &bits, 4);
+      }
+      if (channels == 1) px[1] = px[2] = px[0];
+    }
+  }
+  return img;
+}
+
+ImageF read_exr(const std::string& path) {
+  float* rgba = nullptr;
+  int w = 0, h = 0;
+  const char* err = nullptr;
+  const int rc = LoadEXR(&rgba, &w, &h, path.c_str(), &err);
+  if (rc != TINYEXR_SUCCESS) {
+    std::string why = err ? err : ("tinyexr error " + std::to_string(rc));
+    if (err) FreeEXRErrorMessage(err);
+    std::free(rgba);
+    fail_read(path, why);
+  }
+  std::unique_ptr<float, void (*)(void*)> guard(rgba, std::free);
+  ImageF img(w, h);
+  for (size_t i = 0; i < img.pixel_count(); ++i)
+    for (int c = 0; c < 3; ++c) img.rgb[3 * i + c] = rgba[4 * i + c];
+  return img;
+}
+
+ImageF read_hdr_image(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".pfm") return read_pfm(path);
+  if (ext == ".exr") return read_exr(path);
+  fail_read(path, "unknown HDR extension '" + ext + "' (supported: .pfm, .exr)");
+}
+
+}  // namespace caustica

@@ -1,0 +1,33 @@
+// Image files. Writers pick the format from the extension (case-insensitive):
+//   .ppm  ASCII P3, maxval 255, one "r g b" pixel per line (tone mapped)
+//   .png  8-bit RGB via stb_image_write (tone mapped)
+//   .pfm  little-endian float RGB, scale -1.0, rows bottom-to-top (HDR)
+//   .exr  32-bit float RGB via tinyexr (HDR)
+// HDR formats store hdr * exposure_scale with no curve, clamp or gamma, so a
+// reference written at one exposure can be compared in linear units.
+// Every failure throws caustica::Error naming the file.
+#pragma once
+
+#include <string>
+
+#include "host/image/image.h"
+#include "host/image/tonemap.h"
+
+namespace caustica {
+
+void write_image(const std::string& path, const ImageF& hdr, const DisplaySettings& display);
+void write_image8(const std::string& path, const Image8& img);  // .ppm or .png only
+
+// Does the extension name an HDR format (.pfm/.exr)?
+bool is_hdr_path(const std::string& path);
+
+// 8-bit RGB from PNG/JPEG/BMP/TGA/binary PNM (stb_image, forced to 3 channels)
+// and ASCII P3 PPM (which stb does not read; our own .ppm output is P3).
+Image8 read_image8(const std::string& path);
+
+ImageF read_pfm(const std::string& path);
+ImageF read_exr(const std::string& path);
+// .pfm or .exr by extension.
+ImageF read_hdr_image(const std::string& path);
+
+}  // namespace caustica
