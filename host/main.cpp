@@ -1,2 +1,243 @@
-// placeholder: replaced by the CLI
-int main() { return 0; }
+// caustica command line: render, devices, bench, generate.
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "host/app/session.h"
+#include "host/error.h"
+#include "host/image/image_io.h"
+#include "host/image/tonemap.h"
+#include "host/scene/generate.h"
+
+using namespace caustica;
+
+namespace {
+
+std::optional<RenderMode> parse_mode(const std::string& s) {
+  if (s.empty()) return std::nullopt;
+  if (s == "binary") return RenderMode::Binary;
+  if (s == "phong") return RenderMode::Phong;
+  throw Error("--mode " + s + ": expected binary or phong");
+}
+
+// Progress on stderr: a rewritten line on a terminal, one line a second
+// otherwise; silent for renders that finish within a second.
+class ProgressReporter {
+ public:
+  explicit ProgressReporter(bool enabled) : enabled_(enabled), tty_(isatty(2)) {}
+  void update(size_t done, size_t total, uint64_t rays) {
+    if (!enabled_) return;
+    const double s = seconds();
+    if (s < 1.0 || (!tty_ && s - last_ < 1.0 && done < total)) return;
+    last_ = s;
+    const double frac = double(done) / double(total);
+    const double left = frac > 0 ? s * (1.0 - frac) / frac : 0.0;
+    std::fprintf(stderr, "%s[caustica] %5.1f%% of %zu pixels, %.2f Mrays/s, %.1f s elapsed, %.1f s left%s",
+                 tty_ ? "\r" : "", 100.0 * frac, total, rays / s * 1e-6, s, left, tty_ ? "" : "\n");
+    printed_ = true;
+  }
+  void finish() {
+    if (printed_ && tty_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  bool enabled_, tty_, printed_ = false;
+  double last_ = 0.0;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+int run_devices() {
+  const auto devices = list_devices();
+  if (devices.empty()) {
+    std::cout << "no OpenCL devices (Debian: apt-get install pocl-opencl-icd)\n";
+    return 1;
+  }
+  const DeviceInfo chosen = select_device("");
+  for (const auto& d : devices) {
+    std::printf("[%d] %-4s %-48s platform: %s | %u compute units | %s | %.1f GiB%s\n", d.index, d.type.c_str(),
+                d.name.c_str(), d.platform_name.c_str(), d.compute_units, d.device_version.c_str(),
+                d.global_mem_bytes / 1073741824.0, d.index == chosen.index ? "  (default)" : "");
+  }
+  return 0;
+}
+
+struct RenderArgs {
+  SessionOptions session;
+  std::string mode, output, tonemap = "linear";
+  std::optional<float> exposure;
+  float gamma = kCourseworkDisplayGamma;
+  bool verbose = false, quiet = false;
+};
+
+int run_render(RenderArgs& a) {
+  a.session.mode = parse_mode(a.mode);
+  if (a.output.empty()) a.output = std::filesystem::path(a.session.scene_path).stem().string() + ".png";
+  const auto session = prepare_session(a.session);
+  const Scene& scene = session->scene;
+  if (a.verbose) {
+    std::fprintf(stderr, "[caustica] scene %s: %zu spheres, %zu cylinders, %zu triangles, %zu lights, %zu materials (load %.1f ms)\n",
+                 scene.source_path.c_str(), scene.spheres.size(), scene.cylinders.size(), scene.triangles.size(),
+                 scene.point_lights.size(), scene.materials.size(), session->load_ms);
+    std::fprintf(stderr, "[caustica] features: %s\n[caustica] kernel options:%s\n", session->features.describe().c_str(),
+                 session->features.build_options().c_str());
+    std::fprintf(stderr, "[caustica] device: %s (%s)\n", session->runtime->device_info().name.c_str(),
+                 session->runtime->device_info().platform_name.c_str());
+    std::fprintf(stderr, "[caustica] kernel build: %.1f ms (%s)\n", session->program.build_ms,
+                 session->program.from_cache ? "cached" : "cold");
+    std::fprintf(stderr, "[caustica] BVH build: %.2f ms, %zu nodes, SAH cost %.2f, depth %d\n", session->bvh.build_ms,
+                 session->bvh.nodes.size(), session->bvh.sah_cost, session->bvh.max_depth);
+  }
+  RenderStats stats;
+  ProgressReporter progress(!a.quiet);
+  const ImageF image = session->renderer->render(&stats, [&](size_t done, size_t total) {
+    progress.update(done, total, stats.camera_rays + stats.secondary_rays + stats.shadow_rays);
+  });
+  progress.finish();
+
+  DisplaySettings display;
+  display.tonemap = parse_tonemap(a.tonemap);
+  display.exposure_scale = std::exp2(a.exposure ? *a.exposure : scene.camera.exposure);
+  display.gamma = a.gamma;
+  write_image(a.output, image, display);
+  if (a.verbose) {
+    const uint64_t rays = stats.camera_rays + stats.secondary_rays + stats.shadow_rays;
+    std::fprintf(stderr, "[caustica] render: %.1f ms, %dx%d, %llu camera + %llu secondary + %llu shadow rays (%.2f Mrays/s)%s\n",
+                 stats.render_ms, image.width, image.height, (unsigned long long)stats.camera_rays,
+                 (unsigned long long)stats.secondary_rays, (unsigned long long)stats.shadow_rays,
+                 rays / (stats.render_ms * 1e3), stats.chunk_retries ? " (queue overflow: chunks split)" : "");
+  }
+  if (!a.quiet) std::fprintf(stderr, "[caustica] wrote %s (%dx%d) in %.2f s\n", a.output.c_str(), image.width,
+                             image.height, stats.render_ms / 1e3);
+  return 0;
+}
+
+struct BenchArgs {
+  SessionOptions session;
+  std::string mode;
+  int repetitions = 5;
+};
+
+int run_bench(BenchArgs& a) {
+  a.session.mode = parse_mode(a.mode);
+  // Cold kernel build time: measured without the cache, then the cache serves.
+  a.session.use_kernel_cache = false;
+  const auto session = prepare_session(a.session);
+  const auto timings = session->renderer->time_kernels(a.repetitions);
+  std::vector<double> render_ms;
+  for (int r = 0; r < a.repetitions; ++r) {
+    RenderStats stats;
+    session->renderer->render(&stats);
+    render_ms.push_back(stats.render_ms);
+  }
+  std::sort(render_ms.begin(), render_ms.end());
+  const double render_median = render_ms[render_ms.size() / 2];
+  const double primary = timings.primary_rays / (timings.primary_ms * 1e3);
+  const double shadow = timings.shadow_ms > 0 ? timings.shadow_rays / (timings.shadow_ms * 1e3) : 0.0;
+  const Scene& s = session->scene;
+  std::printf("scene          %s (%zu spheres, %zu cylinders, %zu triangles, %zu lights)\n", s.source_path.c_str(),
+              s.spheres.size(), s.cylinders.size(), s.triangles.size(), s.point_lights.size());
+  std::printf("device         %s\n", session->runtime->device_info().name.c_str());
+  std::printf("image          %dx%d, %s\n", session->settings.width, session->settings.height,
+              session->features.describe().c_str());
+  std::printf("bvh build      %.2f ms (%zu nodes, SAH %.2f)\n", session->bvh.build_ms, session->bvh.nodes.size(),
+              session->bvh.sah_cost);
+  std::printf("kernel build   %.1f ms (cold)\n", session->program.build_ms);
+  std::printf("primary rays   %.2f Mrays/s (%llu rays, median %.2f ms of %d)\n", primary,
+              (unsigned long long)timings.primary_rays, timings.primary_ms, a.repetitions);
+  std::printf("shadow rays    %.2f Mrays/s (%llu rays, median %.2f ms of %d)\n", shadow,
+              (unsigned long long)timings.shadow_rays, timings.shadow_ms, a.repetitions);
+  std::printf("render         %.1f ms (median of %d)\n", render_median, a.repetitions);
+  nlohmann::json j = {{"scene", s.source_path},
+                      {"device", session->runtime->device_info().name},
+                      {"width", session->settings.width},
+                      {"height", session->settings.height},
+                      {"primitives", s.primitive_count()},
+                      {"triangles", s.triangles.size()},
+                      {"build_ms", session->bvh.build_ms},
+                      {"kernel_build_ms", session->program.build_ms},
+                      {"primary_mrays", primary},
+                      {"shadow_mrays", shadow},
+                      {"render_ms", render_median}};
+  std::printf("%s\n", j.dump().c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"caustica: an OpenCL wavefront renderer for the coursework scene format"};
+  app.require_subcommand(1);
+
+  RenderArgs render;
+  auto* render_cmd = app.add_subcommand("render", "render a scene to an image (.ppm .png .pfm .exr)");
+  render_cmd->add_option("scene", render.session.scene_path, "scene JSON file")->required();
+  render_cmd->add_option("-o,--output", render.output, "output image; the extension picks the format");
+  render_cmd->add_option("--mode", render.mode, "binary | phong (default: the scene's rendermode)");
+  render_cmd->add_option("--width", render.session.width, "image width (keeps the camera's aspect unless --height)");
+  render_cmd->add_option("--height", render.session.height, "image height");
+  render_cmd->add_option("--tonemap", render.tonemap, "linear | reinhard | aces");
+  render_cmd->add_option("--exposure", render.exposure, "exposure in stops (default: the camera's \"exposure\")");
+  render_cmd->add_option("--gamma", render.gamma, "display gamma of 8-bit outputs");
+  render_cmd->add_option("--device", render.session.device,
+                         "OpenCL device: index, name substring, cpu or gpu (env CAUSTICA_DEVICE)");
+  render_cmd->add_flag("--no-cache", [&](int64_t) { render.session.use_kernel_cache = false; },
+                       "rebuild kernels instead of loading cached binaries");
+  render_cmd->add_flag("-v,--verbose", render.verbose, "print features, build, BVH and render times");
+  render_cmd->add_flag("-q,--quiet", render.quiet, "print nothing but errors");
+
+  app.add_subcommand("devices", "list OpenCL platforms and devices");
+
+  BenchArgs bench;
+  auto* bench_cmd = app.add_subcommand("bench", "time BVH build, kernel build, ray throughput and rendering");
+  bench_cmd->add_option("scene", bench.session.scene_path, "scene JSON file")->required();
+  bench_cmd->add_option("--mode", bench.mode, "binary | phong");
+  bench_cmd->add_option("--width", bench.session.width, "image width");
+  bench_cmd->add_option("--height", bench.session.height, "image height");
+  bench_cmd->add_option("--repetitions", bench.repetitions, "timed repetitions (median)")->check(CLI::PositiveNumber);
+  bench_cmd->add_option("--device", bench.session.device, "OpenCL device");
+
+  int shapes = 400;
+  bool spheres_only = false;
+  uint32_t seed = 1;
+  std::string generate_out;
+  auto* gen_cmd = app.add_subcommand("generate", "write a benchmark scene like the seed report's Table 1");
+  gen_cmd->add_option("--shapes", shapes, "number of shapes")->check(CLI::Range(1, 10000000));
+  gen_cmd->add_flag("--spheres-only", spheres_only, "only spheres (the 400_spheres scene)");
+  gen_cmd->add_option("--seed", seed, "random seed");
+  gen_cmd->add_option("-o,--output", generate_out, "output JSON")->required();
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (app.got_subcommand(render_cmd)) return run_render(render);
+    if (app.got_subcommand("devices")) return run_devices();
+    if (app.got_subcommand(bench_cmd)) return run_bench(bench);
+    if (app.got_subcommand(gen_cmd)) {
+      std::ofstream out(generate_out);
+      if (!out) throw Error(generate_out + ": cannot open for writing");
+      out << generate_table1_scene(shapes, !spheres_only, seed).dump(2) << "\n";
+      return 0;
+    }
+  } catch (const Error& e) {
+    std::fprintf(stderr, "caustica: error: %s\n", e.what());
+    return 1;
+  } catch (const cl::Error& e) {
+    std::fprintf(stderr, "caustica: OpenCL error: %s (%s)\n", e.what(), cl_error_name(e.err()).c_str());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "caustica: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

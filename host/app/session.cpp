@@ -1,0 +1,62 @@
+#include "host/app/session.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "host/error.h"
+#include "host/scene/load_scene.h"
+
+namespace caustica {
+namespace {
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+void resolve_image_size(const CameraDesc& camera, int width_override, int height_override, int* width, int* height) {
+  if (width_override < 0 || height_override < 0) throw Error("--width/--height must be positive");
+  const double aspect = double(camera.width) / double(camera.height);
+  if (width_override > 0 && height_override > 0) {
+    *width = width_override;
+    *height = height_override;
+  } else if (width_override > 0) {
+    *width = width_override;
+    *height = std::max(1, int(std::lround(width_override / aspect)));
+  } else if (height_override > 0) {
+    *height = height_override;
+    *width = std::max(1, int(std::lround(height_override * aspect)));
+  } else {
+    *width = camera.width;
+    *height = camera.height;
+  }
+  if (double(*width) * double(*height) > 1.0e9) throw Error("image size " + std::to_string(*width) + "x" +
+                                                            std::to_string(*height) + " is too large");
+}
+
+std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
+  auto session = std::make_unique<Session>();
+  auto t0 = std::chrono::steady_clock::now();
+  LoadOptions load_options;
+  load_options.mode_override = options.mode;
+  session->scene = load_scene(options.scene_path, load_options);
+  session->load_ms = ms_since(t0);
+  Scene& scene = session->scene;
+
+  session->features = analyse_scene(scene, scene.mode);
+  session->runtime = std::make_unique<Runtime>(select_device(options.device));
+  session->runtime->set_cache_enabled(options.use_kernel_cache);
+  session->program = session->runtime->build_file("render.cl", session->features.build_options());
+
+  session->bvh = build_bvh(scene);
+
+  resolve_image_size(scene.camera, options.width, options.height, &session->settings.width,
+                     &session->settings.height);
+  session->settings.local_size = options.local_size;
+  t0 = std::chrono::steady_clock::now();
+  session->renderer = std::make_unique<WavefrontRenderer>(*session->runtime, scene, session->bvh, session->features,
+                                                          session->program.program, session->settings);
+  session->upload_ms = ms_since(t0);
+  return session;
+}
+
+}  // namespace caustica

@@ -1,0 +1,56 @@
+#include "host/scene/features.h"
+
+namespace caustica {
+
+SceneFeatures analyse_scene(const Scene& scene, RenderMode mode) {
+  SceneFeatures f;
+  f.mode = mode;
+  f.spheres = !scene.spheres.empty();
+  f.cylinders = !scene.cylinders.empty();
+  f.triangles = !scene.triangles.empty();
+  if (mode == RenderMode::Binary) return f;  // binary shading needs no lights or materials
+
+  f.lights = !scene.point_lights.empty();
+  // Only materials that some primitive actually uses count.
+  std::vector<bool> used(scene.materials.size(), false);
+  for (const auto& s : scene.spheres) used[s.material] = true;
+  for (const auto& c : scene.cylinders) used[c.material] = true;
+  for (const auto& t : scene.triangles) used[t.material] = true;
+  const bool can_bounce = scene.nbounces > 0;
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    if (!used[i]) continue;
+    const Material& m = scene.materials[i];
+    if (can_bounce && (m.flags & MATERIAL_REFRACTIVE)) f.refraction = true;
+    if (can_bounce && (m.flags & MATERIAL_REFLECTIVE) && !(m.flags & MATERIAL_REFRACTIVE) && m.reflectivity > 0.0f)
+      f.reflection = true;
+  }
+  return f;
+}
+
+std::string SceneFeatures::build_options() const {
+  std::string o;
+  if (spheres) o += " -DHAS_SPHERES";
+  if (cylinders) o += " -DHAS_CYLINDERS";
+  if (triangles) o += " -DHAS_TRIANGLES";
+  if (lights) o += " -DHAS_LIGHTS";
+  if (reflection) o += " -DHAS_REFLECTION";
+  if (refraction) o += " -DHAS_REFRACTION";
+  return o;
+}
+
+std::string SceneFeatures::describe() const {
+  std::string s = mode == RenderMode::Binary ? "mode=binary" : "mode=phong";
+  s += " primitives={";
+  std::string prims;
+  if (spheres) prims += "sphere,";
+  if (cylinders) prims += "cylinder,";
+  if (triangles) prims += "triangle,";
+  if (!prims.empty()) prims.pop_back();
+  s += prims + "}";
+  s += std::string(" lights=") + (lights ? "yes" : "no");
+  s += std::string(" reflection=") + (reflection ? "yes" : "no");
+  s += std::string(" refraction=") + (refraction ? "yes" : "no");
+  return s;
+}
+
+}  // namespace caustica

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages caustica builds and runs with, if missing.
+# As root it runs apt-get; otherwise it prints the exact command to run.
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config
+  pocl-opencl-icd ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers clinfo
+  libglm-dev libstb-dev nlohmann-json3-dev libcli11-dev libtinyexr-dev libtinyobjloader-dev
+  libgtest-dev libbenchmark-dev
+)
+missing=()
+for p in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+  [[ $status == "install ok installed" ]] || missing+=("$p")
+done
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+cmd="apt-get install -y --no-install-recommends ${missing[*]}"
+if [[ $(id -u) -eq 0 ]]; then
+  echo "[setup] installing: ${missing[*]}" >&2
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq >&2
+  $cmd >&2
+elif command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
+  echo "[setup] installing with sudo: ${missing[*]}" >&2
+  sudo env DEBIAN_FRONTEND=noninteractive apt-get update -qq >&2
+  sudo env DEBIAN_FRONTEND=noninteractive $cmd >&2
+else
+  echo "[setup] missing Debian packages: ${missing[*]}" >&2
+  echo "[setup] run as root:  $cmd" >&2
+  exit 1
+fi
