@@ -1,0 +1,37 @@
+#include "host/scene/scene.h"
+
+#include <cmath>
+
+#include "host/error.h"
+
+namespace caustica {
+
+namespace {
+
+bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+CameraBasis camera_basis(const CameraDesc& camera) {
+  if (!finite3(camera.position) || !finite3(camera.look_at) || !finite3(camera.up))
+    throw Error("degenerate camera: position, lookAt and upVector must be finite");
+  // Differences are taken in double so that huge but distinct coordinates do
+  // not collapse to a zero view direction.
+  const glm::dvec3 f = glm::dvec3(camera.look_at) - glm::dvec3(camera.position);
+  const double f_len = glm::length(f);
+  if (!(f_len > 0.0) || !std::isfinite(f_len))
+    throw Error("degenerate camera: lookAt equals position, so there is no view direction");
+  const glm::dvec3 up(camera.up);
+  const double up_len = glm::length(up);
+  if (!(up_len > 0.0)) throw Error("degenerate camera: upVector is the zero vector");
+  const glm::dvec3 forward = f / f_len;
+  const glm::dvec3 r = glm::cross(up / up_len, forward);
+  // |r| = sin(angle between up and forward): below ~1e-6 the basis is noise.
+  const double r_len = glm::length(r);
+  if (!(r_len > 1e-6)) throw Error("degenerate camera: upVector is parallel to the view direction (lookAt - position)");
+  const glm::dvec3 right = r / r_len;
+  const glm::dvec3 true_up = glm::cross(forward, right);
+  return CameraBasis{glm::vec3(forward), glm::vec3(right), glm::vec3(true_up)};
+}
+
+}  // namespace caustica
