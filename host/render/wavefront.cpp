@@ -76,7 +76,9 @@ WavefrontRenderer::WavefrontRenderer(Runtime& runtime, const Scene& scene, const
     b.chunk = std::min(pixels, settings_.chunk_pixels);
     if (light_count > 0) b.chunk = std::min(b.chunk, std::max<size_t>(4096, (size_t(1) << 21) / light_count));
     // A wave can at most double (one reflection + one refraction child per ray).
-    b.ray_capacity = features_.secondary_rays() ? 2 * b.chunk : b.chunk;
+    b.ray_capacity = features_.secondary_rays()
+                         ? std::max(b.chunk, size_t(double(b.chunk) * settings_.queue_capacity_factor))
+                         : b.chunk;
     b.shadow_capacity = std::max<size_t>(1, b.ray_capacity * light_count);
     b.film = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * 3 * sizeof(cl_ulong));
     b.hits = cl::Buffer(ctx, CL_MEM_READ_WRITE, b.ray_capacity * sizeof(cs_float4));

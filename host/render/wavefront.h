@@ -25,6 +25,9 @@ struct RenderSettings {
   size_t local_size = 64;        // work-group size of every stage launch
   size_t chunk_pixels = 1 << 19; // pixels per wavefront; bounds queue memory
   float min_weight = 1e-4f;      // secondary rays below this weight are not traced
+  // Ray queue capacity = factor x chunk. 2 holds any single wave; deeper
+  // Fresnel trees overflow and their chunk is re-rendered in halves.
+  float queue_capacity_factor = 2.0f;
 };
 
 struct RenderStats {

@@ -1,0 +1,44 @@
+// Google Benchmark micro-benchmarks of the host-side stages (scene parse,
+// BVH build, tone mapping) on the seed report's Table 1 scenes. Kernel
+// throughput is measured by `caustica bench`, which times the renderer's own
+// launches on a real scene.
+#include <benchmark/benchmark.h>
+
+#include "host/accel/bvh.h"
+#include "host/image/tonemap.h"
+#include "host/scene/generate.h"
+#include "host/scene/load_scene.h"
+
+namespace {
+
+caustica::Scene table1_scene(int shapes) {
+  const auto json = caustica::generate_table1_scene(shapes, shapes != 400, 1);
+  return caustica::parse_scene(json, "generated", ".");
+}
+
+void BM_ParseScene(benchmark::State& state) {
+  const auto json = caustica::generate_table1_scene(int(state.range(0)), true, 1);
+  for (auto _ : state) benchmark::DoNotOptimize(caustica::parse_scene(json, "generated", "."));
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_ParseScene)->Arg(400)->Arg(1600)->Arg(6400)->Arg(12800)->Unit(benchmark::kMillisecond);
+
+void BM_BuildBvh(benchmark::State& state) {
+  const caustica::Scene scene = table1_scene(int(state.range(0)));
+  for (auto _ : state) benchmark::DoNotOptimize(caustica::build_bvh(scene));
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_BuildBvh)->Arg(400)->Arg(1600)->Arg(6400)->Arg(12800)->Unit(benchmark::kMillisecond);
+
+void BM_ToDisplay(benchmark::State& state) {
+  caustica::ImageF image(1200, 800, 0.3f);
+  caustica::DisplaySettings d;
+  d.tonemap = caustica::ToneMap(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(caustica::to_display(image, d));
+  state.SetItemsProcessed(state.iterations() * image.pixel_count());
+}
+BENCHMARK(BM_ToDisplay)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

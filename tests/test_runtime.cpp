@@ -1,0 +1,149 @@
+// OpenCL plumbing: device selection by index / type / name, clear errors for
+// devices that do not exist and kernels that do not build (with the build log
+// pointing at the original file and line), the program cache, and the CLI's
+// error reporting end to end.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sys/wait.h>
+
+#include "host/cl/runtime.h"
+#include "host/error.h"
+#include "tests/support/test_support.h"
+
+namespace caustica {
+namespace {
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DeviceSelection, ByTypeIndexAndName) {
+  const auto devices = list_devices();
+  ASSERT_FALSE(devices.empty());
+  const DeviceInfo cpu = select_device("cpu");
+  EXPECT_EQ(cpu.type, "cpu");
+  EXPECT_EQ(select_device("0").index, 0);
+  EXPECT_EQ(select_device(devices.back().name.substr(0, 6)).name.substr(0, 6), devices.back().name.substr(0, 6));
+  for (const auto& d : devices) {
+    EXPECT_GT(d.compute_units, 0u);
+    EXPECT_FALSE(d.device_version.empty());
+  }
+}
+
+TEST(DeviceSelection, UnknownDeviceListsTheAvailableOnes) {
+  const std::string msg = error_of([] { select_device("no-such-device-xyz"); });
+  EXPECT_NE(msg.find("no-such-device-xyz"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("available devices"), std::string::npos) << msg;
+  EXPECT_NE(error_of([] { select_device("999"); }).find("no device with that index"), std::string::npos);
+}
+
+TEST(ProgramBuild, FailureCarriesTheLogAtTheOriginalLine) {
+  const std::string broken = "#include \"shared/types.h\"\n__kernel void k(__global float* x) {\n  x[0] = undefined_name;\n}\n";
+  const std::string msg = error_of([&] { test::runtime().build_source("broken.cl", broken, ""); });
+  EXPECT_NE(msg.find("kernel build failed for broken.cl"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("undefined_name"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("broken.cl:3"), std::string::npos) << "log should point at line 3 of broken.cl:\n" << msg;
+}
+
+TEST(ProgramBuild, MissingIncludeIsNamed) {
+  const std::string msg =
+      error_of([&] { test::runtime().build_source("inc.cl", "#include \"lib/nope.h\"\n", ""); });
+  EXPECT_NE(msg.find("inc.cl:1"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("lib/nope.h"), std::string::npos) << msg;
+}
+
+TEST(ProgramBuild, SecondBuildComesFromTheCache) {
+  const std::string dir = test::temp_dir() + "/cache";
+  setenv("CAUSTICA_CACHE_DIR", dir.c_str(), 1);
+  Runtime rt(select_device("cpu"));
+  const std::string src = "__kernel void k(__global int* x) { x[get_global_id(0)] = 7; }\n";
+  const auto cold = rt.build_source("cached.cl", src, "-DVARIANT=1");
+  const auto warm = rt.build_source("cached.cl", src, "-DVARIANT=1");
+  const auto other = rt.build_source("cached.cl", src, "-DVARIANT=2");
+  unsetenv("CAUSTICA_CACHE_DIR");
+  EXPECT_FALSE(cold.from_cache);
+  EXPECT_TRUE(warm.from_cache);
+  EXPECT_FALSE(other.from_cache) << "different options must not share a cache entry";
+  // The cached program must actually work.
+  cl::Kernel k(warm.program, "k");
+  cl::Buffer buf(rt.context(), CL_MEM_READ_WRITE, 4 * sizeof(int));
+  k.setArg(0, buf);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(4), cl::NullRange);
+  std::array<int, 4> out{};
+  rt.queue().enqueueReadBuffer(buf, CL_TRUE, 0, sizeof out, out.data());
+  EXPECT_EQ(out, (std::array<int, 4>{7, 7, 7, 7}));
+}
+
+struct CommandResult {
+  int status;
+  std::string output;
+};
+
+CommandResult run(const std::string& args) {
+  const std::string cmd = test::binary_path() + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  const int status = pclose(p);
+  return {WEXITSTATUS(status), out};
+}
+
+TEST(CommandLine, BadInputsGiveClearErrorsAndExitCode1) {
+  const std::string dir = test::temp_dir();
+  {
+    std::ofstream(dir + "/bad.json") << R"({"camera": {"width": 10}})";
+  }
+  auto r = run("render " + dir + "/missing.json -o " + dir + "/x.png");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("missing.json"), std::string::npos) << r.output;
+  r = run("render " + dir + "/bad.json -o " + dir + "/x.png");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("bad.json"), std::string::npos) << r.output;
+  r = run("render " + test::source_dir() + "/scenes/scene.json --device no-such-device -o " + dir + "/x.png");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("no-such-device"), std::string::npos) << r.output;
+  r = run("render " + test::source_dir() + "/scenes/scene.json --mode sketch -o " + dir + "/x.png");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("binary or phong"), std::string::npos) << r.output;
+  r = run("render " + test::source_dir() + "/scenes/scene.json --tonemap filmic -o " + dir + "/x.png");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("reinhard"), std::string::npos) << r.output;
+  r = run("render " + test::source_dir() + "/scenes/scene.json -q -o " + dir + "/x.tiff --width 8");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find(".exr"), std::string::npos) << r.output;
+}
+
+TEST(CommandLine, RendersEveryOutputFormatAndKeepsTheAspect) {
+  const std::string dir = test::temp_dir();
+  for (const char* ext : {"ppm", "png", "pfm", "exr"}) {
+    const auto r = run("render " + test::source_dir() + "/scenes/simple_phong.json -q --width 120 -o " + dir +
+                       "/out." + ext);
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_GT(std::filesystem::file_size(dir + "/out." + ext), 100u) << ext;
+  }
+  std::ifstream ppm(dir + "/out.ppm");
+  std::string magic;
+  int w = 0, h = 0;
+  ppm >> magic >> w >> h;
+  EXPECT_EQ(magic, "P3");
+  EXPECT_EQ(w, 120);
+  EXPECT_EQ(h, 80);  // 1200x800 camera: aspect kept
+  const auto devices = run("devices");
+  EXPECT_EQ(devices.status, 0);
+  EXPECT_NE(devices.output.find("[0]"), std::string::npos) << devices.output;
+}
+
+}  // namespace
+}  // namespace caustica
