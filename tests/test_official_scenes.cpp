@@ -61,9 +61,9 @@ Image8 display(const ImageF& image) {
 const Case kCases[] = {
     {"binary_primitives.json", RenderMode::Binary, "binary_primitives.png", 0},
     {"scene.json", RenderMode::Binary, "scene_binary.png", 0},
-    {"scene.json", RenderMode::Phong, "scene_phong.png", 12.0},
-    {"simple_phong.json", RenderMode::Phong, "simple_phong.png", 12.0},
-    {"mirror_image.json", RenderMode::Phong, "mirror_image.png", 12.0},
+    {"scene.json", RenderMode::Phong, "scene_phong.png", 10.0},
+    {"simple_phong.json", RenderMode::Phong, "simple_phong.png", 4.0},
+    {"mirror_image.json", RenderMode::Phong, "mirror_image.png", 5.0},
     {"binary_primitives.json", RenderMode::Phong, nullptr, 0},
     {"simple_phong.json", RenderMode::Binary, nullptr, 0},
     {"mirror_image.json", RenderMode::Binary, nullptr, 0},

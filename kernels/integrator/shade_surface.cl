@@ -27,11 +27,11 @@ inline float max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 
 #ifdef HAS_LIGHTS
 /* Blinn-Phong for one point light, pushed as a shadow ray. */
-inline void shade_point_light(__global const PointLight* light, __global const Material* mat, float3 p,
+inline void shade_point_light(__global const PointLight* light, __global const Material* mat, SurfacePoint sp,
                               float3 n_facing, float3 view, float3 weight, uint pixel,
                               volatile __global uint* shadow_count, uint shadow_capacity,
                               SHADOW_QUEUE_PARAMS(shadow)) {
-  const float3 origin = offset_ray_origin(p, n_facing);
+  const float3 origin = spawn_point(sp, n_facing);
   const float3 to_light = light->position.xyz - origin;
   const float dist = length(to_light);
   if (!(dist > 0.0f)) return;
@@ -120,16 +120,16 @@ __kernel void shade_surface(__global const Sphere* restrict spheres, __global co
     film_add(film, pixel, local_weight * mat->ka * mat->diffuse.xyz);
 #ifdef HAS_LIGHTS
     for (uint l = 0; l < params.light_count; ++l)
-      shade_point_light(&lights[l], mat, sp.position, n, -d, local_weight, pixel, shadow_count,
+      shade_point_light(&lights[l], mat, sp, n, -d, local_weight, pixel, shadow_count,
                         params.shadow_capacity, shadow_origin, shadow_dir, shadow_contribution, shadow_pixel);
 #endif
   }
 
   if (depth >= params.max_depth) return;
   if (max3(reflect_weight) > params.min_weight)
-    push_ray(next_count, params.ray_capacity, RAY_QUEUE_ARGS(next), offset_ray_origin(sp.position, n),
+    push_ray(next_count, params.ray_capacity, RAY_QUEUE_ARGS(next), spawn_point(sp, n),
              reflect_dir(d, n), reflect_weight, depth + 1, pixel);
   if (max3(refract_weight) > params.min_weight)
-    push_ray(next_count, params.ray_capacity, RAY_QUEUE_ARGS(next), offset_ray_origin(sp.position, -n),
+    push_ray(next_count, params.ray_capacity, RAY_QUEUE_ARGS(next), spawn_point(sp, -n),
              refract_dir(d, n, eta, cos_i, cos_t), refract_weight, depth + 1, pixel);
 }
