@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "host/app/bench.h"
 #include "host/app/session.h"
 #include "host/error.h"
 #include "host/image/image_io.h"
@@ -21,13 +22,6 @@
 using namespace caustica;
 
 namespace {
-
-std::optional<RenderMode> parse_mode(const std::string& s) {
-  if (s.empty()) return std::nullopt;
-  if (s == "binary") return RenderMode::Binary;
-  if (s == "phong") return RenderMode::Phong;
-  throw Error("--mode " + s + ": expected binary or phong");
-}
 
 // Progress on stderr: a rewritten line on a terminal, one line a second
 // otherwise; silent for renders that finish within a second.
@@ -82,7 +76,7 @@ struct RenderArgs {
 };
 
 int run_render(RenderArgs& a) {
-  a.session.mode = parse_mode(a.mode);
+  a.session.mode = parse_render_mode(a.mode);
   if (a.output.empty()) a.output = std::filesystem::path(a.session.scene_path).stem().string() + ".png";
   const auto session = prepare_session(a.session);
   const Scene& scene = session->scene;
@@ -90,6 +84,9 @@ int run_render(RenderArgs& a) {
     std::fprintf(stderr, "[caustica] scene %s: %zu spheres, %zu cylinders, %zu triangles, %zu lights, %zu materials (load %.1f ms)\n",
                  scene.source_path.c_str(), scene.spheres.size(), scene.cylinders.size(), scene.triangles.size(),
                  scene.point_lights.size(), scene.materials.size(), session->load_ms);
+    for (const auto& m : scene.meshes)
+      std::fprintf(stderr, "[caustica] mesh %s: %zu triangles (%zu degenerate dropped), loaded in %.1f ms\n",
+                   m.file.c_str(), m.triangles, m.dropped_degenerate, m.load_ms);
     std::fprintf(stderr, "[caustica] features: %s\n[caustica] kernel options:%s\n", session->features.describe().c_str(),
                  session->features.build_options().c_str());
     std::fprintf(stderr, "[caustica] device: %s (%s)\n", session->runtime->device_info().name.c_str(),
@@ -123,57 +120,6 @@ int run_render(RenderArgs& a) {
   return 0;
 }
 
-struct BenchArgs {
-  SessionOptions session;
-  std::string mode;
-  int repetitions = 5;
-};
-
-int run_bench(BenchArgs& a) {
-  a.session.mode = parse_mode(a.mode);
-  // Cold kernel build time: measured without the cache, then the cache serves.
-  a.session.use_kernel_cache = false;
-  const auto session = prepare_session(a.session);
-  const auto timings = session->renderer->time_kernels(a.repetitions);
-  std::vector<double> render_ms;
-  for (int r = 0; r < a.repetitions; ++r) {
-    RenderStats stats;
-    session->renderer->render(&stats);
-    render_ms.push_back(stats.render_ms);
-  }
-  std::sort(render_ms.begin(), render_ms.end());
-  const double render_median = render_ms[render_ms.size() / 2];
-  const double primary = timings.primary_rays / (timings.primary_ms * 1e3);
-  const double shadow = timings.shadow_ms > 0 ? timings.shadow_rays / (timings.shadow_ms * 1e3) : 0.0;
-  const Scene& s = session->scene;
-  std::printf("scene          %s (%zu spheres, %zu cylinders, %zu triangles, %zu lights)\n", s.source_path.c_str(),
-              s.spheres.size(), s.cylinders.size(), s.triangles.size(), s.point_lights.size());
-  std::printf("device         %s\n", session->runtime->device_info().name.c_str());
-  std::printf("image          %dx%d, %s\n", session->settings.width, session->settings.height,
-              session->features.describe().c_str());
-  std::printf("bvh build      %.2f ms (%zu nodes, SAH %.2f)\n", session->bvh.build_ms, session->bvh.nodes.size(),
-              session->bvh.sah_cost);
-  std::printf("kernel build   %.1f ms (cold)\n", session->program.build_ms);
-  std::printf("primary rays   %.2f Mrays/s (%llu rays, median %.2f ms of %d)\n", primary,
-              (unsigned long long)timings.primary_rays, timings.primary_ms, a.repetitions);
-  std::printf("shadow rays    %.2f Mrays/s (%llu rays, median %.2f ms of %d)\n", shadow,
-              (unsigned long long)timings.shadow_rays, timings.shadow_ms, a.repetitions);
-  std::printf("render         %.1f ms (median of %d)\n", render_median, a.repetitions);
-  nlohmann::json j = {{"scene", s.source_path},
-                      {"device", session->runtime->device_info().name},
-                      {"width", session->settings.width},
-                      {"height", session->settings.height},
-                      {"primitives", s.primitive_count()},
-                      {"triangles", s.triangles.size()},
-                      {"build_ms", session->bvh.build_ms},
-                      {"kernel_build_ms", session->program.build_ms},
-                      {"primary_mrays", primary},
-                      {"shadow_mrays", shadow},
-                      {"render_ms", render_median}};
-  std::printf("%s\n", j.dump().c_str());
-  return 0;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -194,6 +140,7 @@ int main(int argc, char** argv) {
                          "OpenCL device: index, name substring, cpu or gpu (env CAUSTICA_DEVICE)");
   render_cmd->add_flag("--no-cache", [&](int64_t) { render.session.use_kernel_cache = false; },
                        "rebuild kernels instead of loading cached binaries");
+  render_cmd->add_flag("--strict", render.session.strict, "unknown scene keys are errors, not warnings");
   render_cmd->add_flag("-v,--verbose", render.verbose, "print features, build, BVH and render times");
   render_cmd->add_flag("-q,--quiet", render.quiet, "print nothing but errors");
 

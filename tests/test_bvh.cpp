@@ -359,7 +359,7 @@ TEST(BvhKernels, CompileForEveryPrimitiveSubset) {
 __kernel void k(SCENE_GEOMETRY_PARAMS, __global float4* out) {
   float3 o = (float3)(0.0f), d = (float3)(0.0f, 0.0f, 1.0f);
   Hit h = trace_closest(SCENE_GEOMETRY_ARGS, o, d, 0.0f, RAY_T_FAR);
-  SurfacePoint sp = surface_at(spheres, cylinders, triangles, h, o, d);
+  SurfacePoint sp = surface_at(spheres, cylinders, triangles, (__global const TriangleShading*)0, h, o, d);
   out[0] = (float4)(sp.position, trace_any(SCENE_GEOMETRY_ARGS, o, d, 0.0f, 1.0f) ? 1.0f : 0.0f);
 }
 )CLC";

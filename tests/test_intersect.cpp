@@ -42,7 +42,8 @@ __kernel void probe(__global const float4* rays, __global const float4* local_di
   out[4 * i] = (float4)(h.t, h.u, h.v, as_float(h.prim));
   out[4 * i + 1] = out[4 * i + 2] = out[4 * i + 3] = (float4)(0.0f);
   if (h.prim == PRIM_NONE) return;
-  SurfacePoint sp = surface_at(spheres, cylinders, triangles, h, o.xyz, d.xyz);
+  /* Built without HAS_TRIANGLE_SHADING: the shading table is never read. */
+  SurfacePoint sp = surface_at(spheres, cylinders, triangles, (__global const TriangleShading*)0, h, o.xyz, d.xyz);
   out[4 * i + 1] = (float4)(sp.position, as_float(sp.material));
   out[4 * i + 2] = (float4)(sp.normal, 0.0f);
   float3 n = dot(sp.normal, d.xyz) < 0.0f ? sp.normal : -sp.normal;

@@ -340,13 +340,13 @@ TEST(SceneErrors, DegenerateCamera) {
 }
 
 TEST(SceneErrors, UnknownTypesListTheSupportedOnes) {
-  EXPECT_TRUE(
-      Contains(parse_error_of(with(valid_scene(), "/scene/shapes/2/type", "mesh")),
-               {"/scene/shapes/2/type: expected", "\"sphere\"", "\"cylinder\"", "\"triangle\"", "got \"mesh\""}));
+  EXPECT_TRUE(Contains(parse_error_of(with(valid_scene(), "/scene/shapes/2/type", "torus")),
+                       {"/scene/shapes/2/type: expected", "\"sphere\"", "\"cylinder\"", "\"triangle\"", "\"mesh\"",
+                        "got \"torus\""}));
   EXPECT_TRUE(Contains(parse_error_of(with(valid_scene(), "/rendermode", "raytrace")),
                        {"/rendermode: expected one of \"binary\", \"phong\", got \"raytrace\""}));
   EXPECT_TRUE(Contains(parse_error_of(with(valid_scene(), "/scene/lightsources/0/type", "spotlight")),
-                       {"/scene/lightsources/0/type: expected", "\"pointlight\"", "got \"spotlight\""}));
+                       {"/scene/lightsources/0/type: expected", "\"pointlight\"", "\"arealight\"", "got \"spotlight\""}));
 }
 
 TEST(SceneModes, DefaultsPathTracingAndOverride) {
@@ -362,6 +362,8 @@ TEST(SceneModes, DefaultsPathTracingAndOverride) {
   }
 }
 
+// A lens camera type without an aperture, and an area light without a size,
+// are rendered (as a pinhole camera, as a small square) but said so.
 TEST(SceneWarnings, DroppedTrianglesVariantCamerasAndAreaLights) {
   json j = with(valid_scene(), "/scene/shapes/2/v2", json{2, 0, 2});  // collinear with v0, v1
   j = with(j, "/camera/type", "finiteAperture");
@@ -372,7 +374,8 @@ TEST(SceneWarnings, DroppedTrianglesVariantCamerasAndAreaLights) {
   const Scene s = parse_scene(j, "x.json", ".", options);
   EXPECT_EQ(s.triangles.size(), 0u);
   EXPECT_EQ(s.spheres.size(), 2u);
-  EXPECT_EQ(s.point_lights.size(), 1u);
+  EXPECT_EQ(s.point_lights.size(), 1u);  // the area light's stand-in
+  EXPECT_EQ(s.area_lights.size(), 1u);
   ASSERT_EQ(warnings.size(), 3u);
   EXPECT_TRUE(Contains(warnings[0], {"x.json: /camera/type: warning", "finiteAperture", "pinhole"}));
   EXPECT_TRUE(Contains(warnings[1], {"x.json: /scene/lightsources/0: warning", "area light"}));

@@ -13,6 +13,13 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
+std::optional<RenderMode> parse_render_mode(const std::string& name) {
+  if (name.empty()) return std::nullopt;
+  if (name == "binary") return RenderMode::Binary;
+  if (name == "phong") return RenderMode::Phong;
+  throw Error("--mode " + name + ": expected binary or phong");
+}
+
 void resolve_image_size(const CameraDesc& camera, int width_override, int height_override, int* width, int* height) {
   if (width_override < 0 || height_override < 0) throw Error("--width/--height must be positive");
   const double aspect = double(camera.width) / double(camera.height);
@@ -38,6 +45,7 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   auto t0 = std::chrono::steady_clock::now();
   LoadOptions load_options;
   load_options.mode_override = options.mode;
+  load_options.strict = options.strict;
   session->scene = load_scene(options.scene_path, load_options);
   session->load_ms = ms_since(t0);
   Scene& scene = session->scene;

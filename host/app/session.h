@@ -27,6 +27,7 @@ struct SessionOptions {
   int height = 0;
   std::string device;  // --device spec
   bool use_kernel_cache = true;
+  bool strict = false;  // unknown scene keys are errors instead of warnings
   size_t local_size = 64;  // work-group size of the stage launches
 };
 
@@ -43,6 +44,9 @@ struct Session {
 };
 
 std::unique_ptr<Session> prepare_session(const SessionOptions& options);
+
+// --mode: "" (the scene decides), "binary" or "phong"; anything else throws.
+std::optional<RenderMode> parse_render_mode(const std::string& name);
 
 // Width/height after CLI overrides: one given keeps the camera's aspect.
 void resolve_image_size(const CameraDesc& camera, int width_override, int height_override, int* width, int* height);

@@ -46,7 +46,8 @@ double elapsed_ms(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 struct WavefrontRenderer::Buffers {
-  cl::Buffer nodes, prim_refs, spheres, cylinders, triangles, materials, lights;
+  cl::Buffer nodes, prim_refs, spheres, cylinders, triangles, triangle_shading, materials, lights;
+  cl::Buffer textures, texels;
   cl::Buffer film, hits;
   RayQueue rays[2];
   RayQueue shadow;  // "weight" holds the contribution
@@ -66,7 +67,14 @@ WavefrontRenderer::WavefrontRenderer(Runtime& runtime, const Scene& scene, const
     b.spheres = upload(ctx, scene.spheres);
     b.cylinders = upload(ctx, scene.cylinders);
     b.triangles = upload(ctx, scene.triangles);
+    // Data the feature set leaves out is not uploaded (a dummy element).
+    static const std::vector<TriangleShading> no_shading;
+    static const std::vector<Texture> no_textures;
+    static const std::vector<uint16_t> no_texels;
+    b.triangle_shading = upload(ctx, features_.triangle_shading ? scene.triangle_shading : no_shading);
     b.materials = upload(ctx, scene.materials);
+    b.textures = upload(ctx, features_.textures ? scene.textures : no_textures);
+    b.texels = upload(ctx, features_.textures ? scene.texels : no_texels);
     b.lights = upload(ctx, scene.point_lights);
 
     const size_t pixels = size_t(settings_.width) * settings_.height;
@@ -140,7 +148,8 @@ void WavefrontRenderer::bind_intersect(RayQueue& rays) {
 
 void WavefrontRenderer::bind_shade(const ShadeParams& params, RayQueue& in, RayQueue& next) {
   Buffers& b = *buffers_;
-  set_args(shade_, b.spheres, b.cylinders, b.triangles, b.materials, b.lights, params, in.count, in.origin, in.dir,
+  set_args(shade_, b.spheres, b.cylinders, b.triangles, b.triangle_shading, b.materials, b.textures, b.texels,
+           b.lights, params, in.count, in.origin, in.dir,
            in.weight, in.pixel, b.hits, b.film, next.count, next.origin, next.dir, next.weight, next.pixel,
            b.shadow.count, b.shadow.origin, b.shadow.dir, b.shadow.weight, b.shadow.pixel);
 }
@@ -154,6 +163,7 @@ void WavefrontRenderer::bind_shadow() {
 ShadeParams WavefrontRenderer::shade_params(cl_uint max_depth) const {
   ShadeParams params{};
   params.background = to_float4(scene_.background);
+  params.ambient_light = to_float4(scene_.ambient_light.value_or(glm::vec3(1.0f)));
   params.mode = features_.mode == RenderMode::Binary ? RENDER_MODE_BINARY : RENDER_MODE_PHONG;
   params.light_count = features_.lights ? cl_uint(scene_.point_lights.size()) : 0;
   params.max_depth = max_depth;
@@ -246,6 +256,46 @@ ImageF WavefrontRenderer::render(RenderStats* stats, const Progress& progress) {
   }
 }
 
+double WavefrontRenderer::median_launch_ms(cl::Kernel& kernel, size_t count, int repetitions) {
+  std::vector<double> times;
+  launch(kernel, count);  // warm-up: PoCL compiles per local/global size on first use
+  runtime_.queue().finish();
+  for (int r = 0; r < std::max(1, repetitions); ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    launch(kernel, count);
+    runtime_.queue().finish();
+    times.push_back(elapsed_ms(t0));
+  }
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
+}
+
+double WavefrontRenderer::time_ray_kernel(cl::Kernel& kernel, const std::vector<cs_float4>& origin,
+                                          const std::vector<cs_float4>& dir, size_t result_bytes, int repetitions,
+                                          void* results) {
+  if (origin.size() != dir.size()) throw Error("time_ray_kernel: origin and direction counts differ");
+  if (origin.size() > 0xFFFFFFFFu) throw Error("time_ray_kernel: too many rays for one launch");
+  const size_t n = origin.size();
+  if (n == 0) return 0.0;
+  Buffers& b = *buffers_;
+  auto& ctx = runtime_.context();
+  try {
+    cl_uint count = cl_uint(n);
+    cl::Buffer count_buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof count, &count);
+    cl::Buffer origin_buffer = upload(ctx, origin);
+    cl::Buffer dir_buffer = upload(ctx, dir);
+    cl::Buffer result_buffer(ctx, CL_MEM_WRITE_ONLY, n * std::max<size_t>(1, result_bytes));
+    set_args(kernel, b.nodes, b.prim_refs, b.spheres, b.cylinders, b.triangles, count_buffer, origin_buffer,
+             dir_buffer, result_buffer);
+    const double ms = median_launch_ms(kernel, n, repetitions);
+    if (results) runtime_.queue().enqueueReadBuffer(result_buffer, CL_TRUE, 0, n * result_bytes, results);
+    return ms;
+  } catch (const cl::Error& e) {
+    throw Error(std::string("ray batch timing failed on ") + runtime_.device_info().name + ": " + e.what() + " (" +
+                cl_error_name(e.err()) + ")");
+  }
+}
+
 KernelTimings WavefrontRenderer::time_kernels(int repetitions) {
   Buffers& b = *buffers_;
   KernelTimings t;
@@ -256,19 +306,7 @@ KernelTimings WavefrontRenderer::time_kernels(int repetitions) {
   launch(generate_, count);
   write_count(rays.count, cl_uint(count));
 
-  auto median_ms = [&](cl::Kernel& k, size_t n) {
-    std::vector<double> times;
-    launch(k, n);  // warm-up: PoCL compiles per local/global size on first use
-    runtime_.queue().finish();
-    for (int r = 0; r < repetitions; ++r) {
-      const auto t0 = std::chrono::steady_clock::now();
-      launch(k, n);
-      runtime_.queue().finish();
-      times.push_back(elapsed_ms(t0));
-    }
-    std::sort(times.begin(), times.end());
-    return times[times.size() / 2];
-  };
+  auto median_ms = [&](cl::Kernel& k, size_t n) { return median_launch_ms(k, n, repetitions); };
 
   bind_intersect(rays);
   t.primary_rays = count;

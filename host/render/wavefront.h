@@ -61,6 +61,20 @@ class WavefrontRenderer {
   // intersect_shadow on the shadow rays its hits produce.
   KernelTimings time_kernels(int repetitions);
 
+  // Times `kernel` on an arbitrary ray batch (caustica bench traces host-made
+  // rays with the renderer's kernels). The kernel takes
+  //   (SCENE_GEOMETRY_PARAMS, const uint* count, const float4* origin,
+  //    const float4* dir, T* result)
+  // with one result of result_bytes per ray, and must come from a program
+  // on this renderer's context. All rays go in one launch with the
+  // renderer's local size; the median of `repetitions` launches after one
+  // warm-up launch of the same grid (PoCL compiles per launch shape) is
+  // returned in ms. The last launch's results are copied to `results`
+  // (size() * result_bytes bytes) when it is not null.
+  double time_ray_kernel(cl::Kernel& kernel, const std::vector<cs_float4>& origin,
+                         const std::vector<cs_float4>& dir, size_t result_bytes, int repetitions,
+                         void* results = nullptr);
+
  private:
   struct Buffers;
   void render_chunk(size_t first_pixel, size_t pixel_count, RenderStats* stats);
@@ -71,6 +85,7 @@ class WavefrontRenderer {
   void bind_shadow();
   ShadeParams shade_params(cl_uint max_depth) const;
   void launch(cl::Kernel& kernel, size_t count);
+  double median_launch_ms(cl::Kernel& kernel, size_t count, int repetitions);  // after a warm-up launch
   uint32_t read_count(const cl::Buffer& counter);
   void write_count(const cl::Buffer& counter, uint32_t value);
 

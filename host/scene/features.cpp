@@ -8,7 +8,8 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode) {
   f.spheres = !scene.spheres.empty();
   f.cylinders = !scene.cylinders.empty();
   f.triangles = !scene.triangles.empty();
-  if (mode == RenderMode::Binary) return f;  // binary shading needs no lights or materials
+  if (mode == RenderMode::Binary) return f;  // binary shading needs no lights, materials or textures
+  f.triangle_shading = f.triangles && !scene.triangle_shading.empty();  // binary shading needs no lights or materials
 
   f.lights = !scene.point_lights.empty();
   // Only materials that some primitive actually uses count.
@@ -20,6 +21,7 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode) {
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     if (!used[i]) continue;
     const Material& m = scene.materials[i];
+    if (m.texture >= 0) f.textures = true;
     if (can_bounce && (m.flags & MATERIAL_REFRACTIVE)) f.refraction = true;
     if (can_bounce && (m.flags & MATERIAL_REFLECTIVE) && !(m.flags & MATERIAL_REFRACTIVE) && m.reflectivity > 0.0f)
       f.reflection = true;
@@ -35,6 +37,8 @@ std::string SceneFeatures::build_options() const {
   if (lights) o += " -DHAS_LIGHTS";
   if (reflection) o += " -DHAS_REFLECTION";
   if (refraction) o += " -DHAS_REFRACTION";
+  if (textures) o += " -DHAS_TEXTURES";
+  if (triangle_shading) o += " -DHAS_TRIANGLE_SHADING";
   return o;
 }
 
@@ -50,6 +54,8 @@ std::string SceneFeatures::describe() const {
   s += std::string(" lights=") + (lights ? "yes" : "no");
   s += std::string(" reflection=") + (reflection ? "yes" : "no");
   s += std::string(" refraction=") + (refraction ? "yes" : "no");
+  s += std::string(" textures=") + (textures ? "yes" : "no");
+  s += std::string(" vertex-data=") + (triangle_shading ? "yes" : "no");
   return s;
 }
 

@@ -19,6 +19,8 @@ struct SceneFeatures {
   bool lights = false;      // phong: shadow stage runs
   bool reflection = false;  // phong: mirror rays spawned
   bool refraction = false;  // phong: dielectric rays spawned
+  bool textures = false;    // some used material has a texture
+  bool triangle_shading = false;  // vertex normals / texture coordinates on triangles
   bool secondary_rays() const { return reflection || refraction; }
 
   std::string build_options() const;  // the -D flags

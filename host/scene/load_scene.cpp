@@ -10,157 +10,46 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
-#include <unordered_map>
 
 #include "host/error.h"
+#include "host/scene/scene_reader.h"
 
 namespace caustica {
 
 namespace {
 
-using nlohmann::json;
+using namespace scene_detail;
 
-enum class Range { Any, NonNegative, Positive };
+// Side of the square used for an area light that gives no size at all.
+constexpr float kDefaultAreaLightSize = 0.1f;
 
-const char* range_words(Range r) {
-  switch (r) {
-    case Range::NonNegative: return "non-negative ";
-    case Range::Positive: return "positive ";
-    default: return "";
-  }
-}
-
-// The offending value as the user wrote it, shortened. nlohmann dumps inf/nan
-// as `null`, which would be misleading next to "expected a finite number".
-std::string describe(const json& v) {
-  if (v.is_number_float() && !std::isfinite(v.get<double>())) {
-    const double d = v.get<double>();
-    return std::isnan(d) ? "nan" : (d > 0 ? "inf" : "-inf");
-  }
-  std::string s = v.dump(-1, ' ', false, json::error_handler_t::replace);
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
-  return s;
-}
-
-// Holds what every message needs (the file name) and where warnings go; the
-// readers below are the only places that check a value's type or range.
-class Reader {
- public:
-  Reader(std::string file, const LoadOptions& options) : file_(std::move(file)), options_(options) {}
-
-  [[noreturn]] void fail(const std::string& path, const std::string& message) const {
-    throw Error(file_ + ": " + (path.empty() ? "/" : path) + ": " + message);
-  }
-  [[noreturn]] void expected(const std::string& path, const std::string& what, const json& got) const {
-    fail(path, "expected " + what + ", got " + describe(got));
-  }
-  void warn(const std::string& path, const std::string& message) const {
-    const std::string line = file_ + ": " + (path.empty() ? "/" : path) + ": warning: " + message;
-    if (options_.warnings)
-      options_.warnings->push_back(line);
-    else
-      std::cerr << line << "\n";
-  }
-
-  // nullptr when `key` is absent; `obj` is known to be an object.
-  static const json* find(const json& obj, const char* key) {
-    auto it = obj.find(key);
-    return it == obj.end() ? nullptr : &*it;
-  }
-  const json& require(const json& obj, const char* key, const std::string& path, const std::string& what) const {
-    const json* v = find(obj, key);
-    if (!v) fail(path, "required key \"" + std::string(key) + "\" is missing (expected " + what + ")");
-    return *v;
-  }
-
-  const json& object(const json& v, const std::string& path) const {
-    if (!v.is_object()) expected(path, "an object", v);
-    return v;
-  }
-  const json& array(const json& v, const std::string& path) const {
-    if (!v.is_array()) expected(path, "an array", v);
-    return v;
-  }
-  std::string string(const json& v, const std::string& path) const {
-    if (!v.is_string()) expected(path, "a string", v);
-    return v.get<std::string>();
-  }
-  bool boolean(const json& v, const std::string& path) const {
-    if (!v.is_boolean()) expected(path, "true or false", v);
-    return v.get<bool>();
-  }
-  // Finite also in single precision: everything ends up in a float.
-  float number(const json& v, const std::string& path, Range range) const {
-    const std::string what = std::string("a ") + range_words(range) + "finite number";
-    if (!v.is_number()) expected(path, what, v);
-    const double d = v.get<double>();
-    if (!std::isfinite(d)) expected(path, what, v);
-    if (std::fabs(d) > FLT_MAX) expected(path, what + " within single precision (|x| <= 3.4e38)", v);
-    if ((range == Range::NonNegative && d < 0) || (range == Range::Positive && !(static_cast<float>(d) > 0)))
-      expected(path, what, v);
-    return static_cast<float>(d);
-  }
-  int integer(const json& v, const std::string& path, int lo, int hi) const {
-    const std::string what = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
-    if (!v.is_number()) expected(path, what, v);
-    const double d = v.get<double>();  // 1200.0 is accepted as 1200
-    if (!std::isfinite(d) || d != std::floor(d) || d < lo || d > hi) expected(path, what, v);
-    return static_cast<int>(d);
-  }
-  glm::vec3 vec3(const json& v, const std::string& path, Range range) const {
-    if (!v.is_array() || v.size() != 3)
-      expected(path, std::string("an array of 3 ") + range_words(range) + "numbers", v);
-    glm::vec3 out;
-    for (int i = 0; i < 3; ++i) out[i] = number(v[i], path + "/" + std::to_string(i), range);
-    return out;
-  }
-
-  // Keyed forms: `fallback` makes the key optional.
-  float read_number(const json& obj, const char* key, const std::string& path, Range range,
-                    std::optional<float> fallback = std::nullopt) const {
-    const std::string p = path + "/" + key;
-    if (fallback && !find(obj, key)) return *fallback;
-    return number(require(obj, key, p, std::string("a ") + range_words(range) + "finite number"), p, range);
-  }
-  int read_int(const json& obj, const char* key, const std::string& path, int lo, int hi,
-               std::optional<int> fallback = std::nullopt) const {
-    const std::string p = path + "/" + key;
-    if (fallback && !find(obj, key)) return *fallback;
-    return integer(require(obj, key, p, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]"), p,
-                   lo, hi);
-  }
-  glm::vec3 read_vec3(const json& obj, const char* key, const std::string& path, Range range,
-                      std::optional<glm::vec3> fallback = std::nullopt) const {
-    const std::string p = path + "/" + key;
-    if (fallback && !find(obj, key)) return *fallback;
-    return vec3(require(obj, key, p, std::string("an array of 3 ") + range_words(range) + "numbers"), p, range);
-  }
-  bool read_bool(const json& obj, const char* key, const std::string& path, bool fallback) const {
-    const json* v = find(obj, key);
-    return v ? boolean(*v, path + "/" + key) : fallback;
-  }
-  std::string read_string(const json& obj, const char* key, const std::string& path,
-                          std::optional<std::string> fallback = std::nullopt) const {
-    const std::string p = path + "/" + key;
-    if (fallback && !find(obj, key)) return *fallback;
-    return string(require(obj, key, p, "a string"), p);
-  }
-  const json& read_object(const json& obj, const char* key, const std::string& path) const {
-    const std::string p = path + "/" + key;
-    return object(require(obj, key, p, "an object"), p);
-  }
-
-  const LoadOptions& options() const { return options_; }
-
- private:
-  std::string file_;
-  const LoadOptions& options_;
-};
-
-std::string lower(std::string s) {
-  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
+const KeyList kTopKeys = {"nbounces", "rendermode", "camera", "scene", "aperture", "focus_distance", "use_dof"};
+// Settings of the authors' own renderers (sampling, acceleration, post
+// processing): they do not change what the scene is, so they pass silently.
+const KeyList kTopIgnored = {"nsamples",
+                             "shadow samples",
+                             "camera samples",
+                             "bvh",
+                             "lens_sampling",
+                             "use_denoiser",
+                             "use_tone_mapping",
+                             "use_stratified_sampling",
+                             "use_bvh",
+                             "use_gaussian_blur",
+                             "use_importance_sampling",
+                             "importance_sampling_min_samples",
+                             "importance_sampling_max_samples",
+                             "FramesNum",
+                             "animation path"};
+const KeyList kApertureKeys = {"aperture", "apertureSize", "diameter"};
+const KeyList kFocusKeys = {"focalDistance", "focusDistance", "focusdistance", "focalLength", "focus_distance"};
+const KeyList kCameraKeys = {"type",     "width",        "height",   "position",      "lookAt",
+                             "upVector", "fov",          "exposure", "aperture",      "apertureSize",
+                             "diameter", "focalDistance", "focusDistance", "focusdistance", "focalLength",
+                             "focus_distance"};
+// tone_mapping: the CLI chooses the tone curve; position0.. / movement0..:
+// camera animation (a still of the first frame is rendered, with a warning).
+const KeyList kCameraIgnored = {"tone_mapping", "position0", "position1", "position2", "movement0", "movement1"};
 
 RenderMode read_mode(const Reader& r, const json& top) {
   const json* v = Reader::find(top, "rendermode");
@@ -179,16 +68,27 @@ RenderMode read_mode(const Reader& r, const json& top) {
   return mode.value_or(RenderMode::Phong);
 }
 
-CameraDesc read_camera(const Reader& r, const json& top) {
+CameraDesc read_camera(const Reader& r, const json& top, bool* animated) {
   const std::string path = "/camera";
   const json& cam = r.read_object(top, "camera", "");
+  r.check_keys(cam, path, kCameraKeys, kCameraIgnored);
   const std::string type = r.read_string(cam, "type", path, std::string("pinhole"));
-  if (type != "pinhole")
-    r.warn(path + "/type", "camera type \"" + type + "\" is not supported yet; rendering it as a pinhole camera");
+  const std::string t = lower(type);
+  const bool lens_type = t == "finiteaperture" || t == "finite-aperture" || t == "thinlens" || t == "aperture";
+  if (t != "pinhole" && !lens_type)
+    r.warn(path + "/type", "camera type \"" + type + "\" is not supported; rendering it as a pinhole camera");
   CameraDesc c;
   c.width = r.read_int(cam, "width", path, 1, 32768);
   c.height = r.read_int(cam, "height", path, 1, 32768);
-  c.position = r.read_vec3(cam, "position", path, Range::Any);
+  // An animated camera (position0, position1, ... keyed by movement0, ...)
+  // has no "position"; its first keyframe stands in.
+  if (!Reader::find(cam, "position") && Reader::find(cam, "position0")) {
+    c.position = r.read_vec3(cam, "position0", path, Range::Any);
+    *animated = true;
+  } else {
+    c.position = r.read_vec3(cam, "position", path, Range::Any);
+  }
+  if (Reader::find(cam, "movement0") || Reader::find(cam, "position1")) *animated = true;
   c.look_at = r.read_vec3(cam, "lookAt", path, Range::Any);
   c.up = r.read_vec3(cam, "upVector", path, Range::Any);
   const std::string fov_what = "a vertical field of view in degrees, 0 < fov < 180";
@@ -201,125 +101,113 @@ CameraDesc read_camera(const Reader& r, const json& top) {
   } catch (const Error& e) {
     r.fail(path, e.what());
   }
+
+  // Depth of field: on the camera under several names, or (one repository)
+  // at the top level next to "use_dof". Every aperture spelling is read as
+  // the lens diameter, the photographic meaning and that of the "Ray Tracing
+  // in One Weekend" camera most students followed.
+  const char* which = nullptr;
+  std::string where = path;
+  const json* aperture = Reader::find_any(cam, kApertureKeys, &which);
+  if (!aperture && (aperture = Reader::find(top, "aperture"))) where = "", which = "aperture";
+  if (aperture) c.aperture_radius = 0.5f * r.number(*aperture, where + "/" + which, Range::NonNegative);
+  where = path;
+  const json* focus = Reader::find_any(cam, kFocusKeys, &which);
+  if (!focus && (focus = Reader::find(top, "focus_distance"))) where = "", which = "focus_distance";
+  c.focus_distance = focus ? r.number(*focus, where + "/" + which, Range::Positive)
+                           : glm::length(glm::dvec3(c.look_at) - glm::dvec3(c.position));
+  if (!r.read_bool(top, "use_dof", "", true)) c.aperture_radius = 0.0f;
+  if (lens_type && !aperture)
+    r.warn(path + "/type", "camera type \"" + type + "\" without an aperture (\"aperture\", \"apertureSize\" or "
+                           "\"diameter\"); it is a pinhole camera");
   return c;
 }
 
-std::vector<PointLight> read_lights(const Reader& r, const json& scene) {
-  std::vector<PointLight> lights;
-  const json* list = Reader::find(scene, "lightsources");
-  if (!list) return lights;
+void read_lights(const Reader& r, const json& scene_obj, Scene& out) {
+  const json* list = Reader::find(scene_obj, "lightsources");
+  if (!list) return;
   const std::string base = "/scene/lightsources";
   r.array(*list, base);
+  auto stand_in = [&](const glm::vec3& position, const glm::vec3& intensity) {
+    PointLight p{};
+    p.position = to_float4(position);
+    p.intensity = to_float4(intensity);
+    out.point_lights.push_back(p);
+    return static_cast<int>(out.point_lights.size() - 1);
+  };
   for (size_t i = 0; i < list->size(); ++i) {
     const std::string path = base + "/" + std::to_string(i);
     const json& l = r.object((*list)[i], path);
-    const char* what = "a light type: \"pointlight\" or \"arealight\"";
-    const std::string type = r.string(r.require(l, "type", path + "/type", what), path + "/type");
-    if (type == "arealight")
-      r.warn(path, "area lights are not supported yet; using a point light at its \"position\"");
-    else if (type != "pointlight")
-      r.expected(path + "/type", what, l["type"]);
-    PointLight p{};
-    p.position = to_float4(r.read_vec3(l, "position", path, Range::Any));
-    p.intensity = to_float4(r.read_vec3(l, "intensity", path, Range::NonNegative));
-    lights.push_back(p);
-  }
-  return lights;
-}
-
-// Materials are stored once: generated scenes repeat a few materials over
-// thousands of shapes. Keyed on the bytes, which are fully defined because
-// every field (padding included) is written.
-class MaterialTable {
- public:
-  explicit MaterialTable(std::vector<Material>& out) : out_(out) {}
-  cs_uint add(const Material& m) {
-    std::string key(reinterpret_cast<const char*>(&m), sizeof m);
-    auto [it, inserted] = index_.emplace(std::move(key), static_cast<cs_uint>(out_.size()));
-    if (inserted) out_.push_back(m);
-    return it->second;
-  }
-
- private:
-  std::vector<Material>& out_;
-  std::unordered_map<std::string, cs_uint> index_;
-};
-
-Material read_material(const Reader& r, const json& shape, const std::string& shape_path) {
-  static const json kEmpty = json::object();
-  const json* v = Reader::find(shape, "material");
-  const std::string path = shape_path + "/material";
-  const json& m = v ? r.object(*v, path) : kEmpty;
-  Material out{};
-  out.diffuse = to_float4(r.read_vec3(m, "diffusecolor", path, Range::NonNegative, glm::vec3(0.8f)),
-                          r.read_number(m, "kd", path, Range::NonNegative, 0.9f));
-  out.specular = to_float4(r.read_vec3(m, "specularcolor", path, Range::NonNegative, glm::vec3(1.0f)),
-                           r.read_number(m, "ks", path, Range::NonNegative, 0.1f));
-  out.specular_exponent = r.read_number(m, "specularexponent", path, Range::NonNegative, 20.0f);
-  out.reflectivity = r.read_number(m, "reflectivity", path, Range::NonNegative, 1.0f);
-  out.ior = r.read_number(m, "refractiveindex", path, Range::Positive, 1.0f);
-  out.ka = r.read_number(m, "ka", path, Range::NonNegative, kDefaultAmbient);
-  if (r.read_bool(m, "isreflective", path, false)) out.flags |= MATERIAL_REFLECTIVE;
-  if (r.read_bool(m, "isrefractive", path, false)) out.flags |= MATERIAL_REFRACTIVE;
-  out.texture = -1;
-  return out;
-}
-
-// Zero (or float-noise) area: sin of the corner angle below ~1e-7.
-bool degenerate_triangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
-  const glm::dvec3 e1 = glm::dvec3(b) - glm::dvec3(a), e2 = glm::dvec3(c) - glm::dvec3(a);
-  const double scale = std::max(glm::dot(e1, e1), glm::dot(e2, e2));
-  return !(glm::length(glm::cross(e1, e2)) > 1e-7 * scale);
-}
-
-constexpr const char* kShapeTypes = "a shape type: \"sphere\", \"cylinder\" or \"triangle\"";
-
-void read_shapes(const Reader& r, const json& scene, Scene& out) {
-  const std::string base = "/scene/shapes";
-  const json& shapes = r.array(r.require(scene, "shapes", base, "an array of shapes"), base);
-  MaterialTable materials(out.materials);
-  constexpr size_t kWarnLimit = 8;  // a broken mesh-like file should not flood the terminal
-  size_t dropped = 0;
-  for (size_t i = 0; i < shapes.size(); ++i) {
-    const std::string path = base + "/" + std::to_string(i);
-    const json& s = r.object(shapes[i], path);
-    const std::string type = r.string(r.require(s, "type", path + "/type", kShapeTypes), path + "/type");
-    if (type == "sphere") {
-      Sphere sp{};
-      sp.center_radius = to_float4(r.read_vec3(s, "center", path, Range::Any),
-                                   r.read_number(s, "radius", path, Range::Positive));
-      sp.material = materials.add(read_material(r, s, path));
-      out.spheres.push_back(sp);
-    } else if (type == "cylinder") {
-      Cylinder cy{};
-      cy.center_radius = to_float4(r.read_vec3(s, "center", path, Range::Any),
-                                   r.read_number(s, "radius", path, Range::Positive));
-      const glm::dvec3 axis(r.read_vec3(s, "axis", path, Range::Any));
-      const double len = glm::length(axis);
-      if (!(len > 0.0)) r.expected(path + "/axis", "a direction of nonzero length", s["axis"]);
-      cy.axis_half = to_float4(glm::vec3(axis / len), r.read_number(s, "height", path, Range::Positive));
-      cy.material = materials.add(read_material(r, s, path));
-      out.cylinders.push_back(cy);
-    } else if (type == "triangle") {
-      const glm::vec3 v0 = r.read_vec3(s, "v0", path, Range::Any);
-      const glm::vec3 v1 = r.read_vec3(s, "v1", path, Range::Any);
-      const glm::vec3 v2 = r.read_vec3(s, "v2", path, Range::Any);
-      const Material m = read_material(r, s, path);  // validated even when the triangle is dropped
-      if (degenerate_triangle(v0, v1, v2)) {
-        if (++dropped <= kWarnLimit) r.warn(path, "triangle has zero area; dropped");
-        continue;
+    const char* what = "a light type: \"pointlight\", \"arealight\", \"spherelight\" or \"ambient\"";
+    const std::string type = lower(r.string(r.require(l, "type", path + "/type", what), path + "/type"));
+    if (type == "pointlight") {
+      r.check_keys(l, path, {"type", "position", "intensity"});
+      stand_in(r.read_vec3(l, "position", path, Range::Any), r.read_vec3(l, "intensity", path, Range::NonNegative));
+    } else if (type == "ambient") {
+      r.check_keys(l, path, {"type", "intensity"});
+      out.ambient_light = out.ambient_light.value_or(glm::vec3(0.0f)) + r.read_vec3(l, "intensity", path, Range::NonNegative);
+    } else if (type == "spherelight") {
+      r.check_keys(l, path, {"type", "position", "intensity", "radius", "samples"});
+      SphereLightDesc s;
+      s.center = r.read_vec3(l, "position", path, Range::Any);
+      s.radius = r.read_number(l, "radius", path, Range::Positive);
+      s.intensity = r.read_vec3(l, "intensity", path, Range::NonNegative);
+      r.read_int(l, "samples", path, 1, 1 << 20, 1);
+      s.point_light = stand_in(s.center, s.intensity);
+      out.sphere_lights.push_back(s);
+    } else if (type == "arealight") {
+      r.check_keys(l, path, {"type", "position", "intensity", "u", "v", "u_axis", "v_axis", "width", "height", "size",
+                             "samples"});
+      AreaLightDesc a;
+      a.center = r.read_vec3(l, "position", path, Range::Any);
+      a.intensity = r.read_vec3(l, "intensity", path, Range::NonNegative);
+      a.samples = r.read_int(l, "samples", path, 1, 1 << 20, 0);
+      const char* u_key = nullptr;
+      const char* v_key = nullptr;
+      const json* u = Reader::find_any(l, {"u", "u_axis"}, &u_key);
+      const json* v = Reader::find_any(l, {"v", "v_axis"}, &v_key);
+      const json* size = Reader::find(l, "size");
+      const bool wh = Reader::find(l, "width") || Reader::find(l, "height");
+      if (size && wh) r.fail(path + "/size", "give the size either as \"size\" or as \"width\"/\"height\", not both");
+      glm::vec3 du = u ? r.vec3(*u, path + "/" + u_key, Range::Any) : glm::vec3(1, 0, 0);
+      glm::vec3 dv = v ? r.vec3(*v, path + "/" + v_key, Range::Any) : glm::vec3(0, 0, 1);
+      if (u && !(glm::length(du) > 0.0f)) r.expected(path + "/" + u_key, "a direction of nonzero length", *u);
+      if (v && !(glm::length(dv) > 0.0f)) r.expected(path + "/" + v_key, "a direction of nonzero length", *v);
+      if (size || wh) {
+        // u and v give directions only; the extent comes from the size.
+        glm::vec2 extent;
+        if (size) {
+          extent = r.vec2(*size, path + "/size", Range::Positive);
+        } else {
+          extent.x = r.read_number(l, "width", path, Range::Positive);
+          extent.y = r.read_number(l, "height", path, Range::Positive);
+        }
+        du = glm::normalize(du);
+        dv = glm::normalize(dv);
+        if (!v && std::fabs(glm::dot(du, dv)) > 0.999f) dv = glm::vec3(0, 1, 0);  // default v along u
+        if (!u && std::fabs(glm::dot(du, dv)) > 0.999f) du = glm::vec3(0, 1, 0);
+        a.u = du * extent.x;
+        a.v = dv * extent.y;
+      } else if (u && v) {
+        a.u = du;  // full edge vectors, as the authors' samplers use them
+        a.v = dv;
+      } else if (u || v) {
+        r.fail(path + "/" + (u ? u_key : v_key), std::string("expected both edge vectors (\"u\" and \"v\") or a "
+                                                             "\"size\"/\"width\"/\"height\", got only \"") +
+                                                     (u ? u_key : v_key) + "\"");
+      } else {
+        a.u = glm::vec3(kDefaultAreaLightSize, 0, 0);
+        a.v = glm::vec3(0, 0, kDefaultAreaLightSize);
+        r.warn(path, "area light without a size (u/v, width/height or size): using a horizontal 0.1 x 0.1 square");
       }
-      Triangle t{};
-      t.v0 = to_float4(v0);
-      t.v1 = to_float4(v1);
-      t.v2 = to_float4(v2);
-      t.material = materials.add(m);
-      out.triangles.push_back(t);
+      if (!(glm::length(glm::cross(a.u, a.v)) > 0.0f))
+        r.fail(path, "expected edge vectors u and v that span a rectangle, got parallel ones");
+      a.point_light = stand_in(a.center, a.intensity);
+      out.area_lights.push_back(a);
     } else {
-      r.expected(path + "/type", kShapeTypes, s["type"]);
+      r.expected(path + "/type", what, l["type"]);
     }
   }
-  if (dropped > kWarnLimit) r.warn(base, std::to_string(dropped) + " zero-area triangles dropped in total");
 }
 
 std::pair<size_t, size_t> line_column(const std::string& text, size_t byte) {
@@ -416,18 +304,28 @@ json parse_text(const std::string& text, const std::string& path) {
 
 Scene parse_scene(const json& j, const std::string& file_for_messages, const std::string& base_dir,
                   const LoadOptions& options) {
-  (void)base_dir;  // no asset references in the official format yet (textures/meshes come later)
   const Reader r(file_for_messages, options);
   r.object(j, "");
+  r.check_keys(j, "", kTopKeys, kTopIgnored);
   Scene scene;
   scene.source_path = file_for_messages;
   scene.nbounces = r.read_int(j, "nbounces", "", 0, 1024, 4);
   scene.mode = read_mode(r, j);
-  scene.camera = read_camera(r, j);
+  bool animated = Reader::find(j, "FramesNum") || Reader::find(j, "animation path");
+  scene.camera = read_camera(r, j, &animated);
+  if (animated)
+    r.warn("", "animation (FramesNum, \"animation path\", camera position0.., movement0..) is not supported; "
+               "rendering a still from the first camera position");
   const json& sc = r.read_object(j, "scene", "");
+  r.check_keys(sc, "/scene", {"backgroundcolor", "lightsources", "shapes", "ambientlight"});
   scene.background = r.read_vec3(sc, "backgroundcolor", "/scene", Range::NonNegative, glm::vec3(0.0f));
-  scene.point_lights = read_lights(r, sc);
-  read_shapes(r, sc, scene);
+  if (sc.contains("ambientlight")) scene.ambient_light = r.read_vec3(sc, "ambientlight", "/scene", Range::NonNegative);
+  read_lights(r, sc, scene);
+  namespace fs = std::filesystem;
+  LoadContext ctx(r, scene, base_dir.empty() ? std::string(".") : base_dir,
+                  fs::path(file_for_messages).stem().string());
+  read_shapes(ctx, sc);
+  r.flush_deferred();
   return scene;
 }
 

@@ -6,6 +6,7 @@
 
 #include <glm/glm.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,27 @@ struct CameraDesc {
   glm::vec3 up{0.0f, 1.0f, 0.0f};
   float fov_y_degrees = 45.0f;  // vertical field of view
   float exposure = 0.0f;        // the JSON "exposure", in stops (image scale 2^exposure)
+  // Thin lens (student variants): 0 is a pinhole. Phong ignores both; a
+  // sampler of the lens focuses on the plane at focus_distance along forward.
+  float aperture_radius = 0.0f;
+  float focus_distance = 0.0f;  // the loader sets |lookAt - position| when the file gives none
+};
+
+// A rectangular light: centre + s*u + t*v for s, t in [-1/2, 1/2], so u and v
+// are full edge vectors; it emits on the side of cross(u, v). `intensity` is
+// as written (the same scale the file uses for point lights).
+struct AreaLightDesc {
+  glm::vec3 center{0.0f}, u{0.0f}, v{0.0f};
+  glm::vec3 intensity{0.0f};
+  int samples = 0;       // shadow samples the file asks for; 0: not given
+  int point_light = -1;  // index of its stand-in in Scene::point_lights (phong renders that)
+};
+
+struct SphereLightDesc {
+  glm::vec3 center{0.0f};
+  float radius = 0.0f;
+  glm::vec3 intensity{0.0f};
+  int point_light = -1;  // as for AreaLightDesc
 };
 
 struct Scene {
@@ -31,11 +53,31 @@ struct Scene {
   int nbounces = 4;
   CameraDesc camera;
   glm::vec3 background{0.0f};
+  // Point lights, plus one stand-in at the centre of every area and sphere
+  // light (so that phong, which only knows point lights, still lights the scene).
   std::vector<PointLight> point_lights;
+  std::vector<AreaLightDesc> area_lights;
+  std::vector<SphereLightDesc> sphere_lights;
+  // Ambient light colour from the file ("ambientlight", lights of type
+  // "ambient"); unset when it gives none (phong then uses white). It scales
+  // phong's ambient term ka * diffuse colour; see scenes/FORMAT.md.
+  std::optional<glm::vec3> ambient_light;
   std::vector<Material> materials;
   std::vector<Sphere> spheres;
   std::vector<Cylinder> cylinders;
   std::vector<Triangle> triangles;
+  // Empty, or one entry per triangle (vertex normals / texture coordinates).
+  std::vector<TriangleShading> triangle_shading;
+  std::vector<Texture> textures;
+  std::vector<uint16_t> texels;  // IEEE half floats, 4 per texel (linear rgb + unused)
+
+  struct MeshInfo {
+    std::string file;
+    size_t triangles = 0;         // added to the scene
+    size_t dropped_degenerate = 0;
+    double load_ms = 0.0;
+  };
+  std::vector<MeshInfo> meshes;
 
   size_t primitive_count() const { return spheres.size() + cylinders.size() + triangles.size(); }
 };

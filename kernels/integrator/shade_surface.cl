@@ -12,6 +12,7 @@
 #include "lib/optics.h"
 #include "lib/queue.h"
 #include "lib/surface.h"
+#include "lib/texture.h"
 
 inline void push_ray(volatile __global uint* count, uint capacity, RAY_QUEUE_PARAMS(q), float3 origin,
                      float3 dir, float3 weight, uint depth, uint pixel) {
@@ -27,11 +28,14 @@ inline float max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 
 #ifdef HAS_LIGHTS
 /* Blinn-Phong for one point light, pushed as a shadow ray. */
-inline void shade_point_light(__global const PointLight* light, __global const Material* mat, SurfacePoint sp,
-                              float3 n_facing, float3 view, float3 weight, uint pixel,
+inline void shade_point_light(__global const PointLight* light, __global const Material* mat, float3 diffuse_colour,
+                              SurfacePoint sp, float3 n_facing, float3 view, float3 weight, uint pixel,
                               volatile __global uint* shadow_count, uint shadow_capacity,
                               SHADOW_QUEUE_PARAMS(shadow)) {
-  const float3 origin = spawn_point(sp, n_facing);
+  /* The shadow ray leaves on the geometric side the light is on; the
+   * shading normal only weights the light. */
+  const float3 geometric = dot(sp.normal, n_facing) >= 0.0f ? sp.normal : -sp.normal;
+  const float3 origin = spawn_point(sp, geometric);
   const float3 to_light = light->position.xyz - origin;
   const float dist = length(to_light);
   if (!(dist > 0.0f)) return;
@@ -40,7 +44,8 @@ inline void shade_point_light(__global const PointLight* light, __global const M
   if (n_dot_l <= 0.0f) return;
   const float3 h = normalize(l + view);
   const float n_dot_h = fmax(dot(n_facing, h), 0.0f);
-  const float3 diffuse = mat->diffuse.w * mat->diffuse.xyz * n_dot_l;
+  if (dot(geometric, l) <= 0.0f) return; /* light behind the actual surface */
+  const float3 diffuse = mat->diffuse.w * diffuse_colour * n_dot_l;
   const float3 specular = mat->specular.w * mat->specular.xyz * pow(n_dot_h, mat->specular_exponent);
   const float3 contribution = weight * light->intensity.xyz * (diffuse + specular);
   if (max3(contribution) <= 0.0f) return;
@@ -55,7 +60,9 @@ inline void shade_point_light(__global const PointLight* light, __global const M
 
 __kernel void shade_surface(__global const Sphere* restrict spheres, __global const Cylinder* restrict cylinders,
                             __global const Triangle* restrict triangles,
-                            __global const Material* restrict materials,
+                            __global const TriangleShading* restrict triangle_shading,
+                            __global const Material* restrict materials, __global const Texture* restrict textures,
+                            __global const ushort* restrict texels,
                             __global const PointLight* restrict lights, ShadeParams params,
                             __global const uint* restrict ray_count, RAY_QUEUE_PARAMS(in),
                             __global const float4* restrict hits, __global ulong* restrict film,
@@ -84,17 +91,28 @@ __kernel void shade_surface(__global const Sphere* restrict spheres, __global co
   }
 
   const float3 d = in_dir[i].xyz;
-  const SurfacePoint sp = surface_at(spheres, cylinders, triangles, hit, in_origin[i].xyz, d);
+  const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, in_origin[i].xyz, d);
   __global const Material* mat = &materials[sp.material];
   const bool front = dot(sp.normal, d) < 0.0f;
-  const float3 n = front ? sp.normal : -sp.normal; /* faces the incoming ray */
+  const float3 n = front ? sp.normal : -sp.normal;                  /* geometric, faces the ray */
+  const float3 ns = front ? sp.shading_normal : -sp.shading_normal; /* shading, same side */
+  float3 diffuse_colour = mat->diffuse.xyz;
+#ifdef HAS_TEXTURES
+  /* An image or checker texture replaces the diffuse colour. */
+  if (mat->texture >= 0) diffuse_colour = texture_lookup(textures, (__global const half*)texels, mat->texture, sp.uv);
+#endif
+  film_add(film, pixel, weight * mat->emission.xyz);
 
   /* Split the ray's weight between the local Phong term and the specular
    * children: mirror by reflectivity; dielectric by Fresnel. */
   float local_share = 1.0f;
   float3 reflect_weight = (float3)(0.0f);
   float3 refract_weight = (float3)(0.0f);
-  float cos_i = -dot(d, n), cos_t = 0.0f;
+  /* Specular directions follow the shading normal unless its mirror
+   * direction would dive below the actual surface (interpolated normals at
+   * grazing angles); then the geometric normal is used. */
+  const float3 n_spec = dot(reflect_dir(d, ns), n) > 0.0f ? ns : n;
+  float cos_i = -dot(d, n_spec), cos_t = 0.0f;
   float eta = 1.0f;
   bool refractive = false;
 #ifdef HAS_REFRACTION
@@ -117,10 +135,10 @@ __kernel void shade_surface(__global const Sphere* restrict spheres, __global co
 
   if (local_share > 0.0f) {
     const float3 local_weight = weight * local_share;
-    film_add(film, pixel, local_weight * mat->ka * mat->diffuse.xyz);
+    film_add(film, pixel, local_weight * mat->ka * params.ambient_light.xyz * diffuse_colour);
 #ifdef HAS_LIGHTS
     for (uint l = 0; l < params.light_count; ++l)
-      shade_point_light(&lights[l], mat, sp, n, -d, local_weight, pixel, shadow_count,
+      shade_point_light(&lights[l], mat, diffuse_colour, sp, ns, -d, local_weight, pixel, shadow_count,
                         params.shadow_capacity, shadow_origin, shadow_dir, shadow_contribution, shadow_pixel);
 #endif
   }
@@ -128,8 +146,8 @@ __kernel void shade_surface(__global const Sphere* restrict spheres, __global co
   if (depth >= params.max_depth) return;
   if (max3(reflect_weight) > params.min_weight)
     push_ray(next_count, params.ray_capacity, RAY_QUEUE_ARGS(next), spawn_point(sp, n),
-             reflect_dir(d, n), reflect_weight, depth + 1, pixel);
+             reflect_dir(d, n_spec), reflect_weight, depth + 1, pixel);
   if (max3(refract_weight) > params.min_weight)
     push_ray(next_count, params.ray_capacity, RAY_QUEUE_ARGS(next), spawn_point(sp, -n),
-             refract_dir(d, n, eta, cos_i, cos_t), refract_weight, depth + 1, pixel);
+             refract_dir(d, n_spec, eta, cos_i, cos_t), refract_weight, depth + 1, pixel);
 }

@@ -1,14 +1,35 @@
 #line 2 "kernels/lib/surface.h"
 /* Turns a Hit into a shading point: an accurate position, the unit geometric
- * normal and the material index.
+ * and shading normals, texture coordinates and the material index.
  *
  * Rules: the normal always points OUTWARD (out of spheres and cylinders; for
  * triangles along cross(v1 - v0, v2 - v0), i.e. counter-clockwise winding);
  * it is never flipped toward the ray, the shader decides the side. The
+ * shading normal equals it except on triangles with vertex normals
+ * (HAS_TRIANGLE_SHADING), where it is their barycentric interpolation,
+ * normalised and negated if it leaves the geometric normal's hemisphere. The
  * position is rebuilt from the primitive rather than taken as o + t d, whose
  * rounding error grows with t: triangles use the barycentrics, spheres and
  * cylinders are re-projected onto their surface. Only the primitive types
- * enabled by HAS_SPHERES / HAS_CYLINDERS / HAS_TRIANGLES are compiled. */
+ * enabled by HAS_SPHERES / HAS_CYLINDERS / HAS_TRIANGLES are compiled.
+ *
+ * Texture coordinates (u, v), v growing upward in the image (texture.h):
+ *   sphere: n = unit outward normal; u = atan2(n.z, n.x) / 2pi wrapped into
+ *     [0, 1) (u = 0 toward +x, 0.25 toward +z: seen from outside with +y up,
+ *     u grows to the right); v = acos(-n.y) / pi, 0 at the south pole (-y),
+ *     1 at the north pole (+y). At the poles u = 0.
+ *   cylinder: a = unit axis; e = the world axis with the smallest |a_i| (the
+ *     first of x, y, z on ties); t1 = normalize(cross(a, e)), t2 = cross(a, t1).
+ *     side: u = atan2(r.t2, r.t1) / 2pi wrapped into [0, 1) (the angle from t1
+ *       toward t2 of the radial vector r), v = (z + half) / (2 half) with z the
+ *       axial coordinate: 0 at the bottom rim, 1 at the top rim.
+ *     caps (both): planar, u = 0.5 + (p - c).t1 / (2 radius),
+ *       v = 0.5 + (p - c).t2 / (2 radius), c the cap's centre.
+ *   triangle: the barycentric interpolation of (u0, v0), (u1, v1), (u2, v2)
+ *     from TriangleShading with HAS_TRIANGLE_SHADING; without it every
+ *     triangle has (0, 0), (1, 0), (0, 1) at v0, v1, v2, so uv = (hit.u, hit.v).
+ * triangle_shading is read only with HAS_TRIANGLE_SHADING; otherwise any
+ * (dummy) buffer may be passed. */
 #ifndef CAUSTICA_LIB_SURFACE_H
 #define CAUSTICA_LIB_SURFACE_H
 
@@ -16,7 +37,9 @@
 
 typedef struct {
   float3 position;
-  float3 normal;
+  float3 normal;         /* geometric, outward */
+  float3 shading_normal; /* outward, in the geometric normal's hemisphere */
+  float2 uv;
   uint material;
   /* Magnitude of the numbers the position was computed from (|centre| +
    * radius, largest vertex coordinate...). The position's rounding error
@@ -34,11 +57,33 @@ inline float3 spawn_point(SurfacePoint sp, float3 side_normal) {
   return offset_ray_origin(sp.position, side_normal) + side_normal * (sp.error_scale * 0x1.0p-17f);
 }
 
+/* atan2(y, x) / 2pi in [0, 1). u just below 0 would round to exactly 1 after
+ * the + 1, which is the same place as 0 on a tiling texture. x = y = 0 (a
+ * pole) gives 0 whatever atan2's fast variant does there. */
+inline float angle_unit(float y, float x) {
+  if (x == 0.0f && y == 0.0f) return 0.0f;
+  float u = atan2(y, x) * (0.5f / M_PI_F);
+  if (u < 0.0f) u += 1.0f;
+  return u < 1.0f ? u : 0.0f;
+}
+
+/* The cylinder's texture frame (see the header): a function of the axis
+ * alone, so it is the same for every hit and every device. */
+inline void cylinder_uv_frame(float3 a, float3* t1, float3* t2) {
+  const float3 m = fabs(a);
+  const float3 e = (m.x <= m.y && m.x <= m.z) ? (float3)(1.0f, 0.0f, 0.0f)
+                                               : (m.y <= m.z ? (float3)(0.0f, 1.0f, 0.0f) : (float3)(0.0f, 0.0f, 1.0f));
+  *t1 = normalize(cross(a, e));
+  *t2 = cross(a, *t1);
+}
+
 SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder* cylinders,
-                        __global const Triangle* triangles, Hit hit, float3 o, float3 d) {
+                        __global const Triangle* triangles, __global const TriangleShading* triangle_shading, Hit hit,
+                        float3 o, float3 d) {
   SurfacePoint sp;
   sp.position = o + hit.t * d;
   sp.normal = (float3)(0.0f, 0.0f, 1.0f);
+  sp.uv = (float2)(0.0f, 0.0f);
   sp.material = 0u;
   sp.error_scale = 0.0f;
   uint type = prim_ref_type(hit.prim);
@@ -52,6 +97,7 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
     sp.position = s.xyz + s.w * sp.normal;
     sp.material = spheres[index].material;
     sp.error_scale = max_abs3(s.xyz) + s.w;
+    sp.uv = (float2)(angle_unit(sp.normal.z, sp.normal.x), acos(clamp(-sp.normal.y, -1.0f, 1.0f)) * M_1_PI_F);
   }
 #endif
 #ifdef HAS_CYLINDERS
@@ -62,12 +108,16 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
     float3 rel = (o - cr.xyz) + hit.t * d;
     float z = clamp(dot(rel, axis), -half_length, half_length);
     float3 radial = rel - dot(rel, axis) * axis;
+    float3 t1, t2;
+    cylinder_uv_frame(axis, &t1, &t2);
     if (hit.u == CYL_PART_SIDE) {
       float len = length(radial);
       /* A hit exactly on the axis cannot be on the side; any normal
        * perpendicular to the axis is as good as another there. */
       sp.normal = len > 0.0f ? radial / len : normalize(cross(axis, (float3)(axis.y, axis.z, axis.x)));
       sp.position = cr.xyz + z * axis + cr.w * sp.normal;
+      sp.uv = (float2)(angle_unit(dot(sp.normal, t2), dot(sp.normal, t1)),
+                       half_length > 0.0f ? (z + half_length) / (2.0f * half_length) : 0.5f);
     } else {
       float sgn = hit.u == CYL_PART_TOP ? 1.0f : -1.0f;
       sp.normal = sgn * axis;
@@ -75,11 +125,14 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
       float len = length(radial);
       if (len > cr.w) radial *= cr.w / len;
       sp.position = cr.xyz + (sgn * half_length) * axis + radial;
+      float scale = cr.w > 0.0f ? 0.5f / cr.w : 0.0f;
+      sp.uv = (float2)(0.5f + dot(radial, t1) * scale, 0.5f + dot(radial, t2) * scale);
     }
     sp.material = cylinders[index].material;
     sp.error_scale = max_abs3(cr.xyz) + cr.w + half_length;
   }
 #endif
+  sp.shading_normal = sp.normal;
 #ifdef HAS_TRIANGLES
   if (type == PRIM_TRIANGLE) {
     float3 v0 = triangles[index].v0.xyz;
@@ -89,8 +142,25 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
      * summing weighted absolute positions would not be. */
     sp.position = v0 + hit.u * (v1 - v0) + hit.v * (v2 - v0);
     sp.normal = normalize(cross(v1 - v0, v2 - v0));
+    sp.shading_normal = sp.normal;
     sp.material = triangles[index].material;
     sp.error_scale = fmax(max_abs3(v0), fmax(max_abs3(v1), max_abs3(v2)));
+#ifdef HAS_TRIANGLE_SHADING
+    __global const TriangleShading* ts = &triangle_shading[index];
+    /* Edge form for the same reason as the position: tiled UVs (1000.25...)
+     * keep their fraction. */
+    const float2 uv0 = (float2)(ts->u0, ts->v0);
+    sp.uv = uv0 + hit.u * ((float2)(ts->u1, ts->v1) - uv0) + hit.v * ((float2)(ts->u2, ts->v2) - uv0);
+    const float3 n = (1.0f - hit.u - hit.v) * ts->n0.xyz + hit.u * ts->n1.xyz + hit.v * ts->n2.xyz;
+    const float n2 = dot(n, n);
+    /* Opposite vertex normals can cancel; the geometric normal stands in. */
+    if (n2 > 1e-12f) {
+      const float3 sn = n * rsqrt(n2);
+      sp.shading_normal = dot(sn, sp.normal) < 0.0f ? -sn : sn;
+    }
+#else
+    sp.uv = (float2)(hit.u, hit.v);
+#endif
   }
 #endif
   return sp;

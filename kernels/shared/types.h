@@ -50,6 +50,33 @@ typedef struct {
   cs_uint pad0, pad1, pad2;
 } Triangle; /* 64 bytes */
 
+/* Per-triangle shading data, parallel to the Triangle array; present only
+ * when some triangle has vertex normals or texture coordinates (meshes,
+ * JSON uv0..uv2). Triangles without them carry the geometric normal in
+ * n0..n2 and the default UVs (0,0), (1,0), (0,1). */
+typedef struct {
+  cs_float4 n0, n1, n2; /* unit shading normals at v0, v1, v2; w unused */
+  float u0, v0, u1, v1;
+  float u2, v2;
+  cs_uint pad0, pad1;
+} TriangleShading; /* 80 bytes */
+
+#define TEXTURE_IMAGE 0u
+#define TEXTURE_CHECKER 1u
+
+/* One texture of the scene. Image texels of every texture live in one buffer
+ * of linear-RGB half floats (4 halves a texel, alpha unused), row-major from
+ * the top row, texture i starting at texel `offset`. */
+typedef struct {
+  cs_float4 color1; /* checker: colour of even squares (linear rgb) */
+  cs_float4 color2; /* checker: colour of odd squares */
+  cs_uint kind;     /* TEXTURE_IMAGE or TEXTURE_CHECKER */
+  cs_uint offset;   /* image: first texel */
+  cs_uint width, height;
+  float scale; /* checker: squares per unit of u and v */
+  cs_uint pad0, pad1, pad2;
+} Texture; /* 64 bytes */
+
 /* Flattened BVH2 node, depth-first: an inner node's left child is the next
  * node, its right child is `offset`; a leaf (count > 0) owns prim refs
  * [offset, offset + count). */
@@ -66,14 +93,15 @@ typedef struct {
 typedef struct {
   cs_float4 diffuse;  /* rgb diffuse colour, w = kd */
   cs_float4 specular; /* rgb specular colour, w = ks */
+  cs_float4 emission; /* rgb emitted radiance (emissive materials, area lights), w unused */
   float specular_exponent;
   float reflectivity; /* weight of the mirror ray when MATERIAL_REFLECTIVE */
   float ior;          /* refractive index when MATERIAL_REFRACTIVE */
   float ka;           /* ambient coefficient (times the diffuse colour) */
   cs_uint flags;
-  cs_int texture; /* -1: none (textures arrive with the scene-breadth work) */
+  cs_int texture; /* index into the Texture table modulating the diffuse colour; -1: none */
   cs_uint pad0, pad1;
-} Material; /* 64 bytes */
+} Material; /* 80 bytes */
 
 typedef struct {
   cs_float4 position;  /* xyz, w unused */
@@ -98,7 +126,8 @@ typedef struct {
 
 /* Per-launch constants of the shading stage. */
 typedef struct {
-  cs_float4 background; /* rgb, w unused */
+  cs_float4 background;    /* rgb, w unused */
+  cs_float4 ambient_light; /* rgb scale of the ambient term ka * diffuse (1 unless the scene sets it) */
   cs_uint mode;
   cs_uint light_count;
   cs_uint max_depth;   /* nbounces: secondary rays are spawned while depth < max_depth */
@@ -106,7 +135,7 @@ typedef struct {
   cs_uint shadow_capacity;
   float min_weight; /* rays whose weight falls below this are not spawned */
   cs_uint pad0, pad1;
-} ShadeParams; /* 48 bytes */
+} ShadeParams; /* 64 bytes */
 
 /* Film contributions are accumulated as 64-bit fixed point so that the sum is
  * independent of the order in which work-items add (deterministic images on

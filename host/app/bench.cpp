@@ -1,0 +1,186 @@
+#include "host/app/bench.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "host/bench/bench_rays.h"
+#include "host/error.h"
+
+namespace caustica {
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// One ray kind's figures. Agreement compares the kernel's answer per ray with
+// HostTracer's: hit/miss (or occluded/clear) status, and for closest hits
+// also the primitive; a ray set that the two disagree on would time a
+// different workload than the one the Embree reference traces.
+struct KindResult {
+  const char* name = "";
+  size_t rays = 0;
+  double ms = 0.0;
+  double hit_fraction = 0.0;      // of the kernel's answers: hit / occluded
+  double status_agreement = 1.0;  // hit/miss matches the host trace
+  double prim_agreement = 1.0;    // closest hits: same primitive (misses count as matching)
+  double check_ms = 0.0;          // host reference trace
+  double mrays() const { return ms > 0.0 ? double(rays) / (ms * 1e3) : 0.0; }
+};
+
+uint32_t prim_of(const cs_float4& hit) {
+  uint32_t prim;
+  std::memcpy(&prim, &hit.w, sizeof prim);
+  return prim;
+}
+
+KindResult time_closest(WavefrontRenderer& renderer, cl::Kernel& kernel, const char* name, const RaySet& rays,
+                        const std::vector<HostHit>* known_hits, const HostTracer& tracer, int repetitions) {
+  KindResult r;
+  r.name = name;
+  r.rays = rays.size();
+  if (rays.size() == 0) return r;
+  std::vector<cs_float4> hits(rays.size());
+  r.ms = renderer.time_ray_kernel(kernel, rays.origin, rays.dir, sizeof(cs_float4), repetitions, hits.data());
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<HostHit> computed;
+  if (!known_hits) computed = host_closest_hits(tracer, rays);
+  const std::vector<HostHit>& ref = known_hits ? *known_hits : computed;
+  r.check_ms = ms_since(t0);
+  size_t hit = 0, same_status = 0, same_prim = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const uint32_t prim = prim_of(hits[i]);
+    hit += prim != PRIM_NONE;
+    same_status += (prim != PRIM_NONE) == ref[i].hit();
+    same_prim += prim == ref[i].prim;
+  }
+  r.hit_fraction = double(hit) / double(rays.size());
+  r.status_agreement = double(same_status) / double(rays.size());
+  r.prim_agreement = double(same_prim) / double(rays.size());
+  return r;
+}
+
+KindResult time_shadow(WavefrontRenderer& renderer, cl::Kernel& kernel, const RaySet& rays,
+                       const HostTracer& tracer, int repetitions) {
+  KindResult r;
+  r.name = "shadow";
+  r.rays = rays.size();
+  if (rays.size() == 0) return r;
+  std::vector<cl_uint> occluded(rays.size());
+  r.ms = renderer.time_ray_kernel(kernel, rays.origin, rays.dir, sizeof(cl_uint), repetitions, occluded.data());
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<uint8_t> ref = host_occlusion(tracer, rays);
+  r.check_ms = ms_since(t0);
+  size_t hit = 0, same = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    hit += occluded[i] != 0;
+    same += (occluded[i] != 0) == (ref[i] != 0);
+  }
+  r.hit_fraction = double(hit) / double(rays.size());
+  r.status_agreement = r.prim_agreement = double(same) / double(rays.size());
+  return r;
+}
+
+void print_kind(const KindResult& r, int repetitions) {
+  if (r.rays == 0) {
+    std::printf("%-7s rays   none (%s)\n", r.name,
+                std::strcmp(r.name, "shadow") == 0 ? "the scene has no point light" : "no primary hit");
+    return;
+  }
+  std::printf("%-7s rays   %.2f Mrays/s (%zu rays, median %.2f ms of %d; %s %.1f%%)\n", r.name, r.mrays(), r.rays,
+              r.ms, repetitions, std::strcmp(r.name, "shadow") == 0 ? "occluded" : "hit", 100.0 * r.hit_fraction);
+  const bool shadow = std::strcmp(r.name, "shadow") == 0;
+  std::printf("               agrees with the host trace: status %.4f%%", 100.0 * r.status_agreement);
+  if (!shadow) std::printf(", primitive %.4f%%", 100.0 * r.prim_agreement);
+  std::printf(" (check %.0f ms)\n", r.check_ms);
+}
+
+}  // namespace
+
+int run_bench(BenchArgs& a) {
+  a.session.mode = parse_render_mode(a.mode);
+  // Cold kernel build time: measured without our cache, and without PoCL's
+  // own binary cache (~/.cache/pocl), which would otherwise turn a "cold"
+  // build into a 50 ms cache hit. An explicit POCL_KERNEL_CACHE wins.
+  a.session.use_kernel_cache = false;
+  setenv("POCL_KERNEL_CACHE", "0", /*overwrite=*/0);
+  const auto session = prepare_session(a.session);
+  const Scene& s = session->scene;
+  const int width = session->settings.width, height = session->settings.height;
+  WavefrontRenderer& renderer = *session->renderer;
+
+  auto t0 = std::chrono::steady_clock::now();
+  const BenchRays rays = generate_bench_rays(s, session->bvh, width, height);
+  const double ray_generation_ms = ms_since(t0);
+  const HostTracer tracer(s, session->bvh);
+
+  // intersect_closest straight from the renderer's program; the any-hit
+  // kernel lives in its own small program (kernels/bench/), built with the
+  // same feature flags so trace_any is compiled exactly as in the renderer.
+  cl::Kernel closest(session->program.program, "intersect_closest");
+  const BuiltProgram shadow_program =
+      session->runtime->build_file("bench/trace_shadow_only.cl", session->features.build_options());
+  cl::Kernel any(shadow_program.program, "trace_shadow_only");
+
+  const KindResult primary =
+      time_closest(renderer, closest, "primary", rays.primary, &rays.primary_hits, tracer, a.repetitions);
+  const KindResult diffuse = time_closest(renderer, closest, "diffuse", rays.diffuse, nullptr, tracer, a.repetitions);
+  const KindResult shadow = time_shadow(renderer, any, rays.shadow, tracer, a.repetitions);
+
+  std::vector<double> render_ms;
+  for (int r = 0; r < a.repetitions; ++r) {
+    RenderStats stats;
+    renderer.render(&stats);
+    render_ms.push_back(stats.render_ms);
+  }
+  std::sort(render_ms.begin(), render_ms.end());
+  const double render_median = render_ms[render_ms.size() / 2];
+
+  std::printf("scene          %s (%zu spheres, %zu cylinders, %zu triangles, %zu lights)\n", s.source_path.c_str(),
+              s.spheres.size(), s.cylinders.size(), s.triangles.size(), s.point_lights.size());
+  std::printf("device         %s\n", session->runtime->device_info().name.c_str());
+  std::printf("image          %dx%d, %s\n", width, height, session->features.describe().c_str());
+  std::printf("launches       one per ray kind, local size %zu, warm-up launch then median of %d\n",
+              session->settings.local_size, a.repetitions);
+  std::printf("bvh build      %.2f ms (%zu nodes, SAH %.2f)\n", session->bvh.build_ms, session->bvh.nodes.size(),
+              session->bvh.sah_cost);
+  std::printf("kernel build   %.1f ms (cold; bench any-hit program %.1f ms)\n", session->program.build_ms,
+              shadow_program.build_ms);
+  std::printf("ray sets       generated on the host in %.0f ms (shared with caustica_embree_bench)\n",
+              ray_generation_ms);
+  print_kind(primary, a.repetitions);
+  print_kind(diffuse, a.repetitions);
+  print_kind(shadow, a.repetitions);
+  std::printf("render         %.1f ms (median of %d)\n", render_median, a.repetitions);
+  nlohmann::json j = {{"scene", s.source_path},
+                      {"device", session->runtime->device_info().name},
+                      {"width", width},
+                      {"height", height},
+                      {"primitives", s.primitive_count()},
+                      {"triangles", s.triangles.size()},
+                      {"build_ms", session->bvh.build_ms},
+                      {"kernel_build_ms", session->program.build_ms},
+                      {"local_size", session->settings.local_size},
+                      {"repetitions", a.repetitions},
+                      {"primary_mrays", primary.mrays()},
+                      {"diffuse_mrays", diffuse.mrays()},
+                      {"shadow_mrays", shadow.mrays()},
+                      {"primary_rays", primary.rays},
+                      {"diffuse_rays", diffuse.rays},
+                      {"shadow_rays", shadow.rays},
+                      {"primary_agreement", primary.status_agreement},
+                      {"diffuse_agreement", diffuse.status_agreement},
+                      {"shadow_agreement", shadow.status_agreement},
+                      {"ray_generation_ms", ray_generation_ms},
+                      {"render_ms", render_median}};
+  std::printf("%s\n", j.dump().c_str());
+  return 0;
+}
+
+}  // namespace caustica

@@ -1,0 +1,69 @@
+// A scalar C++ port of the kernels' ray queries (kernels/lib/bvh_traverse.h,
+// intersect_primitives.h and the position/normal part of surface.h) over the
+// same caustica BVH. The benchmark tools use it to generate their rays from
+// primary hits and to check both tracers: it must give the answers the
+// kernels give, so it follows their arithmetic step by step (float32, the
+// same operation order, no contraction) rather than being a "nicer" tracer.
+// It is not meant to be fast.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+
+#include "host/accel/bvh.h"
+#include "host/scene/scene.h"
+
+namespace caustica {
+
+constexpr float kRayTFar = 1e30f;  // RAY_T_FAR of kernels/lib/geometry.h
+
+// The kernels' Hit: u, v are barycentrics (triangles), part and axial
+// coordinate (cylinders) or 0 (spheres); prim is the encoded BVH reference.
+struct HostHit {
+  float t = kRayTFar;
+  float u = 0.0f;
+  float v = 0.0f;
+  uint32_t prim = PRIM_NONE;
+  bool hit() const { return prim != PRIM_NONE; }
+};
+
+// Primitive tests with the contract of intersect_primitives.h: *t holds tmax
+// on input and is lowered only for a hit with tmin < t < *t. Exposed so that
+// the Embree reference intersects spheres and cylinders with the same math.
+bool host_intersect_sphere(glm::vec3 center, float radius, glm::vec3 o, glm::vec3 d, float tmin, float* t);
+bool host_intersect_cylinder(glm::vec3 center, glm::vec3 axis, float radius, float half_length, glm::vec3 o,
+                             glm::vec3 d, float tmin, float* t, float* part);
+bool host_intersect_triangle(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, glm::vec3 o, glm::vec3 d, float tmin,
+                             float* t, float* u, float* v);
+
+// What secondary-ray spawning needs from surface_at (kernels/lib/surface.h).
+struct HostSurfacePoint {
+  glm::vec3 position{0.0f};
+  glm::vec3 normal{0.0f, 0.0f, 1.0f};  // geometric, outward
+  float error_scale = 0.0f;
+};
+
+// spawn_point of surface.h: the origin of a ray leaving sp on the side
+// side_normal points to.
+glm::vec3 host_spawn_point(const HostSurfacePoint& sp, glm::vec3 side_normal);
+
+class HostTracer {
+ public:
+  // Both must outlive the tracer.
+  HostTracer(const Scene& scene, const Bvh& bvh) : scene_(scene), bvh_(bvh) {}
+
+  HostHit closest(glm::vec3 o, glm::vec3 d, float tmin, float tmax) const;  // trace_closest
+  bool any(glm::vec3 o, glm::vec3 d, float tmin, float tmax) const;         // trace_any
+  // intersect_prim_ref: tests one encoded primitive, overwriting *hit when nearer.
+  bool intersect_prim(uint32_t ref, glm::vec3 o, glm::vec3 d, float tmin, HostHit* hit) const;
+  HostSurfacePoint surface_at(const HostHit& hit, glm::vec3 o, glm::vec3 d) const;
+
+  const Scene& scene() const { return scene_; }
+
+ private:
+  const Scene& scene_;
+  const Bvh& bvh_;
+};
+
+}  // namespace caustica

@@ -1,0 +1,32 @@
+// The device layout of kernels/shared/types.h must be the same in C++ and
+// OpenCL C: fixed sizes, 16-byte float4 alignment, explicit padding. These
+// asserts catch a field added on one side only, or a padding slip.
+#include <cstddef>
+
+#include "kernels/shared/types.h"
+
+static_assert(sizeof(cs_float4) == 16 && alignof(cs_float4) == 16, "float4 layout");
+static_assert(sizeof(Sphere) == 32 && offsetof(Sphere, material) == 16, "Sphere layout");
+static_assert(sizeof(Cylinder) == 48 && offsetof(Cylinder, axis_half) == 16 && offsetof(Cylinder, material) == 32,
+              "Cylinder layout");
+static_assert(sizeof(Triangle) == 64 && offsetof(Triangle, v1) == 16 && offsetof(Triangle, v2) == 32 &&
+                  offsetof(Triangle, material) == 48,
+              "Triangle layout");
+static_assert(sizeof(TriangleShading) == 80 && offsetof(TriangleShading, n2) == 32 &&
+                  offsetof(TriangleShading, u0) == 48 && offsetof(TriangleShading, u2) == 64,
+              "TriangleShading layout");
+static_assert(sizeof(Texture) == 64 && offsetof(Texture, kind) == 32 && offsetof(Texture, scale) == 48,
+              "Texture layout");
+static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, offset) == 12 && offsetof(BvhNode, hi_x) == 16 &&
+                  offsetof(BvhNode, count) == 28,
+              "BvhNode layout");
+static_assert(sizeof(Material) == 80 && offsetof(Material, specular) == 16 && offsetof(Material, emission) == 32 &&
+                  offsetof(Material, specular_exponent) == 48 && offsetof(Material, ka) == 60 &&
+                  offsetof(Material, flags) == 64 && offsetof(Material, texture) == 68,
+              "Material layout");
+static_assert(sizeof(PointLight) == 32 && offsetof(PointLight, intensity) == 16, "PointLight layout");
+static_assert(sizeof(CameraGPU) == 80 && offsetof(CameraGPU, width) == 64 && offsetof(CameraGPU, pixel_count) == 76,
+              "CameraGPU layout");
+static_assert(sizeof(ShadeParams) == 64 && offsetof(ShadeParams, ambient_light) == 16 &&
+                  offsetof(ShadeParams, mode) == 32 && offsetof(ShadeParams, min_weight) == 52,
+              "ShadeParams layout");

@@ -1,0 +1,373 @@
+// Shapes of the coursework format and its student variants (scenes/FORMAT.md,
+// "Shapes"): spheres and cylinders stay analytic, everything else becomes
+// triangles, with per-triangle shading data where a shape has UVs or normals.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "host/error.h"
+#include "host/scene/scene_reader.h"
+
+namespace caustica::scene_detail {
+
+namespace {
+
+constexpr const char* kShapeTypes =
+    "a shape type: \"sphere\", \"cylinder\", \"triangle\", \"rectangle\", \"box\", \"mesh\" or \"ply\"";
+// Names some authors give shapes for their own tools.
+const KeyList kCommonIgnored = {"alias", "name"};
+constexpr size_t kWarnLimit = 8;  // a broken mesh-like file should not flood the terminal
+
+// Zero (or float-noise) area: sin of the corner angle below ~1e-7.
+bool degenerate_triangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  const glm::dvec3 e1 = glm::dvec3(b) - glm::dvec3(a), e2 = glm::dvec3(c) - glm::dvec3(a);
+  const double scale = std::max(glm::dot(e1, e1), glm::dot(e2, e2));
+  return !(glm::length(glm::cross(e1, e2)) > 1e-7 * scale);
+}
+
+glm::vec3 geometric_normal(const glm::vec3 p[3]) { return glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0])); }
+
+TriangleShading make_shading(const glm::vec3 n[3], const glm::vec2 uv[3]) {
+  TriangleShading s{};
+  s.n0 = to_float4(n[0]);
+  s.n1 = to_float4(n[1]);
+  s.n2 = to_float4(n[2]);
+  s.u0 = uv[0].x, s.v0 = uv[0].y;
+  s.u1 = uv[1].x, s.v1 = uv[1].y;
+  s.u2 = uv[2].x, s.v2 = uv[2].y;
+  return s;
+}
+
+const glm::vec2 kDefaultUv[3] = {{0, 0}, {1, 0}, {0, 1}};
+
+// Degrees about x, then y, then z, about the world origin (right-handed):
+// R = Rz * Ry * Rx, as in the one corpus file with a rotated box.
+glm::mat3 rotation_xyz(const glm::vec3& degrees) {
+  const glm::vec3 r = glm::radians(degrees);
+  const float cx = std::cos(r.x), sx = std::sin(r.x), cy = std::cos(r.y), sy = std::sin(r.y);
+  const float cz = std::cos(r.z), sz = std::sin(r.z);
+  // glm matrices are column-major: each glm::vec3 here is a column.
+  const glm::mat3 rx(glm::vec3(1, 0, 0), glm::vec3(0, cx, sx), glm::vec3(0, -sx, cx));
+  const glm::mat3 ry(glm::vec3(cy, 0, -sy), glm::vec3(0, 1, 0), glm::vec3(sy, 0, cy));
+  const glm::mat3 rz(glm::vec3(cz, sz, 0), glm::vec3(-sz, cz, 0), glm::vec3(0, 0, 1));
+  return rz * ry * rx;
+}
+
+class ShapeReader {
+ public:
+  explicit ShapeReader(LoadContext& ctx) : ctx_(ctx), r_(ctx.r), out_(ctx.scene) {}
+
+  void read(const json& s, const std::string& path) {
+    const std::string type = lower(r_.string(r_.require(s, "type", path + "/type", kShapeTypes), path + "/type"));
+    if (type == "sphere" || type == "uvsphere") {
+      r_.check_keys(s, path, {"type", "material", "texture", "center", "radius"}, kCommonIgnored);
+      Sphere sp{};
+      sp.center_radius =
+          to_float4(r_.read_vec3(s, "center", path, Range::Any), r_.read_number(s, "radius", path, Range::Positive));
+      sp.material = material(s, path);
+      out_.spheres.push_back(sp);
+    } else if (type == "cylinder" || type == "uvcylinder") {
+      cylinder(s, path);
+    } else if (type == "triangle") {
+      triangle(s, path);
+    } else if (type == "rectangle") {
+      rectangle(s, path);
+    } else if (type == "box") {
+      box(s, path);
+    } else if (type == "mesh" || type == "ply") {
+      mesh(s, path);
+    } else if (type == "cubemap" || type == "sphericalmap") {
+      // One renderer's environment-mapped spheres: drawing them as plain
+      // spheres would put opaque balls where the author saw reflections.
+      r_.warn_once("shape " + type, path,
+                   "shape type \"" + type + "\" skipped: environment maps are not supported");
+    } else {
+      r_.expected(path + "/type", kShapeTypes, s["type"]);
+    }
+  }
+
+  void finish() {
+    if (dropped_ > kWarnLimit)
+      r_.warn("/scene/shapes", std::to_string(dropped_) + " zero-area triangles dropped in total");
+    if (ctx_.any_shading)
+      out_.triangle_shading = std::move(ctx_.shading);
+    else
+      out_.triangle_shading.clear();
+  }
+
+ private:
+  cs_uint material(const json& s, const std::string& path) {
+    return ctx_.materials.add(read_shape_material(ctx_, s, path));
+  }
+
+  // `uv` null: no texture coordinates (default UVs, and no shading data
+  // unless `normals` are given).
+  void add_triangle(const glm::vec3 p[3], cs_uint material, const glm::vec2* uv, const glm::vec3* normals = nullptr) {
+    Triangle t{};
+    t.v0 = to_float4(p[0]);
+    t.v1 = to_float4(p[1]);
+    t.v2 = to_float4(p[2]);
+    t.material = material;
+    out_.triangles.push_back(t);
+    const glm::vec3 n = geometric_normal(p);
+    const glm::vec3 flat[3] = {n, n, n};
+    ctx_.shading.push_back(make_shading(normals ? normals : flat, uv ? uv : kDefaultUv));
+    if (uv || normals) ctx_.any_shading = true;
+  }
+
+  bool drop_if_degenerate(const glm::vec3 p[3], const std::string& path, const char* what) {
+    if (!degenerate_triangle(p[0], p[1], p[2])) return false;
+    if (++dropped_ <= kWarnLimit) r_.warn(path, std::string(what) + " has zero area; dropped");
+    return true;
+  }
+
+  // Quad a, b, c, d (in order around it) as triangles (a,b,c), (a,c,d) with
+  // UVs (0,0), (1,0), (1,1), (0,1).
+  void add_quad(const glm::vec3 q[4], cs_uint material, const std::string& path, const char* what) {
+    const glm::vec3 t0[3] = {q[0], q[1], q[2]}, t1[3] = {q[0], q[2], q[3]};
+    const glm::vec2 uv0[3] = {{0, 0}, {1, 0}, {1, 1}}, uv1[3] = {{0, 0}, {1, 1}, {0, 1}};
+    if (!drop_if_degenerate(t0, path, what)) add_triangle(t0, material, uv0);
+    if (!drop_if_degenerate(t1, path, what)) add_triangle(t1, material, uv1);
+  }
+
+  void cylinder(const json& s, const std::string& path) {
+    r_.check_keys(s, path, {"type", "material", "texture", "center", "axis", "radius", "height"},
+                  {"alias", "name", "topmaterial", "bottommaterial"});
+    Cylinder cy{};
+    cy.center_radius =
+        to_float4(r_.read_vec3(s, "center", path, Range::Any), r_.read_number(s, "radius", path, Range::Positive));
+    const glm::dvec3 axis(r_.read_vec3(s, "axis", path, Range::Any));
+    const double len = glm::length(axis);
+    if (!(len > 0.0)) r_.expected(path + "/axis", "a direction of nonzero length", s["axis"]);
+    cy.axis_half = to_float4(glm::vec3(axis / len), r_.read_number(s, "height", path, Range::Positive));
+    cy.material = material(s, path);
+    for (const char* cap : {"topmaterial", "bottommaterial"})
+      if (const json* m = Reader::find(s, cap)) {
+        r_.object(*m, path + "/" + cap);
+        r_.warn_once("cap material", path + "/" + cap,
+                     "separate cap materials are not supported; the caps use the side's \"material\"");
+      }
+    out_.cylinders.push_back(cy);
+  }
+
+  void triangle(const json& s, const std::string& path) {
+    r_.check_keys(s, path, {"type", "material", "texture", "v0", "v1", "v2", "uv0", "uv1", "uv2"}, kCommonIgnored);
+    const glm::vec3 p[3] = {r_.read_vec3(s, "v0", path, Range::Any), r_.read_vec3(s, "v1", path, Range::Any),
+                            r_.read_vec3(s, "v2", path, Range::Any)};
+    const int uv_count = !!Reader::find(s, "uv0") + !!Reader::find(s, "uv1") + !!Reader::find(s, "uv2");
+    glm::vec2 uv[3];
+    if (uv_count > 0) {
+      for (int i = 0; i < 3; ++i) {
+        const std::string key = "uv" + std::to_string(i);
+        const json* v = Reader::find(s, key.c_str());
+        if (!v)
+          r_.fail(path + "/" + key, "required key \"" + key + "\" is missing (expected an array of 2 numbers: uv0, "
+                                   "uv1 and uv2 go together)");
+        uv[i] = r_.vec2(*v, path + "/" + key, Range::Any);  // beyond [0,1] tiles
+      }
+    }
+    const cs_uint m = material(s, path);  // validated even when the triangle is dropped
+    if (drop_if_degenerate(p, path, "triangle")) return;
+    add_triangle(p, m, uv_count ? uv : nullptr);
+  }
+
+  void rectangle(const json& s, const std::string& path) {
+    r_.check_keys(s, path, {"type", "material", "texture", "v0", "v1", "v2", "v3", "corner1", "corner2"},
+                  kCommonIgnored);
+    glm::vec3 q[4];
+    const bool corners = Reader::find(s, "corner1") || Reader::find(s, "corner2");
+    if (corners && Reader::find(s, "v0"))
+      r_.fail(path, "expected either \"v0\"..\"v3\" or \"corner1\"/\"corner2\", got both");
+    if (corners) {
+      const glm::vec3 a = r_.read_vec3(s, "corner1", path, Range::Any);
+      const glm::vec3 b = r_.read_vec3(s, "corner2", path, Range::Any);
+      int flat = -1, flat_count = 0;
+      for (int k = 0; k < 3; ++k) {
+        const float tolerance = 1e-6f * std::max({1.0f, std::fabs(a[k]), std::fabs(b[k])});
+        if (std::fabs(a[k] - b[k]) <= tolerance) flat = k, ++flat_count;
+      }
+      if (flat_count != 1)
+        r_.fail(path + "/corner2", "expected the opposite corner of an axis-aligned rectangle (equal to corner1 in "
+                                   "exactly one coordinate), got " + describe(s["corner2"]) + " for corner1 " +
+                                       describe(s["corner1"]));
+      // Axes a1, a2 follow the flat axis cyclically, so that the normal
+      // cross(a1, a2) points along +flat (a floor faces up).
+      const int a1 = (flat + 1) % 3, a2 = (flat + 2) % 3;
+      const glm::vec3 lo = glm::min(a, b), hi = glm::max(a, b);
+      for (int i = 0; i < 4; ++i) {
+        q[i][flat] = a[flat];
+        q[i][a1] = (i == 1 || i == 2) ? hi[a1] : lo[a1];
+        q[i][a2] = (i >= 2) ? hi[a2] : lo[a2];
+      }
+    } else {
+      for (int i = 0; i < 4; ++i) q[i] = r_.read_vec3(s, ("v" + std::to_string(i)).c_str(), path, Range::Any);
+    }
+    add_quad(q, material(s, path), path, "rectangle");
+  }
+
+  void box(const json& s, const std::string& path) {
+    r_.check_keys(s, path, {"type", "material", "texture", "min", "max", "rotation"}, kCommonIgnored);
+    const glm::vec3 a = r_.read_vec3(s, "min", path, Range::Any), b = r_.read_vec3(s, "max", path, Range::Any);
+    // The corpus box has "min" above "max" in two coordinates: corners, really.
+    const glm::vec3 lo = glm::min(a, b), hi = glm::max(a, b);
+    for (int k = 0; k < 3; ++k)
+      if (!(hi[k] > lo[k])) r_.expected(path + "/max", "a corner that differs from \"min\" in every coordinate", s["max"]);
+    const glm::mat3 rot = rotation_xyz(r_.read_vec3(s, "rotation", path, Range::Any, glm::vec3(0.0f)));
+    glm::vec3 corner[8];
+    for (int i = 0; i < 8; ++i)
+      corner[i] = rot * glm::vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+    // Faces -x, +x, -y, +y, -z, +z, counter-clockwise seen from outside.
+    static const int kFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    const cs_uint m = material(s, path);
+    for (const auto& f : kFaces) {
+      const glm::vec3 q[4] = {corner[f[0]], corner[f[1]], corner[f[2]], corner[f[3]]};
+      add_quad(q, m, path, "box face");
+    }
+  }
+
+  float nonzero(float v, const std::string& path, const json& got) {
+    if (v == 0.0f) r_.expected(path, "a nonzero scale", got);
+    return v;
+  }
+
+  glm::vec3 read_scale(const json& obj, const std::string& path) {
+    const json* v = Reader::find(obj, "scale");
+    if (!v) return glm::vec3(1.0f);
+    const std::string p = path + "/scale";
+    if (v->is_number()) {
+      const float k = nonzero(r_.number(*v, p, Range::Any), p, *v);
+      return glm::vec3(k);
+    }
+    if (!v->is_array() || v->size() != 3) r_.expected(p, "a number or an array of 3 numbers", *v);
+    glm::vec3 k = r_.vec3(*v, p, Range::Any);
+    for (int i = 0; i < 3; ++i) nonzero(k[i], p + "/" + std::to_string(i), (*v)[i]);
+    return k;
+  }
+
+  void mesh(const json& s, const std::string& path) {
+    r_.check_keys(s, path, {"type", "material", "texture", "file", "filename", "path", "transform", "offset", "scale",
+                            "euler"},
+                  kCommonIgnored);
+    const char* file_key = nullptr;
+    const json* file = Reader::find_any(s, {"file", "filename", "path"}, &file_key);
+    if (!file)
+      r_.fail(path + "/file", "required key \"file\" is missing (expected the mesh's .obj or .ply file name; "
+                              "\"filename\" and \"path\" are accepted too)");
+    const std::string file_path = path + "/" + file_key;
+    const std::string written = r_.string(*file, file_path);
+
+    // Transform p' = T R S p: "transform" {translate, rotate, scale} or the
+    // PLY variant's offset / euler / scale on the shape itself.
+    glm::vec3 translate(0.0f), degrees(0.0f), scale(1.0f);
+    const json* transform = Reader::find(s, "transform");
+    if (transform) {
+      if (Reader::find(s, "offset") || Reader::find(s, "euler") || Reader::find(s, "scale"))
+        r_.fail(path, "expected either \"transform\" or \"offset\"/\"euler\"/\"scale\", got both");
+      const std::string tp = path + "/transform";
+      r_.object(*transform, tp);
+      r_.check_keys(*transform, tp, {"translate", "rotate", "scale"});
+      translate = r_.read_vec3(*transform, "translate", tp, Range::Any, glm::vec3(0.0f));
+      degrees = r_.read_vec3(*transform, "rotate", tp, Range::Any, glm::vec3(0.0f));
+      scale = read_scale(*transform, tp);
+    } else {
+      translate = r_.read_vec3(s, "offset", path, Range::Any, glm::vec3(0.0f));
+      degrees = r_.read_vec3(s, "euler", path, Range::Any, glm::vec3(0.0f));
+      scale = read_scale(s, path);
+    }
+    const glm::mat3 linear = rotation_xyz(degrees) * glm::mat3(glm::vec3(scale.x, 0, 0), glm::vec3(0, scale.y, 0),
+                                                               glm::vec3(0, 0, scale.z));
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
+    // A mirroring transform turns the winding (and the geometric normal)
+    // inside out; swapping two vertices keeps it outward.
+    const bool mirrored = glm::determinant(linear) < 0.0f;
+
+    std::string tried;
+    const std::string resolved = ctx_.assets.find(written, "models", &tried);
+    if (resolved.empty())
+      r_.fail(file_path, "expected an existing mesh file, got \"" + written + "\" (looked " + tried + ")");
+    Scene::MeshInfo info;
+    info.file = resolved;
+    std::shared_ptr<const Mesh>& cached = ctx_.meshes[resolved];
+    if (!cached) {
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        cached = std::make_shared<const Mesh>(load_mesh(resolved));
+      } catch (const Error& e) {
+        r_.fail(file_path, std::string("cannot load mesh: ") + e.what());
+      }
+      info.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      for (const std::string& w : cached->warnings) r_.warn(file_path, w);
+    }
+    const Mesh& mesh = *cached;
+
+    // The shape's own material replaces the file's (MTL) materials.
+    const bool override_material = Reader::find(s, "material") != nullptr;
+    const cs_uint shape_material = override_material ? material(s, path) : 0;
+    const std::string mesh_dir = std::filesystem::path(resolved).parent_path().string();
+    std::vector<int> mtl_ids(mesh.materials.size() + 1, -1);  // [0]: triangles without a material
+    auto material_of = [&](int m) -> cs_uint {
+      if (override_material) return shape_material;
+      int& id = mtl_ids[static_cast<size_t>(m + 1)];
+      if (id < 0) {
+        Material mat = m < 0 ? default_material()
+                             : mesh_material(ctx_, mesh.materials[static_cast<size_t>(m)], mesh_dir, file_path);
+        // A shape-level texture applies to every part of the mesh.
+        if (const json* t = Reader::find(s, "texture")) mat.texture = read_texture(ctx_, *t, path + "/texture");
+        id = static_cast<int>(ctx_.materials.add(mat));
+      }
+      return static_cast<cs_uint>(id);
+    };
+
+    size_t dropped = 0;
+    for (const MeshTriangle& tri : mesh.triangles) {
+      glm::vec3 p[3], n[3];
+      glm::vec2 uv[3];
+      for (int i = 0; i < 3; ++i) {
+        const int j = mirrored && i > 0 ? 3 - i : i;
+        p[i] = linear * tri.p[j] + translate;
+        n[i] = tri.has_normals ? glm::normalize(normal_matrix * tri.n[j]) : glm::vec3(0.0f);
+        uv[i] = tri.has_uvs ? tri.uv[j] : kDefaultUv[i];
+      }
+      if (degenerate_triangle(p[0], p[1], p[2]) || !std::isfinite(p[0].x + p[1].x + p[2].x)) {
+        ++dropped;
+        continue;
+      }
+      const bool known = tri.material >= 0 && tri.material < static_cast<int>(mesh.materials.size());
+      const cs_uint m = material_of(known ? tri.material : -1);
+      if (tri.has_normals) {
+        add_triangle(p, m, uv, n);
+      } else {
+        add_triangle(p, m, tri.has_uvs ? uv : nullptr);
+      }
+      ++info.triangles;
+    }
+    info.dropped_degenerate = mesh.dropped_degenerate + dropped;
+    if (dropped > 0)
+      r_.warn(file_path, std::to_string(dropped) + " triangles of \"" + written +
+                             "\" have zero area after the shape's transform; dropped");
+    if (info.triangles == 0) r_.warn(file_path, "mesh \"" + written + "\" adds no triangles");
+    out_.meshes.push_back(info);
+  }
+
+  LoadContext& ctx_;
+  const Reader& r_;
+  Scene& out_;
+  size_t dropped_ = 0;
+};
+
+}  // namespace
+
+void read_shapes(LoadContext& ctx, const json& scene_obj) {
+  const Reader& r = ctx.r;
+  const std::string base = "/scene/shapes";
+  const json& shapes = r.array(r.require(scene_obj, "shapes", base, "an array of shapes"), base);
+  ShapeReader reader(ctx);
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    const std::string path = base + "/" + std::to_string(i);
+    reader.read(r.object(shapes[i], path), path);
+  }
+  reader.finish();
+}
+
+}  // namespace caustica::scene_detail

@@ -1,0 +1,258 @@
+#include "host/scene/textures.h"
+
+#include <stb/stb_image.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <glm/gtc/packing.hpp>
+#include <iterator>
+#include <limits>
+#include <sstream>
+#include <system_error>
+
+namespace caustica {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double srgb_eotf(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
+const std::array<float, 256>& srgb_table() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[i] = static_cast<float>(srgb_eotf(i / 255.0));
+    return t;
+  }();
+  return table;
+}
+
+// The kernels may be built with -cl-fast-relaxed-math and must never see
+// inf/NaN, so out-of-range HDR values are clamped to the largest finite half.
+uint16_t to_half(float v) {
+  if (!(v >= 0.0f)) v = 0.0f;  // also NaN; negative radiance is meaningless
+  return glm::packHalf1x16(std::min(v, 65504.0f));
+}
+
+// Row-major from the top row, 3 linear floats per texel.
+struct LinearImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+};
+
+bool is_file(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec);
+}
+
+
+// Netpbm P2/P3/P5/P6 with any maxval. stb reads only the binary kinds and
+// takes maxval literally (a maxval-15 file would come out nearly black), so
+// the whole family is read here. Returns "" on success, else the reason.
+std::string read_pnm(const std::string& path, LinearImage& out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "cannot open the file";
+  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  size_t pos = 0;
+  auto skip_space_and_comments = [&] {
+    while (pos < data.size()) {
+      if (data[pos] == '#') {
+        while (pos < data.size() && data[pos] != '\n' && data[pos] != '\r') ++pos;
+      } else if (std::isspace(static_cast<unsigned char>(data[pos]))) {
+        ++pos;
+      } else {
+        break;
+      }
+    }
+  };
+  auto read_uint = [&](long& value) {
+    skip_space_and_comments();
+    if (pos >= data.size() || !std::isdigit(static_cast<unsigned char>(data[pos]))) return false;
+    value = 0;
+    while (pos < data.size() && std::isdigit(static_cast<unsigned char>(data[pos]))) {
+      value = value * 10 + (data[pos++] - '0');
+      if (value > 1000000000L) return false;
+    }
+    return true;
+  };
+  if (data.size() < 2 || data[0] != 'P') return "not a PNM file";
+  const char kind = data[1];
+  if (kind != '2' && kind != '3' && kind != '5' && kind != '6') return std::string("unsupported PNM kind P") + kind;
+  pos = 2;
+  long w = 0, h = 0, maxval = 0;
+  if (!read_uint(w) || !read_uint(h) || !read_uint(maxval)) return "malformed PNM header";
+  if (w <= 0 || h <= 0 || maxval <= 0 || maxval > 65535) return "invalid PNM size or maxval";
+  if (static_cast<double>(w) * h > 1 << 28) return "PNM too large";
+  const int channels = (kind == '3' || kind == '6') ? 3 : 1;
+  const size_t count = static_cast<size_t>(w) * h * channels;
+  std::vector<long> values(count);
+  if (kind == '2' || kind == '3') {
+    for (size_t i = 0; i < count; ++i)
+      if (!read_uint(values[i]) || values[i] > maxval) return "malformed or truncated PNM data";
+  } else {
+    ++pos;  // exactly one whitespace byte separates the header from binary data
+    const size_t bytes = maxval > 255 ? 2 : 1;
+    if (data.size() < pos + count * bytes) return "truncated PNM data";
+    for (size_t i = 0; i < count; ++i) {
+      const auto* p = reinterpret_cast<const unsigned char*>(data.data() + pos + i * bytes);
+      values[i] = bytes == 2 ? (p[0] << 8 | p[1]) : p[0];
+      if (values[i] > maxval) values[i] = maxval;
+    }
+  }
+  out.width = static_cast<int>(w);
+  out.height = static_cast<int>(h);
+  out.rgb.resize(static_cast<size_t>(w) * h * 3);
+  for (size_t t = 0; t < static_cast<size_t>(w) * h; ++t)
+    for (int c = 0; c < 3; ++c) {
+      const long v = values[t * channels + (channels == 3 ? c : 0)];
+      out.rgb[t * 3 + c] = maxval == 255 ? srgb_table()[v] : static_cast<float>(srgb_eotf(double(v) / maxval));
+    }
+  return "";
+}
+
+std::string read_image(const std::string& path, LinearImage& out) {
+  {
+    std::ifstream in(path, std::ios::binary);
+    char magic[2] = {0, 0};
+    in.read(magic, 2);
+    if (magic[0] == 'P' && magic[1] != 0 && std::strchr("2356", magic[1])) return read_pnm(path, out);
+  }
+  int w = 0, h = 0, n = 0;
+  if (stbi_is_hdr(path.c_str())) {
+    float* pixels = stbi_loadf(path.c_str(), &w, &h, &n, 3);
+    if (!pixels) return stbi_failure_reason() ? stbi_failure_reason() : "unknown stb_image error";
+    out.width = w, out.height = h;
+    out.rgb.assign(pixels, pixels + static_cast<size_t>(w) * h * 3);
+    stbi_image_free(pixels);
+    return "";
+  }
+  unsigned char* pixels = stbi_load(path.c_str(), &w, &h, &n, 3);
+  if (!pixels) return stbi_failure_reason() ? stbi_failure_reason() : "unknown stb_image error";
+  out.width = w, out.height = h;
+  out.rgb.resize(static_cast<size_t>(w) * h * 3);
+  for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = srgb_table()[pixels[i]];
+  stbi_image_free(pixels);
+  return "";
+}
+
+// The last component of a path written on any system: scenes carry
+// "C:\Users\...\wood.png" as often as "/home/.../wood.png".
+std::string file_name_of(const std::string& written) {
+  const size_t cut = written.find_last_of("/\\");
+  return cut == std::string::npos ? written : written.substr(cut + 1);
+}
+
+std::string executable_dir() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string() : exe.parent_path().string();
+}
+
+}  // namespace
+
+float srgb_byte_to_linear(unsigned char value) { return srgb_table()[value]; }
+
+std::vector<std::string> texture_search_candidates(const std::string& written, const std::string& scene_dir) {
+  std::vector<std::string> out;
+  auto add = [&](const fs::path& p) {
+    const std::string s = p.lexically_normal().string();
+    if (!s.empty() && std::find(out.begin(), out.end(), s) == out.end()) out.push_back(s);
+  };
+  if (written.empty()) return out;
+  const fs::path base = scene_dir.empty() ? fs::path(".") : fs::path(scene_dir);
+  const fs::path as_written(written);
+  add(as_written.is_absolute() ? as_written : base / as_written);
+  // A relative Windows path ("textures\wood.png") means the same folders.
+  if (written.find('\\') != std::string::npos && written.find(':') == std::string::npos) {
+    std::string slashed = written;
+    std::replace(slashed.begin(), slashed.end(), '\\', '/');
+    if (!slashed.empty() && slashed[0] != '/') add(base / slashed);
+  }
+  const std::string name = file_name_of(written);
+  if (name.empty() || name == "." || name == "..") return out;
+  add(base / name);
+  add(base / "textures" / name);
+#ifdef CAUSTICA_TEXTURE_DIR
+  add(fs::path(CAUSTICA_TEXTURE_DIR) / name);
+#endif
+  const std::string exe_dir = executable_dir();
+  if (!exe_dir.empty()) add(fs::path(exe_dir) / ".." / "textures" / name);
+  return out;
+}
+
+std::string resolve_texture_path(const std::string& written, const std::string& scene_dir) {
+  for (const std::string& candidate : texture_search_candidates(written, scene_dir))
+    if (is_file(candidate)) {
+      std::error_code ec;
+      // One key per file however it was reached, so each file loads once.
+      const fs::path canonical = fs::weakly_canonical(candidate, ec);
+      return ec ? candidate : canonical.string();
+    }
+  return "";
+}
+
+int TextureLibrary::image(const std::string& written, const std::string& scene_dir, const std::string& context,
+                          std::vector<std::string>& warnings) {
+  const std::string path = resolve_texture_path(written, scene_dir);
+  std::string reason;
+  if (path.empty()) {
+    std::string looked;
+    for (const std::string& c : texture_search_candidates(written, scene_dir)) looked += (looked.empty() ? "" : ", ") + c;
+    warnings.push_back(context + ": texture \"" + written + "\" not found (looked in: " +
+                       (looked.empty() ? std::string("nowhere: empty path") : looked) +
+                       "); using a magenta/black checker");
+  } else {
+    if (auto it = by_path_.find(path); it != by_path_.end()) return it->second;
+    if (auto it = failed_.find(path); it != failed_.end()) {
+      reason = it->second;
+    } else {
+      LinearImage img;
+      reason = read_image(path, img);
+      if (reason.empty() && (img.width <= 0 || img.height <= 0)) reason = "empty image";
+      const size_t first = scene_.texels.size() / 4;
+      if (reason.empty() && first + static_cast<size_t>(img.width) * img.height > 0xFFFFFFFFull)
+        reason = "the scene's texel buffer would exceed 2^32 texels";
+      if (reason.empty()) {
+        scene_.texels.reserve(scene_.texels.size() + static_cast<size_t>(img.width) * img.height * 4);
+        const uint16_t one = glm::packHalf1x16(1.0f);
+        for (size_t t = 0; t < static_cast<size_t>(img.width) * img.height; ++t) {
+          for (int c = 0; c < 3; ++c) scene_.texels.push_back(to_half(img.rgb[t * 3 + c]));
+          scene_.texels.push_back(one);
+        }
+        Texture tex{};
+        tex.kind = TEXTURE_IMAGE;
+        tex.offset = static_cast<cs_uint>(first);
+        tex.width = static_cast<cs_uint>(img.width);
+        tex.height = static_cast<cs_uint>(img.height);
+        tex.scale = 1.0f;
+        scene_.textures.push_back(tex);
+        const int index = static_cast<int>(scene_.textures.size() - 1);
+        by_path_[path] = index;
+        return index;
+      }
+      failed_[path] = reason;
+    }
+    warnings.push_back(context + ": texture \"" + written + "\" (" + path + ") cannot be read: " + reason +
+                       "; using a magenta/black checker");
+  }
+  if (fallback_ < 0) fallback_ = checker(glm::vec3(1.0f, 0.0f, 1.0f), glm::vec3(0.0f), 8.0f);
+  return fallback_;
+}
+
+int TextureLibrary::checker(const glm::vec3& color1, const glm::vec3& color2, float scale) {
+  Texture tex{};
+  tex.kind = TEXTURE_CHECKER;
+  tex.color1 = to_float4(color1);
+  tex.color2 = to_float4(color2);
+  tex.scale = scale;
+  scene_.textures.push_back(tex);
+  return static_cast<int>(scene_.textures.size() - 1);
+}
+
+}  // namespace caustica

@@ -1,0 +1,50 @@
+// Scene textures: images (stb_image: PNG, JPG, PPM/PGM, BMP, TGA, HDR) and
+// procedural checkerboards, packed into the Scene's one texel buffer of
+// linear half floats with a Texture record each (kernels/shared/types.h).
+// 8-bit images are sRGB-encoded and decoded to linear here; HDR stays linear.
+// A texture that cannot be found or read is not an error: it becomes a
+// visible magenta/black checker and a warning naming it.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "host/scene/scene.h"
+
+namespace caustica {
+
+// Where a texture path written in a scene may be: as written (absolute, or
+// relative to the scene's folder), then by file name beside the scene, in
+// <scene folder>/textures/, and in the repository's textures/ folder
+// (students wrote absolute paths from their own machines). Returns "" when
+// none exists.
+std::string resolve_texture_path(const std::string& written, const std::string& scene_dir);
+
+// The paths resolve_texture_path tries, in order (for messages and tests).
+std::vector<std::string> texture_search_candidates(const std::string& written, const std::string& scene_dir);
+
+// The exact sRGB EOTF of an 8-bit code value (what 8-bit texels decode to).
+float srgb_byte_to_linear(unsigned char value);
+
+class TextureLibrary {
+ public:
+  explicit TextureLibrary(Scene& scene) : scene_(scene) {}
+
+  // Index of the texture for `written` (loaded once per resolved file). On a
+  // missing or unreadable file: appends a warning naming `context` and the
+  // path, and returns the magenta/black fallback checker.
+  int image(const std::string& written, const std::string& scene_dir, const std::string& context,
+            std::vector<std::string>& warnings);
+  int checker(const glm::vec3& color1, const glm::vec3& color2, float scale);
+
+ private:
+  Scene& scene_;
+  std::map<std::string, int> by_path_;
+  std::map<std::string, std::string> failed_;  // resolved path -> why it could not be read
+  int fallback_ = -1;
+};
+
+}  // namespace caustica

@@ -1,0 +1,68 @@
+#line 2 "kernels/lib/texture.h"
+/* Texture lookup (the Texture table and texel buffer of types.h).
+ *
+ * Rules: compiled only with HAS_TEXTURES, so including this costs nothing
+ * otherwise. Every texture tiles: u and v wrap with x - floor(x), and texel
+ * indices are wrapped and clamped as integers, so any uv (negative, huge,
+ * even non-finite) reads inside the texture. v = 0 is the BOTTOM of an image
+ * while image row 0, the first in memory, is its top: texel (column i, row j)
+ * has its centre at uv ((i + 0.5) / w, 1 - (j + 0.5) / h). Images are filtered
+ * bilinearly between the 4 nearest texel centres, wrapping across the borders
+ * as the tiling does. Checkers: square (floor(u s), floor(v s)) has colour2
+ * when the sum of the two is odd, colour1 when even. Results are linear rgb. */
+#ifndef CAUSTICA_LIB_TEXTURE_H
+#define CAUSTICA_LIB_TEXTURE_H
+
+#ifdef HAS_TEXTURES
+
+#include "shared/types.h"
+
+/* In [0, 1]: 1 itself can come out of the subtraction by rounding (x = -1e-9),
+ * which the index wrap below maps back into the texture. fmax drops a NaN. */
+inline float texture_wrap_unit(float x) { return fmin(fmax(x - floor(x), 0.0f), 1.0f); }
+
+/* i is in [-1, n] for the coordinates texture_wrap_unit produces; the clamp
+ * only keeps garbage from a non-finite uv in bounds. */
+inline int texture_wrap_index(int i, int n) {
+  i = i < 0 ? i + n : (i >= n ? i - n : i);
+  return clamp(i, 0, n - 1);
+}
+
+inline float3 texture_texel(__global const half* texels, uint offset, int width, int x, int y) {
+  return vload_half4((size_t)offset + (size_t)y * (size_t)width + (size_t)x, texels).xyz;
+}
+
+/* index must name an entry of textures (materials hold -1 for "none"). */
+float3 texture_lookup(__global const Texture* textures, __global const half* texels, int index, float2 uv) {
+  __global const Texture* tex = &textures[index];
+  if (tex->kind == TEXTURE_CHECKER) {
+    /* Saturating conversion: defined for any float, unlike (int) of 1e30. The
+     * parity of a + b is that of a ^ b, which cannot overflow. */
+    const int a = convert_int_sat(floor(uv.x * tex->scale));
+    const int b = convert_int_sat(floor(uv.y * tex->scale));
+    return ((a ^ b) & 1) ? tex->color2.xyz : tex->color1.xyz;
+  }
+  const int w = (int)tex->width;
+  const int h = (int)tex->height;
+  /* Continuous texel coordinates with texel centres on the integers, y
+   * counted from the top row. */
+  const float fx = texture_wrap_unit(uv.x) * (float)w - 0.5f;
+  const float fy = (1.0f - texture_wrap_unit(uv.y)) * (float)h - 0.5f;
+  const float x0f = floor(fx);
+  const float y0f = floor(fy);
+  const float tx = fx - x0f;
+  const float ty = fy - y0f;
+  const int x0 = texture_wrap_index((int)x0f, w);
+  const int y0 = texture_wrap_index((int)y0f, h);
+  const int x1 = texture_wrap_index(x0 + 1, w);
+  const int y1 = texture_wrap_index(y0 + 1, h);
+  const float3 row0 =
+      mix(texture_texel(texels, tex->offset, w, x0, y0), texture_texel(texels, tex->offset, w, x1, y0), tx);
+  const float3 row1 =
+      mix(texture_texel(texels, tex->offset, w, x0, y1), texture_texel(texels, tex->offset, w, x1, y1), tx);
+  return mix(row0, row1, ty);
+}
+
+#endif /* HAS_TEXTURES */
+
+#endif /* CAUSTICA_LIB_TEXTURE_H */

@@ -1,0 +1,277 @@
+// The benchmark ray sets (host/bench/bench_rays.h) and the host trace they
+// come from (host/bench/host_trace.h). `caustica bench` and the Embree
+// reference only compare like with like if (a) both get bit-identical rays,
+// (b) the host trace that picks the primary hits answers as the OpenCL
+// kernels do, and (c) the rays are the kinds they claim to be: diffuse rays
+// cosine-distributed on the incoming side, shadow rays aimed at the light
+// and stopping short of it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+
+#include "host/bench/bench_rays.h"
+#include "host/render/wavefront.h"
+#include "host/scene/features.h"
+#include "host/scene/generate.h"
+#include "host/scene/load_scene.h"
+#include "tests/support/test_support.h"
+
+namespace caustica {
+namespace {
+
+using glm::vec3;
+
+constexpr int kWidth = 200, kHeight = 150;
+
+// Spheres, cylinders and triangles above a ground sphere, two point lights.
+struct Fixture {
+  Scene scene;
+  Bvh bvh;
+  BenchRays rays;
+  Fixture() {
+    scene = parse_scene(generate_table1_scene(400, true, 7), "mixed.json", ".");
+    bvh = build_bvh(scene);
+    rays = generate_bench_rays(scene, bvh, kWidth, kHeight);
+  }
+};
+
+const Fixture& fixture() {
+  static const Fixture f;
+  return f;
+}
+
+bool same_bits(const RaySet& a, const RaySet& b) {
+  return a.size() == b.size() && a.segments == b.segments &&
+         std::memcmp(a.origin.data(), b.origin.data(), a.size() * sizeof(cs_float4)) == 0 &&
+         std::memcmp(a.dir.data(), b.dir.data(), a.size() * sizeof(cs_float4)) == 0;
+}
+
+float dot3(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+TEST(BenchRays, SceneIsMixedAndMostlyHit) {
+  const Fixture& f = fixture();
+  ASSERT_FALSE(f.scene.spheres.empty());
+  ASSERT_FALSE(f.scene.cylinders.empty());
+  ASSERT_FALSE(f.scene.triangles.empty());
+  ASSERT_TRUE(f.rays.has_light);
+  EXPECT_EQ(f.rays.primary.size(), size_t(kWidth) * kHeight);
+  EXPECT_GT(f.rays.diffuse.size(), f.rays.primary.size() / 3);
+}
+
+TEST(BenchRays, DeterministicAcrossRunsAndThreadCounts) {
+  const Fixture& f = fixture();
+  BenchRayOptions one_thread;
+  one_thread.threads = 1;
+  BenchRayOptions three_threads;
+  three_threads.threads = 3;
+  for (const BenchRayOptions& options : {one_thread, three_threads}) {
+    const BenchRays again = generate_bench_rays(f.scene, f.bvh, kWidth, kHeight, options);
+    EXPECT_TRUE(same_bits(again.primary, f.rays.primary));
+    EXPECT_TRUE(same_bits(again.diffuse, f.rays.diffuse));
+    EXPECT_TRUE(same_bits(again.shadow, f.rays.shadow));
+    EXPECT_EQ(again.diffuse_source, f.rays.diffuse_source);
+    EXPECT_EQ(again.shadow_source, f.rays.shadow_source);
+  }
+  BenchRayOptions other_seed;
+  other_seed.seed = 12345;
+  const BenchRays reseeded = generate_bench_rays(f.scene, f.bvh, kWidth, kHeight, other_seed);
+  EXPECT_TRUE(same_bits(reseeded.primary, f.rays.primary));
+  EXPECT_FALSE(same_bits(reseeded.diffuse, f.rays.diffuse));
+}
+
+TEST(BenchRays, OneSecondaryRayPerPrimaryHitOnly) {
+  const Fixture& f = fixture();
+  size_t hits = 0;
+  for (const HostHit& h : f.rays.primary_hits) hits += h.hit();
+  EXPECT_EQ(f.rays.diffuse.size(), hits);
+  EXPECT_EQ(f.rays.shadow.size(), hits);
+  for (uint32_t source : f.rays.diffuse_source) ASSERT_TRUE(f.rays.primary_hits[source].hit());
+  for (uint32_t source : f.rays.shadow_source) ASSERT_TRUE(f.rays.primary_hits[source].hit());
+}
+
+// Primary rays against generate_camera_rays.cl run with the CameraGPU that
+// WavefrontRenderer::camera_for_chunk builds: the same pixel-centre rays up to
+// the rounding of a contracted multiply-add on the device.
+TEST(BenchRays, PrimaryRaysAreTheRenderersCameraRays) {
+  const Fixture& f = fixture();
+  Runtime& rt = test::runtime();
+  const BuiltProgram render =
+      rt.build_file("render.cl", analyse_scene(f.scene, f.scene.mode).build_options());
+  const CameraBasis basis = camera_basis(f.scene.camera);
+  const float tan_half = std::tan(f.scene.camera.fov_y_degrees * 0.5f * 3.14159265358979f / 180.0f);
+  CameraGPU cam{};
+  cam.position = to_float4(f.scene.camera.position);
+  cam.forward = to_float4(basis.forward);
+  cam.right = to_float4(basis.right * (tan_half * float(kWidth) / float(kHeight)));
+  cam.up = to_float4(basis.up * tan_half);
+  cam.width = kWidth;
+  cam.height = kHeight;
+  cam.pixel_offset = 0;
+  cam.pixel_count = kWidth * kHeight;
+  const size_t n = f.rays.primary.size();
+  cl::Buffer origin(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cs_float4));
+  cl::Buffer dir(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cs_float4));
+  cl::Buffer weight(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cs_float4));
+  cl::Buffer pixel(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+  cl::Kernel generate(render.program, "generate_camera_rays");
+  generate.setArg(0, cam);
+  generate.setArg(1, origin);
+  generate.setArg(2, dir);
+  generate.setArg(3, weight);
+  generate.setArg(4, pixel);
+  rt.queue().enqueueNDRangeKernel(generate, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
+  std::vector<cs_float4> o(n), d(n);
+  rt.queue().enqueueReadBuffer(origin, CL_TRUE, 0, n * sizeof(cs_float4), o.data());
+  rt.queue().enqueueReadBuffer(dir, CL_TRUE, 0, n * sizeof(cs_float4), d.data());
+  for (size_t i = 0; i < n; ++i) {
+    ASSERT_EQ(to_vec3(o[i]), f.rays.primary.o(i)) << "pixel " << i;
+    const vec3 delta = to_vec3(d[i]) - f.rays.primary.d(i);
+    ASSERT_LT(std::sqrt(dot3(delta, delta)), 1e-6f) << "pixel " << i;
+  }
+}
+
+// The traversal port against a brute-force loop over every primitive with
+// the same primitive tests: any difference is a traversal bug, not rounding.
+TEST(HostTrace, ClosestEqualsBruteForce) {
+  const Fixture& f = fixture();
+  const HostTracer tracer(f.scene, f.bvh);
+  const RaySet* sets[] = {&f.rays.primary, &f.rays.diffuse};
+  for (const RaySet* set : sets) {
+    for (size_t i = 0; i < set->size(); i += 7) {
+      HostHit brute;
+      for (uint32_t ref : f.bvh.prim_refs) tracer.intersect_prim(ref, set->o(i), set->d(i), 0.0f, &brute);
+      const HostHit h = tracer.closest(set->o(i), set->d(i), 0.0f, set->tmax(i));
+      ASSERT_EQ(h.prim, brute.prim) << "ray " << i;
+      ASSERT_EQ(h.t, brute.t) << "ray " << i;
+      ASSERT_EQ(tracer.any(set->o(i), set->d(i), 0.0f, set->tmax(i)), brute.hit()) << "ray " << i;
+    }
+  }
+}
+
+// The kernels and the host trace on the same rays: same primitive, t, u, v
+// equal to rounding. A handful of rounding ties (a ray through a shared edge) may
+// pick the other triangle; more than 1 in 10^4 is a port bug.
+TEST(HostTrace, MatchesOpenClKernels) {
+  const Fixture& f = fixture();
+  Runtime& rt = test::runtime();
+  const SceneFeatures features = analyse_scene(f.scene, f.scene.mode);
+  const BuiltProgram render = rt.build_file("render.cl", features.build_options());
+  const BuiltProgram bench = rt.build_file("bench/trace_shadow_only.cl", features.build_options());
+  RenderSettings settings;
+  settings.width = kWidth;
+  settings.height = kHeight;
+  WavefrontRenderer renderer(rt, f.scene, f.bvh, features, render.program, settings);
+  cl::Kernel closest(render.program, "intersect_closest");
+  cl::Kernel any(bench.program, "trace_shadow_only");
+  const HostTracer tracer(f.scene, f.bvh);
+
+  const RaySet* sets[] = {&f.rays.primary, &f.rays.diffuse};
+  for (const RaySet* set : sets) {
+    std::vector<cs_float4> hits(set->size());
+    renderer.time_ray_kernel(closest, set->origin, set->dir, sizeof(cs_float4), 1, hits.data());
+    const std::vector<HostHit> ref = set == &f.rays.primary ? f.rays.primary_hits : host_closest_hits(tracer, *set);
+    size_t differ = 0;
+    for (size_t i = 0; i < set->size(); ++i) {
+      uint32_t prim;
+      std::memcpy(&prim, &hits[i].w, sizeof prim);
+      if (prim != ref[i].prim) {
+        ++differ;
+        continue;
+      }
+      if (prim == PRIM_NONE) continue;
+      // t, then u and v (barycentrics; cylinder part and axial coordinate),
+      // which the ray generator turns into secondary origins.
+      ASSERT_NEAR(hits[i].x, ref[i].t, 1e-5f * std::max(1.0f, ref[i].t)) << "ray " << i;
+      ASSERT_NEAR(hits[i].y, ref[i].u, 1e-4f * std::max(1.0f, std::fabs(ref[i].u))) << "ray " << i;
+      ASSERT_NEAR(hits[i].z, ref[i].v, 1e-4f * std::max(1.0f, std::fabs(ref[i].v))) << "ray " << i;
+    }
+    EXPECT_LE(differ, set->size() / 10000) << differ << " of " << set->size() << " rays hit another primitive";
+  }
+
+  std::vector<cl_uint> occluded(f.rays.shadow.size());
+  renderer.time_ray_kernel(any, f.rays.shadow.origin, f.rays.shadow.dir, sizeof(cl_uint), 1, occluded.data());
+  const std::vector<uint8_t> ref = host_occlusion(tracer, f.rays.shadow);
+  size_t differ = 0, blocked = 0;
+  for (size_t i = 0; i < ref.size(); ++i) {
+    differ += (occluded[i] != 0) != (ref[i] != 0);
+    blocked += ref[i];
+  }
+  EXPECT_LE(differ, ref.size() / 10000);
+  EXPECT_GT(blocked, 0u);  // the scene does cast shadows: the test is not vacuous
+  EXPECT_LT(blocked, ref.size());
+}
+
+// For a cosine-weighted hemisphere, cos(theta) has mean 2/3 and variance
+// 1/18, and cos^2(theta) is uniform on [0, 1].
+void expect_cosine_distributed(const std::vector<float>& cosines) {
+  const double n = double(cosines.size());
+  double sum = 0.0;
+  std::vector<double> bins(10, 0.0);
+  for (float c : cosines) {
+    sum += c;
+    bins[std::min<size_t>(9, size_t(double(c) * c * 10.0))] += 1.0;
+  }
+  EXPECT_NEAR(sum / n, 2.0 / 3.0, 5.0 * std::sqrt(1.0 / 18.0 / n));
+  double chi2 = 0.0;
+  for (double b : bins) chi2 += (b - n / 10.0) * (b - n / 10.0) / (n / 10.0);
+  EXPECT_LT(chi2, 33.7);  // 9 degrees of freedom, p = 1e-4
+}
+
+TEST(BenchRays, DiffuseRaysAreCosineDistributedOnTheIncomingSide) {
+  const Fixture& f = fixture();
+  const HostTracer tracer(f.scene, f.bvh);
+  std::vector<float> cosines;
+  for (size_t k = 0; k < f.rays.diffuse.size(); ++k) {
+    const uint32_t i = f.rays.diffuse_source[k];
+    const vec3 o = f.rays.primary.o(i), d = f.rays.primary.d(i);
+    const HostSurfacePoint sp = tracer.surface_at(f.rays.primary_hits[i], o, d);
+    const vec3 facing = dot3(sp.normal, d) < 0.0f ? sp.normal : -sp.normal;
+    const vec3 dir = f.rays.diffuse.d(k);
+    ASSERT_NEAR(std::sqrt(dot3(dir, dir)), 1.0f, 1e-5f);
+    ASSERT_GT(dot3(dir, facing), 0.0f) << "diffuse ray " << k << " leaves into the surface";
+    ASSERT_GT(dot3(f.rays.diffuse.o(k) - sp.position, facing), 0.0f) << "origin on the far side, ray " << k;
+    ASSERT_EQ(f.rays.diffuse.origin[k].w, 0.0f);
+    cosines.push_back(dot3(dir, facing));
+  }
+  expect_cosine_distributed(cosines);
+}
+
+TEST(BenchRays, CosineDirectionForAnyNormal) {
+  const vec3 normals[] = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0}, glm::normalize(vec3(0.3f, -0.8f, -0.5f))};
+  for (const vec3& n : normals) {
+    std::vector<float> cosines;
+    for (uint64_t i = 0; i < 20000; ++i) {
+      const vec3 d = cosine_direction(n, 99, i);
+      ASSERT_GT(dot3(d, n), 0.0f);
+      cosines.push_back(dot3(d, n));
+    }
+    expect_cosine_distributed(cosines);
+  }
+}
+
+TEST(BenchRays, ShadowRaysAimAtTheFirstLightAndStopShort) {
+  const Fixture& f = fixture();
+  ASSERT_EQ(f.rays.light, to_vec3(f.scene.point_lights[0].position));
+  const HostTracer tracer(f.scene, f.bvh);
+  ASSERT_TRUE(f.rays.shadow.segments);
+  for (size_t k = 0; k < f.rays.shadow.size(); ++k) {
+    const vec3 o = f.rays.shadow.o(k), dir = f.rays.shadow.d(k);
+    const vec3 to_light = f.rays.light - o;
+    const float dist = std::sqrt(dot3(to_light, to_light));
+    ASSERT_NEAR(std::sqrt(dot3(dir, dir)), 1.0f, 1e-5f);
+    ASSERT_GT(dot3(dir, to_light / dist), 1.0f - 1e-6f) << "shadow ray " << k << " misses the light";
+    const float tmax = f.rays.shadow.tmax(k);
+    ASSERT_LT(tmax, dist) << "shadow ray " << k << " reaches the light";
+    ASSERT_GT(tmax, dist * (1.0f - 2.0f * kShadowEndFraction));
+    // It leaves from the side of its surface that faces the light.
+    const uint32_t i = f.rays.shadow_source[k];
+    const HostSurfacePoint sp = tracer.surface_at(f.rays.primary_hits[i], f.rays.primary.o(i), f.rays.primary.d(i));
+    const float side = dot3(sp.normal, f.rays.light - sp.position) >= 0.0f ? 1.0f : -1.0f;
+    ASSERT_GT(side * dot3(o - sp.position, sp.normal), 0.0f) << "shadow ray " << k;
+  }
+}
+
+}  // namespace
+}  // namespace caustica
