@@ -1,7 +1,10 @@
 #include "bench/embree/embree_scene.h"
 
-#include <xmmintrin.h>
+#if defined(__SSE3__) || defined(__x86_64__)
 #include <pmmintrin.h>
+#include <xmmintrin.h>
+#define CAUSTICA_HAVE_MXCSR 1
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -21,7 +24,8 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 
 void check(RTCDevice device, const char* what) {
   const RTCError err = rtcGetDeviceError(device);
-  if (err != RTC_ERROR_NONE) throw Error(std::string("Embree: ") + what + " failed (RTCError " + std::to_string(err) + ")");
+  if (err != RTC_ERROR_NONE)
+    throw Error(std::string("Embree: ") + what + " failed (RTCError " + std::to_string(err) + ")");
 }
 
 // Embree's tutorials run every tracing thread with denormals flushed; without
@@ -29,6 +33,7 @@ void check(RTCDevice device, const char* what) {
 // Scoped, because parallel_blocks also runs blocks on the calling thread,
 // whose host reference traces must keep IEEE denormals.
 class FlushDenormals {
+#ifdef CAUSTICA_HAVE_MXCSR
  public:
   FlushDenormals() : saved_(_mm_getcsr()) {
     _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
@@ -38,6 +43,7 @@ class FlushDenormals {
 
  private:
   unsigned saved_;
+#endif
 };
 
 // Boxes rounded outward to float: Embree culls with them, and a box a hair
@@ -129,7 +135,8 @@ RTCRay make_ray(const RaySet& rays, size_t i) {
 EmbreeScene::EmbreeScene(const Scene& scene, int threads) : scene_(scene) {
   const std::string config = "threads=" + std::to_string(std::max(1, threads));
   device_ = rtcNewDevice(config.c_str());
-  if (!device_) throw Error("Embree: rtcNewDevice failed (RTCError " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+  if (!device_)
+    throw Error("Embree: rtcNewDevice failed (RTCError " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
   const auto t0 = std::chrono::steady_clock::now();
   rtc_scene_ = rtcNewScene(device_);
   rtcSetSceneBuildQuality(rtc_scene_, RTC_BUILD_QUALITY_HIGH);
