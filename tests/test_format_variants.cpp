@@ -15,12 +15,7 @@ namespace {
 
 using nlohmann::json;
 
-::testing::AssertionResult Contains(const std::string& text, std::initializer_list<std::string> parts) {
-  for (const auto& part : parts)
-    if (text.find(part) == std::string::npos)
-      return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
-  return ::testing::AssertionSuccess();
-}
+using test::Contains;
 
 // A scene with no shapes or lights yet: tests add the variant under test.
 json base_scene() {

@@ -18,13 +18,7 @@ namespace {
 
 using nlohmann::json;
 
-// Passes when `text` contains every one of `parts`; prints the text otherwise.
-::testing::AssertionResult Contains(const std::string& text, std::initializer_list<std::string> parts) {
-  for (const auto& part : parts)
-    if (text.find(part) == std::string::npos)
-      return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
-  return ::testing::AssertionSuccess();
-}
+using test::Contains;
 
 std::string write_file(const std::string& name, const std::string& text) {
   const std::string path = test::temp_dir() + "/" + name;

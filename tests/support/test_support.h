@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <initializer_list>
 #include <string>
 
 #include "host/cl/runtime.h"
@@ -18,6 +19,14 @@ std::string shared_dir();
 std::string binary_path();  // the caustica executable
 // A fresh temporary directory for this test.
 std::string temp_dir();
+
+// Passes when `text` contains every one of `parts`; prints the text otherwise.
+inline ::testing::AssertionResult Contains(const std::string& text, std::initializer_list<std::string> parts) {
+  for (const auto& part : parts)
+    if (text.find(part) == std::string::npos)
+      return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
+  return ::testing::AssertionSuccess();
+}
 
 }  // namespace caustica::test
 
