@@ -1,3 +1,4 @@
+#line 2 "kernels/shared/types.h"
 /* Device data layout shared by the C++ host and OpenCL C kernels.
  *
  * Rules: plain C only; every struct is a multiple of 16 bytes with explicit
