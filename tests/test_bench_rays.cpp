@@ -162,7 +162,8 @@ TEST(HostTrace, MatchesOpenClKernels) {
   RenderSettings settings;
   settings.width = kWidth;
   settings.height = kHeight;
-  WavefrontRenderer renderer(rt, f.scene, f.bvh, features, render.program, settings);
+  const WideBvh wide = collapse_bvh(f.bvh, f.scene);
+  WavefrontRenderer renderer(rt, f.scene, wide, features, render.program, settings);
   cl::Kernel closest(render.program, "intersect_closest");
   cl::Kernel any(bench.program, "trace_shadow_only");
   const HostTracer tracer(f.scene, f.bvh);

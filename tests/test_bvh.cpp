@@ -6,6 +6,7 @@
 #include <random>
 
 #include "host/accel/bvh.h"
+#include "host/accel/bvh_wide.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -17,15 +18,15 @@ using test::runtime;
 const char* kCompareKernel = R"CLC(
 #include "lib/bvh_traverse.h"
 
-__kernel void compare(SCENE_GEOMETRY_PARAMS, uint prim_count, __global const float4* rays, uint ray_count,
-                      __global float4* out) {
+__kernel void compare(SCENE_GEOMETRY_PARAMS, __global const uint* all_refs, uint prim_count,
+                      __global const float4* rays, uint ray_count, __global float4* out) {
   uint i = get_global_id(0);
   if (i >= ray_count) return;
   float4 o = rays[2 * i], d = rays[2 * i + 1]; /* o.w = tmin, d.w = tmax of the any-hit query */
   Hit bvh = trace_closest(SCENE_GEOMETRY_ARGS, o.xyz, d.xyz, o.w, RAY_T_FAR);
   Hit brute = hit_none(RAY_T_FAR);
   for (uint p = 0; p < prim_count; ++p)
-    intersect_prim_ref(spheres, cylinders, triangles, prim_refs[p], o.xyz, d.xyz, o.w, &brute);
+    intersect_prim_ref(spheres, cylinders, triangles, all_refs[p], o.xyz, d.xyz, o.w, &brute);
   bool any = trace_any(SCENE_GEOMETRY_ARGS, o.xyz, d.xyz, o.w, d.w);
   out[i] = (float4)(bvh.t, as_float(bvh.prim), brute.t, as_float(brute.prim));
   out[ray_count + i] = (float4)(any ? 1.0f : 0.0f, 0.0f, 0.0f, 0.0f);
@@ -56,11 +57,23 @@ cl::Buffer upload(std::vector<T> v) {
 }
 
 // The renderer may build with -cl-fast-relaxed-math: traversal must stay
-// exact with respect to brute force under both.
-const char* const kBuildOptions[] = {"", "-cl-fast-relaxed-math"};
+// exact with respect to brute force under both. The third variant shrinks
+// the traversal stack so that nodes fall back to group entries
+// (bvh_traverse.h) far more often than with the real size.
+const char* const kBuildOptions[] = {"", "-cl-fast-relaxed-math", "-DBVH_STACK_SIZE=16"};
+constexpr int kSmallStackVariant = 2;
+constexpr int kSmallStack = 16;
 
-std::vector<Outcome> run_compare(const Scene& s, const Bvh& bvh, const std::vector<Ray>& rays, int variant) {
-  static cl::Program programs[2];
+std::vector<uint32_t> all_refs(const Scene& s) {
+  std::vector<uint32_t> refs;
+  for (size_t i = 0; i < s.spheres.size(); ++i) refs.push_back(PRIM_SPHERE << PRIM_TYPE_SHIFT | uint32_t(i));
+  for (size_t i = 0; i < s.cylinders.size(); ++i) refs.push_back(PRIM_CYLINDER << PRIM_TYPE_SHIFT | uint32_t(i));
+  for (size_t i = 0; i < s.triangles.size(); ++i) refs.push_back(PRIM_TRIANGLE << PRIM_TYPE_SHIFT | uint32_t(i));
+  return refs;
+}
+
+std::vector<Outcome> run_compare(const Scene& s, const WideBvh& bvh, const std::vector<Ray>& rays, int variant) {
+  static cl::Program programs[3];
   cl::Program& program = programs[variant];
   if (!program())
     program = runtime()
@@ -73,16 +86,18 @@ std::vector<Outcome> run_compare(const Scene& s, const Bvh& bvh, const std::vect
     data.push_back(to_float4(r.d, r.tmax_any));
   }
   const size_t n = rays.size();
+  const std::vector<uint32_t> refs = all_refs(s);
   cl::Buffer out(runtime().context(), CL_MEM_WRITE_ONLY, 2 * n * sizeof(cs_float4));
   // The kernel does not retain its buffers: keep them alive until the read.
-  std::vector<cl::Buffer> keep = {upload(bvh.nodes),   upload(bvh.prim_refs), upload(s.spheres),
-                                  upload(s.cylinders), upload(s.triangles),   upload(data)};
+  std::vector<cl::Buffer> keep = {upload(bvh.nodes),   upload(bvh.triangle_blocks), upload(bvh.prim_refs),
+                                  upload(s.spheres),   upload(s.cylinders),         upload(s.triangles),
+                                  upload(refs),        upload(data)};
   cl::Kernel k(program, "compare");
-  for (int a = 0; a < 5; ++a) k.setArg(a, keep[a]);
-  k.setArg(5, static_cast<cl_uint>(bvh.prim_refs.size()));
-  k.setArg(6, keep[5]);
-  k.setArg(7, static_cast<cl_uint>(n));
-  k.setArg(8, out);
+  for (int a = 0; a < 7; ++a) k.setArg(a, keep[a]);
+  k.setArg(7, static_cast<cl_uint>(refs.size()));
+  k.setArg(8, keep[7]);
+  k.setArg(9, static_cast<cl_uint>(n));
+  k.setArg(10, out);
   runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
   std::vector<cs_float4> o(2 * n);
   runtime().queue().enqueueReadBuffer(out, CL_TRUE, 0, o.size() * sizeof(cs_float4), o.data());
@@ -164,10 +179,12 @@ std::vector<Ray> random_rays(Rng& rng, int n, const Scene& s) {
 
 void expect_traversal_matches_brute_force(const Scene& s, int ray_count, uint32_t seed,
                                           const BvhBuildOptions& options = {}) {
-  const Bvh bvh = build_bvh(s, options);
+  const Bvh binary = build_bvh(s, options);
+  const WideBvh bvh = collapse_bvh(binary, s);
   Rng rng{std::mt19937(seed)};
   const auto rays = random_rays(rng, ray_count, s);
-  for (int variant = 0; variant < 2; ++variant) {
+  ASSERT_LT(bvh.height, kSmallStack);  // else the small-stack variant would not be a valid build
+  for (int variant = 0; variant < 3; ++variant) {
     SCOPED_TRACE(std::string("build options: ") + kBuildOptions[variant]);
     const auto out = run_compare(s, bvh, rays, variant);
     int closest_bad = 0, any_bad = 0, hits = 0;
@@ -343,8 +360,11 @@ TEST(BvhBuild, EmptySceneMisses) {
   EXPECT_EQ(bvh.nodes[0].count, 0u);
   EXPECT_EQ(bvh.nodes[0].lo_x, 1e18f);
   EXPECT_EQ(bvh.nodes[0].hi_z, -1e18f);
+  const WideBvh wide = collapse_bvh(bvh, s);
+  ASSERT_EQ(wide.nodes.size(), 1u);
+  for (uint32_t c : wide.nodes[0].child) EXPECT_EQ(c, WIDE_CHILD_EMPTY);
   Rng rng{std::mt19937(6)};
-  for (const Outcome& o : run_compare(s, bvh, random_rays(rng, 256, s), 1)) {
+  for (const Outcome& o : run_compare(s, wide, random_rays(rng, 256, s), 1)) {
     EXPECT_EQ(o.bvh_prim, PRIM_NONE);
     EXPECT_FALSE(o.any);
   }

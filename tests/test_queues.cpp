@@ -113,7 +113,7 @@ TEST(WavefrontRenderer, QueueOverflowRetriesGiveTheSameImage) {
     auto s = prepare_session(o);
     RenderSettings settings = s->settings;
     settings.queue_capacity_factor = capacity_factor;
-    WavefrontRenderer r(*s->runtime, s->scene, s->bvh, s->features, s->program.program, settings);
+    WavefrontRenderer r(*s->runtime, s->scene, s->wide, s->features, s->program.program, settings);
     return r.render(stats);
   };
   RenderStats tight, ample;

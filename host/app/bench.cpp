@@ -153,6 +153,11 @@ int run_bench(BenchArgs& a) {
               session->settings.local_size, a.repetitions);
   std::printf("bvh build      %.2f ms (%zu nodes, SAH %.2f)\n", session->bvh.build_ms, session->bvh.nodes.size(),
               session->bvh.sah_cost);
+  const WideBvh& wide = session->wide;
+  std::printf("wide bvh       %.2f ms collapse (%zu nodes, %zu triangle blocks %.0f%% full, %zu other refs, height %d)\n",
+              wide.collapse_ms, wide.nodes.size(), wide.triangle_blocks.size(),
+              wide.triangle_blocks.empty() ? 0.0 : 100.0 * wide.triangle_lanes / (4.0 * wide.triangle_blocks.size()),
+              wide.prim_refs.size(), wide.height);
   std::printf("kernel build   %.1f ms (cold; bench any-hit program %.1f ms)\n", session->program.build_ms,
               shadow_program.build_ms);
   std::printf("ray sets       generated on the host in %.0f ms (shared with caustica_embree_bench)\n",
@@ -168,6 +173,8 @@ int run_bench(BenchArgs& a) {
                       {"primitives", s.primitive_count()},
                       {"triangles", s.triangles.size()},
                       {"build_ms", session->bvh.build_ms},
+                      {"collapse_ms", wide.collapse_ms},
+                      {"wide_nodes", wide.nodes.size()},
                       {"kernel_build_ms", session->program.build_ms},
                       {"local_size", session->settings.local_size},
                       {"repetitions", a.repetitions},

@@ -56,12 +56,13 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   session->program = session->runtime->build_file("render.cl", session->features.build_options());
 
   session->bvh = build_bvh(scene);
+  session->wide = collapse_bvh(session->bvh, scene);
 
   resolve_image_size(scene.camera, options.width, options.height, &session->settings.width,
                      &session->settings.height);
   session->settings.local_size = options.local_size;
   t0 = std::chrono::steady_clock::now();
-  session->renderer = std::make_unique<WavefrontRenderer>(*session->runtime, scene, session->bvh, session->features,
+  session->renderer = std::make_unique<WavefrontRenderer>(*session->runtime, scene, session->wide, session->features,
                                                           session->program.program, session->settings);
   session->upload_ms = ms_since(t0);
   return session;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "host/accel/bvh.h"
+#include "host/accel/bvh_wide.h"
 #include "host/cl/runtime.h"
 #include "host/render/wavefront.h"
 #include "host/scene/features.h"
@@ -34,7 +35,8 @@ struct SessionOptions {
 struct Session {
   Scene scene;
   SceneFeatures features;
-  Bvh bvh;
+  Bvh bvh;       // binary: the host trace of `caustica bench` (host/bench/host_trace.cpp) walks it
+  WideBvh wide;  // collapsed from bvh: what the kernels traverse
   std::unique_ptr<Runtime> runtime;
   BuiltProgram program;
   RenderSettings settings;

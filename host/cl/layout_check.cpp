@@ -20,6 +20,11 @@ static_assert(sizeof(Texture) == 64 && offsetof(Texture, kind) == 32 && offsetof
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, offset) == 12 && offsetof(BvhNode, hi_x) == 16 &&
                   offsetof(BvhNode, count) == 28,
               "BvhNode layout");
+static_assert(sizeof(BvhNode8) == 256 && offsetof(BvhNode8, hi_x) == 32 && offsetof(BvhNode8, lo_y) == 64 &&
+                  offsetof(BvhNode8, hi_z) == 160 && offsetof(BvhNode8, child) == 192 &&
+                  offsetof(BvhNode8, height) == 224,
+              "BvhNode8 layout");
+static_assert(sizeof(TriangleBlock4) == 160 && offsetof(TriangleBlock4, ref) == 144, "TriangleBlock4 layout");
 static_assert(sizeof(Material) == 80 && offsetof(Material, specular) == 16 && offsetof(Material, emission) == 32 &&
                   offsetof(Material, specular_exponent) == 48 && offsetof(Material, ka) == 60 &&
                   offsetof(Material, flags) == 64 && offsetof(Material, texture) == 68,

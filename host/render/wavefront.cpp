@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 
 #include "host/error.h"
 
@@ -46,7 +47,7 @@ double elapsed_ms(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 struct WavefrontRenderer::Buffers {
-  cl::Buffer nodes, prim_refs, spheres, cylinders, triangles, triangle_shading, materials, lights;
+  cl::Buffer nodes, triangle_blocks, prim_refs, spheres, cylinders, triangles, triangle_shading, materials, lights;
   cl::Buffer textures, texels;
   cl::Buffer film, hits;
   RayQueue rays[2];
@@ -54,7 +55,7 @@ struct WavefrontRenderer::Buffers {
   size_t chunk = 0, ray_capacity = 0, shadow_capacity = 0;
 };
 
-WavefrontRenderer::WavefrontRenderer(Runtime& runtime, const Scene& scene, const Bvh& bvh,
+WavefrontRenderer::WavefrontRenderer(Runtime& runtime, const Scene& scene, const WideBvh& bvh,
                                      const SceneFeatures& features, const cl::Program& program,
                                      const RenderSettings& settings)
     : runtime_(runtime), scene_(scene), features_(features), settings_(settings), buffers_(new Buffers) {
@@ -63,6 +64,7 @@ WavefrontRenderer::WavefrontRenderer(Runtime& runtime, const Scene& scene, const
   Buffers& b = *buffers_;
   try {
     b.nodes = upload(ctx, bvh.nodes);
+    b.triangle_blocks = upload(ctx, bvh.triangle_blocks);
     b.prim_refs = upload(ctx, bvh.prim_refs);
     b.spheres = upload(ctx, scene.spheres);
     b.cylinders = upload(ctx, scene.cylinders);
@@ -124,7 +126,8 @@ CameraGPU WavefrontRenderer::camera_for_chunk(size_t first_pixel, size_t pixel_c
 
 void WavefrontRenderer::launch(cl::Kernel& kernel, size_t count) {
   if (count == 0) return;
-  const size_t local = settings_.local_size;
+  size_t local = settings_.local_size;
+  if (const char* e = getenv("CAUSTICA_TMP_LOCAL")) local = size_t(atoi(e));  // TMP experiment
   runtime_.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(round_up(count, local)),
                                         cl::NDRange(local));
 }
@@ -142,7 +145,7 @@ void WavefrontRenderer::write_count(const cl::Buffer& counter, uint32_t value) {
 
 void WavefrontRenderer::bind_intersect(RayQueue& rays) {
   Buffers& b = *buffers_;
-  set_args(intersect_, b.nodes, b.prim_refs, b.spheres, b.cylinders, b.triangles, rays.count, rays.origin, rays.dir,
+  set_args(intersect_, b.nodes, b.triangle_blocks, b.prim_refs, b.spheres, b.cylinders, b.triangles, rays.count, rays.origin, rays.dir,
            b.hits);
 }
 
@@ -156,7 +159,7 @@ void WavefrontRenderer::bind_shade(const ShadeParams& params, RayQueue& in, RayQ
 
 void WavefrontRenderer::bind_shadow() {
   Buffers& b = *buffers_;
-  set_args(shadow_, b.nodes, b.prim_refs, b.spheres, b.cylinders, b.triangles, b.shadow.count, b.shadow.origin,
+  set_args(shadow_, b.nodes, b.triangle_blocks, b.prim_refs, b.spheres, b.cylinders, b.triangles, b.shadow.count, b.shadow.origin,
            b.shadow.dir, b.shadow.weight, b.shadow.pixel, b.film);
 }
 
@@ -285,7 +288,7 @@ double WavefrontRenderer::time_ray_kernel(cl::Kernel& kernel, const std::vector<
     cl::Buffer origin_buffer = upload(ctx, origin);
     cl::Buffer dir_buffer = upload(ctx, dir);
     cl::Buffer result_buffer(ctx, CL_MEM_WRITE_ONLY, n * std::max<size_t>(1, result_bytes));
-    set_args(kernel, b.nodes, b.prim_refs, b.spheres, b.cylinders, b.triangles, count_buffer, origin_buffer,
+    set_args(kernel, b.nodes, b.triangle_blocks, b.prim_refs, b.spheres, b.cylinders, b.triangles, count_buffer, origin_buffer,
              dir_buffer, result_buffer);
     const double ms = median_launch_ms(kernel, n, repetitions);
     if (results) runtime_.queue().enqueueReadBuffer(result_buffer, CL_TRUE, 0, n * result_bytes, results);

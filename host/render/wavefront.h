@@ -11,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-#include "host/accel/bvh.h"
+#include "host/accel/bvh_wide.h"
 #include "host/cl/runtime.h"
 #include "host/image/image.h"
 #include "host/scene/features.h"
@@ -50,7 +50,7 @@ struct RayQueue;
 
 class WavefrontRenderer {
  public:
-  WavefrontRenderer(Runtime& runtime, const Scene& scene, const Bvh& bvh, const SceneFeatures& features,
+  WavefrontRenderer(Runtime& runtime, const Scene& scene, const WideBvh& bvh, const SceneFeatures& features,
                     const cl::Program& program, const RenderSettings& settings);
   ~WavefrontRenderer();
 

@@ -1,14 +1,25 @@
 #line 2 "kernels/lib/bvh_traverse.h"
-/* Closest-hit and any-hit queries over the flattened BVH2 of types.h.
+/* Closest-hit and any-hit queries over the 8-wide BVH of types.h (BvhNode8,
+ * TriangleBlock4; host/accel/bvh_wide.cpp builds it).
+ *
+ * Why this shape: PoCL runs a work-group as a loop over its work-items and
+ * does not vectorise that loop across them when its body is a traversal, so
+ * the SIMD width has to live inside one work-item. One float8 slab test
+ * checks all eight children of a node, one float4 watertight test four
+ * triangles of a leaf. Children are visited nearest first from a stack kept
+ * sorted by entry distance, entries beyond the closest hit are dropped when
+ * popped, and a node with a single child hit descends without the stack.
  *
  * Rules: finite arithmetic only (programs may use -cl-fast-relaxed-math):
- * reciprocal directions are clamped to +-BVH_INV_DIR_MAX and empty boxes are
- * stored as lo = +1e18, hi = -1e18, which the slab test rejects because it
- * picks the near/far planes by the ray's direction sign rather than by
- * min/max (min/max would turn an inverted box into the whole space). The
- * builder (host/accel/bvh.cpp) keeps leaves at depth <= BVH_STACK_SIZE, and
- * the traversal pushes at most one node per level. Primitive code is compiled
- * only for the types the scene has (HAS_SPHERES, HAS_CYLINDERS,
+ * reciprocal directions are clamped to +-BVH_INV_DIR_MAX; empty slots are
+ * boxes lo = +1e18, hi = -1e18, which the slab test rejects because it picks
+ * near/far planes by the direction's sign rather than by min/max. The
+ * stack holds BVH_STACK_SIZE entries: a node pushes its hit children one by
+ * one only while that leaves room for the levels below it (its `height`);
+ * otherwise it pushes a single "group" entry (itself, restricted to those
+ * children) that is re-tested when popped. The collapse keeps the root's
+ * height below BVH_STACK_SIZE, so the stack never overflows. Primitive code
+ * is compiled only for the types the scene has (HAS_SPHERES, HAS_CYLINDERS,
  * HAS_TRIANGLES). */
 #ifndef CAUSTICA_LIB_BVH_TRAVERSE_H
 #define CAUSTICA_LIB_BVH_TRAVERSE_H
@@ -16,13 +27,21 @@
 #include "lib/geometry.h"
 #include "lib/intersect_primitives.h"
 
+#ifndef BVH_STACK_SIZE /* tests shrink it to exercise the group entries */
 #define BVH_STACK_SIZE 64
+#endif
 #define BVH_INV_DIR_MAX 1e18f
-/* Widens each box's exit distance (relative) so rounding in the slab test,
- * including the approximate reciprocals fast-relaxed-math may use, never
- * culls a hit on a primitive that touches its box: rays through triangle
+/* Relative widening of each box's exit distance, so that rounding in the
+ * slab test (and the approximate reciprocals fast-relaxed-math may use)
+ * never culls a hit on a primitive touching its box: rays through triangle
  * vertices, which sit exactly on box corners, are the typical victims. */
 #define BVH_EXIT_SLACK 2e-6f
+/* The slab distances are fma(plane, inv_d, -o * inv_d): one operation per
+ * plane instead of (plane - o) * inv_d, but -o * inv_d carries a rounding
+ * error relative to |o * inv_d|, not to t. Near planes move that much
+ * earlier and far planes later (4x the half-ulp bound), per axis. */
+#define BVH_PLANE_ERROR 0x1.0p-22f
+#define BVH8_LANES 0x0101010101010101UL /* one bit per child lane (bit 8 * lane) */
 
 /* Tests one primitive (encoded ref) and, on a nearer hit, overwrites *hit. */
 bool intersect_prim_ref(__global const Sphere* spheres, __global const Cylinder* cylinders,
@@ -68,123 +87,331 @@ bool intersect_prim_ref(__global const Sphere* spheres, __global const Cylinder*
   return false;
 }
 
-typedef struct {
-  float3 o;
-  float3 inv_d; /* clamped reciprocal direction */
-  int3 neg;     /* direction sign per axis: selects the near plane */
-} BvhRay;
+/* The nearest lane of a triangle block hit nearer than hit->t replaces *hit. */
+__attribute__((always_inline)) void triangle_block_closest(__global const TriangleBlock4* block, const TriangleRay* r, float tmin, Hit* hit) {
+  float4 t, u, v;
+  int4 lanes = intersect_triangle_block(block, r, tmin, hit->t, &t, &u, &v);
+  if (!any4(lanes)) return;
+  t = select((float4)(hit->t), t, lanes);
+  float best = fmin(fmin(t.x, t.y), fmin(t.z, t.w));
+  int lane = t.x == best ? 0 : (t.y == best ? 1 : (t.z == best ? 2 : 3));
+  hit->t = best;
+  hit->u = lane == 0 ? u.x : (lane == 1 ? u.y : (lane == 2 ? u.z : u.w));
+  hit->v = lane == 0 ? v.x : (lane == 1 ? v.y : (lane == 2 ? v.z : v.w));
+  hit->prim = block->ref[lane];
+}
 
-BvhRay bvh_ray(float3 o, float3 d) {
-  BvhRay r;
+typedef struct {
+  float3 inv_d;   /* clamped reciprocal direction */
+  float3 c_near;  /* -o * inv_d - its rounding bound: offset of the near planes */
+  float3 inv_far; /* inv_d and -o * inv_d + its rounding bound, both scaled */
+  float3 c_far;   /* by 1 + BVH_EXIT_SLACK: the far planes' slope and offset */
+  int near_x, near_y, near_z; /* BvhNode8 rows of the near planes (lo or hi by sign) */
+  int far_x, far_y, far_z;
+  float tmin;
+} WideRay;
+
+WideRay wide_ray(float3 o, float3 d, float tmin) {
+  WideRay r;
   float3 safe = select(d, copysign((float3)(1.0f / BVH_INV_DIR_MAX), d), fabs(d) < 1.0f / BVH_INV_DIR_MAX);
-  r.o = o;
   r.inv_d = clamp(1.0f / safe, -BVH_INV_DIR_MAX, BVH_INV_DIR_MAX);
-  r.neg = r.inv_d < 0.0f;
+  float3 oi = o * r.inv_d;
+  float3 err = fabs(oi) * BVH_PLANE_ERROR;
+  r.c_near = -oi - err;
+  r.inv_far = r.inv_d * (1.0f + BVH_EXIT_SLACK);
+  r.c_far = (-oi + err) * (1.0f + BVH_EXIT_SLACK);
+  r.near_x = r.inv_d.x < 0.0f ? 1 : 0;
+  r.near_y = r.inv_d.y < 0.0f ? 3 : 2;
+  r.near_z = r.inv_d.z < 0.0f ? 5 : 4;
+  r.far_x = r.near_x ^ 1;
+  r.far_y = r.near_y ^ 1;
+  r.far_z = r.near_z ^ 1;
+  r.tmin = tmin;
   return r;
 }
 
-/* The empty scene's root is the only leaf with count 0 (and offset 0, where
- * an inner node's right child is always > 1). Its inverted box already
- * misses; checking it too keeps an empty scene from ever reading node 1. */
-bool bvh_is_empty(__global const BvhNode* bvh_nodes) { return bvh_nodes[0].count == 0 && bvh_nodes[0].offset == 0; }
+/* Slab test of all eight children against [tmin, tmax]: returns the hit
+ * lanes as BVH8_LANES bits (a compare mask narrowed to bytes and read as one
+ * ulong, which PoCL compiles to far less than an OR-reduction) and their
+ * entry distances in *entry. */
+/* fmax/fmin must honour NaN operands, which costs a compare and a blend
+ * per use; these values are never NaN, and this form is a single max/min
+ * instruction. */
+float8 max8(float8 a, float8 b) { return select(b, a, a > b); }
+float8 min8(float8 a, float8 b) { return select(b, a, a < b); }
 
-/* Slab test: true when [entry, exit] meets [tmin, tmax]; *entry receives the
- * entry distance (clamped to tmin) for front-to-back ordering. (plane - o)
- * is formed before scaling so the rounding error stays relative to t even
- * when the box and the origin are both far from the world origin. */
-bool bvh_box_hit(__global const BvhNode* node, const BvhRay* r, float tmin, float tmax, float* entry) {
-  float3 lo = (float3)(node->lo_x, node->lo_y, node->lo_z);
-  float3 hi = (float3)(node->hi_x, node->hi_y, node->hi_z);
-  float3 t0 = (select(lo, hi, r->neg) - r->o) * r->inv_d;
-  float3 t1 = (select(hi, lo, r->neg) - r->o) * r->inv_d;
-  float t_enter = fmax(fmax(t0.x, t0.y), fmax(t0.z, tmin));
-  float t_exit = fmin(fmin(t1.x, t1.y), t1.z);
-  t_exit += fabs(t_exit) * BVH_EXIT_SLACK;
+ulong bvh8_test(__global const BvhNode8* node, const WideRay* r, float tmax, float8* entry) {
+  /* Rows are 32-byte aligned float8s (256-byte nodes); indexing them as such
+   * gives one load each, where vload8 at a variable offset gives two. */
+  __global const float8* rows = (__global const float8*)node;
+  float8 nx = fma(rows[r->near_x], (float8)(r->inv_d.x), (float8)(r->c_near.x));
+  float8 ny = fma(rows[r->near_y], (float8)(r->inv_d.y), (float8)(r->c_near.y));
+  float8 nz = fma(rows[r->near_z], (float8)(r->inv_d.z), (float8)(r->c_near.z));
+  float8 fx = fma(rows[r->far_x], (float8)(r->inv_far.x), (float8)(r->c_far.x));
+  float8 fy = fma(rows[r->far_y], (float8)(r->inv_far.y), (float8)(r->c_far.y));
+  float8 fz = fma(rows[r->far_z], (float8)(r->inv_far.z), (float8)(r->c_far.z));
+  float8 t_enter = max8(max8(nx, ny), max8(nz, (float8)(r->tmin)));
+  /* Two levels of min on each side, not three: this test is on the
+   * critical path from one node to the next. */
+  float8 t_exit = min8(min8(fx, fy), min8(fz, (float8)(tmax)));
   *entry = t_enter;
-  return t_enter <= fmin(t_exit, tmax);
+  return as_ulong(convert_char8(t_enter <= t_exit)) & BVH8_LANES;
 }
+
+uint bvh8_lane(ulong lanes) {
+#if defined(__clang__) && defined(EXP_CTZ)
+  return (uint)(__builtin_ctzl(lanes) >> 3);
+#else
+  return (uint)(popcount((lanes & (~lanes + 1UL)) - 1UL) >> 3);
+#endif
+}
+
+ulong bvh8_lanes_of_mask(uint mask) {
+  ulong lanes = 0;
+  for (uint i = 0; i < 8; ++i)
+    if (mask & (1u << i)) lanes |= 1UL << (8 * i);
+  return lanes;
+}
+
+/* The rare case where pushing every hit child of `node` could overrun the
+ * stack: pushes one group entry for all of them but the nearest (at the
+ * distance of the next nearest) and returns the nearest child. */
+uint bvh8_push_group(__global const BvhNode8* node, uint node_index, ulong lanes, const float* dist,
+                     uint* stack_item, float* stack_entry, int* sp) {
+  uint nearest = bvh8_lane(lanes);
+  for (ulong m = lanes & (lanes - 1); m != 0; m &= m - 1)
+    if (dist[bvh8_lane(m)] < dist[nearest]) nearest = bvh8_lane(m);
+  uint rest = 0;
+  float rest_entry = RAY_T_FAR;
+  for (ulong m = lanes; m != 0; m &= m - 1) {
+    uint lane = bvh8_lane(m);
+    if (lane == nearest) continue;
+    rest |= 1u << lane;
+    rest_entry = fmin(rest_entry, dist[lane]);
+  }
+  stack_item[*sp] = WIDE_GROUP_FLAG | (rest << WIDE_GROUP_MASK_SHIFT) | node_index;
+  stack_entry[*sp] = rest_entry;
+  ++*sp;
+  return node->child[nearest];
+}
+
+/* A popped stack item: a group entry becomes its node and lane set. */
+uint bvh8_unpack(uint item, ulong* lanes) {
+  if ((item & (WIDE_LEAF_FLAG | WIDE_GROUP_FLAG)) != WIDE_GROUP_FLAG) return item;
+  *lanes = bvh8_lanes_of_mask((item >> WIDE_GROUP_MASK_SHIFT) & 0xFFu);
+  return item & WIDE_NODE_INDEX_MASK;
+}
+
+#define BITONIC_STEP(sw, keep_max)                                  \
+  {                                                                   \
+    float8 pk = key.sw;                                   \
+    uint8 pv = val.sw;                                    \
+    int8 take = select(pk < key, pk > key, keep_max);                 \
+    key = select(key, pk, take);                                      \
+    val = select(val, pv, take);                                      \
+  }
+
+uint wide_leaf_count(uint item) { return ((item >> WIDE_LEAF_COUNT_SHIFT) & (WIDE_LEAF_MAX_COUNT - 1u)) + 1u; }
 
 Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax) {
   Hit hit = hit_none(tmax);
-  BvhRay ray = bvh_ray(o, d);
-  uint stack_node[BVH_STACK_SIZE];
+  const WideRay ray = wide_ray(o, d, tmin);
+#ifdef HAS_TRIANGLES
+  /* Set up at the first triangle leaf: rays that reach none skip it. */
+  TriangleRay tri;
+  bool tri_ready = false;
+#endif
+  uint stack_item[BVH_STACK_SIZE];
   float stack_entry[BVH_STACK_SIZE];
+#ifdef EXP_TOUCH
+  volatile uint sink;
+#endif
   int sp = 0;
-  float entry;
-  if (bvh_is_empty(bvh_nodes) || !bvh_box_hit(&bvh_nodes[0], &ray, tmin, tmax, &entry)) return hit;
-  uint node = 0;
+  uint item = 0; /* the root */
+  ulong lanes = BVH8_LANES;
   for (;;) {
-    __global const BvhNode* n = &bvh_nodes[node];
-    if (n->count > 0) {
-      for (uint i = n->offset; i < n->offset + n->count; ++i)
-        intersect_prim_ref(spheres, cylinders, triangles, prim_refs[i], o, d, tmin, &hit);
-    } else {
-      uint near_child = node + 1, far_child = n->offset;
-      float t_near, t_far;
-      bool hit_near = bvh_box_hit(&bvh_nodes[near_child], &ray, tmin, hit.t, &t_near);
-      bool hit_far = bvh_box_hit(&bvh_nodes[far_child], &ray, tmin, hit.t, &t_far);
-      if (hit_near && hit_far) {
-        if (t_far < t_near) {
-          uint tn = near_child;
-          near_child = far_child;
-          far_child = tn;
-          float tt = t_near;
-          t_near = t_far;
-          t_far = tt;
-        }
-        stack_node[sp] = far_child;
-        stack_entry[sp] = t_far;
+    if ((item & WIDE_LEAF_FLAG) == 0) {
+      __global const BvhNode8* node = &bvh_nodes[item];
+      float8 entry;
+      ulong m = bvh8_test(node, &ray, hit.t, &entry) & lanes;
+      lanes = BVH8_LANES;
+      if (m != 0 && (m & (m - 1)) == 0) {
+        item = node->child[bvh8_lane(m)];
+        continue;
+      }
+#ifndef EXP_SORT
+#define EXP_SORT 0
+#endif
+#if EXP_SORT == 3
+      if (m != 0 && sp + 7 + (int)node->height <= BVH_STACK_SIZE) {
+        int8 hit8 = as_int8(convert_int8(as_char8(m * 0xFFUL)));
+        float8 key = select((float8)(-RAY_T_FAR), entry, hit8);
+        uint8 val = vload8(0, node->child);
+        BITONIC_STEP(s10325476, (int8)(-1, 0, 0, -1, -1, 0, 0, -1));
+        BITONIC_STEP(s23016745, (int8)(-1, -1, 0, 0, 0, 0, -1, -1));
+        BITONIC_STEP(s10325476, (int8)(-1, 0, -1, 0, 0, -1, 0, -1));
+        BITONIC_STEP(s45670123, (int8)(-1, -1, -1, -1, 0, 0, 0, 0));
+        BITONIC_STEP(s23016745, (int8)(-1, -1, 0, 0, -1, -1, 0, 0));
+        BITONIC_STEP(s10325476, (int8)(-1, 0, -1, 0, -1, 0, -1, 0));
+        vstore8(val, 0, stack_item + sp);
+        vstore8(key, 0, stack_entry + sp);
+        sp += (int)popcount(m) - 1;
+        item = stack_item[sp];
+        continue;
+      }
+#endif
+#if EXP_SORT == 1
+      if (popcount(m) == 2 && sp + 2 + (int)node->height <= BVH_STACK_SIZE + 1) {
+        uint l0 = bvh8_lane(m), l1 = bvh8_lane(m & (m - 1));
+        float8 e = entry;
+        float dd[8];
+        vstore8(e, 0, dd);
+        float t0 = dd[l0], t1 = dd[l1];
+        uint c0 = node->child[l0], c1 = node->child[l1];
+        bool far1 = t1 > t0;
+        stack_item[sp] = far1 ? c1 : c0;
+        stack_entry[sp] = far1 ? t1 : t0;
         ++sp;
-        node = near_child;
+        item = far1 ? c0 : c1;
         continue;
       }
-      if (hit_near || hit_far) {
-        node = hit_near ? near_child : far_child;
+#endif
+#if EXP_SORT == 2
+      if (m != 0 && sp + (int)popcount(m) + (int)node->height <= BVH_STACK_SIZE + 1) {
+        int8 hit8 = as_int8(convert_int8(as_char8(m * 0xFFUL)));
+        float8 key = select((float8)(RAY_T_FAR), entry, hit8);
+        float4 h4 = fmin(key.lo, key.hi);
+        float2 h2 = fmin(h4.lo, h4.hi);
+        float mn = fmin(h2.x, h2.y);
+        ulong nearm = as_ulong(convert_char8(key == (float8)(mn))) & m;
+        uint nl = bvh8_lane(nearm);
+        float dd[8];
+        vstore8(entry, 0, dd);
+        for (ulong r = m & ~(0xFFUL << (8 * nl)); r != 0; r &= r - 1) {
+          uint lane = bvh8_lane(r);
+          stack_item[sp] = node->child[lane];
+          stack_entry[sp] = dd[lane];
+          ++sp;
+        }
+        item = node->child[nl];
         continue;
       }
+#endif
+      if (m != 0) {
+        float dist[8];
+        vstore8(entry, 0, dist);
+        if (sp + (int)popcount(m) + (int)node->height <= BVH_STACK_SIZE + 1) {
+          /* Insertion sort onto the stack, farthest deepest; the nearest
+           * ends on top and is taken straight back off. */
+          int base = sp;
+          for (; m != 0; m &= m - 1) {
+            uint lane = bvh8_lane(m);
+            float t = dist[lane];
+            int j = sp++;
+            for (; j > base && stack_entry[j - 1] < t; --j) {
+              stack_item[j] = stack_item[j - 1];
+              stack_entry[j] = stack_entry[j - 1];
+            }
+            stack_item[j] = node->child[lane];
+            stack_entry[j] = t;
+#ifdef EXP_TOUCH
+            {
+              uint c = node->child[lane];
+              if (!(c & WIDE_LEAF_FLAG)) {
+                sink = as_uint(bvh_nodes[c].lo_x[0]);
+                sink = as_uint(bvh_nodes[c].lo_z[0]);
+              } else if (!(c & WIDE_LEAF_PRIMS)) {
+                sink = as_uint(tri_blocks[c & WIDE_LEAF_INDEX_MASK].v[0][0]);
+              }
+            }
+#endif
+          }
+          item = stack_item[--sp];
+        } else {
+          item = bvh8_push_group(node, item, m, dist, stack_item, stack_entry, &sp);
+        }
+        continue;
+      }
+    } else {
+      uint first = item & WIDE_LEAF_INDEX_MASK, end = first + wide_leaf_count(item);
+#if defined(HAS_SPHERES) || defined(HAS_CYLINDERS)
+      if (item & WIDE_LEAF_PRIMS)
+        for (uint i = first; i < end; ++i)
+          intersect_prim_ref(spheres, cylinders, triangles, prim_refs[i], o, d, tmin, &hit);
+#endif
+#ifdef HAS_TRIANGLES
+      if (!(item & WIDE_LEAF_PRIMS)) {
+        if (!tri_ready) {
+          tri = triangle_ray(o, d);
+          tri_ready = true;
+        }
+        for (uint b = first; b < end; ++b) triangle_block_closest(&tri_blocks[b], &tri, tmin, &hit);
+      }
+#endif
     }
     /* Pop, dropping subtrees that start beyond the closest hit so far. */
-    bool found = false;
-    while (sp > 0) {
+    do {
+      if (sp == 0) return hit;
       --sp;
-      if (stack_entry[sp] <= hit.t) {
-        node = stack_node[sp];
-        found = true;
-        break;
-      }
-    }
-    if (!found) break;
+    } while (stack_entry[sp] > hit.t);
+    item = bvh8_unpack(stack_item[sp], &lanes);
   }
-  return hit;
 }
 
 bool trace_any(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax) {
-  BvhRay ray = bvh_ray(o, d);
-  uint stack_node[BVH_STACK_SIZE];
+  const WideRay ray = wide_ray(o, d, tmin);
+#ifdef HAS_TRIANGLES
+  /* Set up at the first triangle leaf: rays that reach none skip it. */
+  TriangleRay tri;
+  bool tri_ready = false;
+#endif
+  uint stack_item[BVH_STACK_SIZE];
+  float stack_entry[BVH_STACK_SIZE]; /* only group entries use it */
   int sp = 0;
-  float entry;
-  if (bvh_is_empty(bvh_nodes) || !bvh_box_hit(&bvh_nodes[0], &ray, tmin, tmax, &entry)) return false;
-  Hit hit = hit_none(tmax);
-  uint node = 0;
+  uint item = 0;
+  ulong lanes = BVH8_LANES;
   for (;;) {
-    __global const BvhNode* n = &bvh_nodes[node];
-    if (n->count > 0) {
-      for (uint i = n->offset; i < n->offset + n->count; ++i)
-        if (intersect_prim_ref(spheres, cylinders, triangles, prim_refs[i], o, d, tmin, &hit)) return true;
-    } else {
-      uint left = node + 1, right = n->offset;
-      bool hit_left = bvh_box_hit(&bvh_nodes[left], &ray, tmin, tmax, &entry);
-      bool hit_right = bvh_box_hit(&bvh_nodes[right], &ray, tmin, tmax, &entry);
-      if (hit_left && hit_right) stack_node[sp++] = right;
-      if (hit_left || hit_right) {
-        node = hit_left ? left : right;
+    if ((item & WIDE_LEAF_FLAG) == 0) {
+      __global const BvhNode8* node = &bvh_nodes[item];
+      float8 entry;
+      ulong m = bvh8_test(node, &ray, tmax, &entry) & lanes;
+      lanes = BVH8_LANES;
+      if (m != 0) {
+        /* Any order finds an occluder; no sorting. */
+        if ((m & (m - 1)) == 0 || sp + (int)popcount(m) + (int)node->height <= BVH_STACK_SIZE + 1) {
+          item = node->child[bvh8_lane(m)];
+          for (m &= m - 1; m != 0; m &= m - 1) stack_item[sp++] = node->child[bvh8_lane(m)];
+        } else {
+          float dist[8];
+          vstore8(entry, 0, dist);
+          item = bvh8_push_group(node, item, m, dist, stack_item, stack_entry, &sp);
+        }
         continue;
       }
+    } else {
+      uint first = item & WIDE_LEAF_INDEX_MASK, end = first + wide_leaf_count(item);
+#if defined(HAS_SPHERES) || defined(HAS_CYLINDERS)
+      if (item & WIDE_LEAF_PRIMS) {
+        Hit hit = hit_none(tmax);
+        for (uint i = first; i < end; ++i)
+          if (intersect_prim_ref(spheres, cylinders, triangles, prim_refs[i], o, d, tmin, &hit)) return true;
+      }
+#endif
+#ifdef HAS_TRIANGLES
+      if (!(item & WIDE_LEAF_PRIMS)) {
+        if (!tri_ready) {
+          tri = triangle_ray(o, d);
+          tri_ready = true;
+        }
+        float4 t, u, v;
+        for (uint b = first; b < end; ++b)
+          if (any4(intersect_triangle_block(&tri_blocks[b], &tri, tmin, tmax, &t, &u, &v))) return true;
+      }
+#endif
     }
-    if (sp == 0) break;
-    node = stack_node[--sp];
+    if (sp == 0) return false;
+    item = bvh8_unpack(stack_item[--sp], &lanes);
   }
-  return false;
 }
 
 #endif /* CAUSTICA_LIB_BVH_TRAVERSE_H */

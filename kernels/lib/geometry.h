@@ -28,11 +28,13 @@ typedef struct {
 #define CYL_PART_TOP 1.0f    /* the cap at centre + half * axis */
 #define CYL_PART_BOTTOM 2.0f /* the cap at centre - half * axis */
 
+/* The traversal's view of the scene: the wide BVH (nodes, triangle blocks,
+ * refs of the sphere/cylinder leaves) and the primitive arrays. */
 #define SCENE_GEOMETRY_PARAMS                                                                          \
-  __global const BvhNode *restrict bvh_nodes, __global const uint *restrict prim_refs,                 \
-      __global const Sphere *restrict spheres, __global const Cylinder *restrict cylinders,            \
-      __global const Triangle *restrict triangles
-#define SCENE_GEOMETRY_ARGS bvh_nodes, prim_refs, spheres, cylinders, triangles
+  __global const BvhNode8 *restrict bvh_nodes, __global const TriangleBlock4 *restrict tri_blocks,     \
+      __global const uint *restrict prim_refs, __global const Sphere *restrict spheres,                \
+      __global const Cylinder *restrict cylinders, __global const Triangle *restrict triangles
+#define SCENE_GEOMETRY_ARGS bvh_nodes, tri_blocks, prim_refs, spheres, cylinders, triangles
 
 Hit hit_none(float tmax) {
   Hit h;

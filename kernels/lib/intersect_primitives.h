@@ -16,7 +16,12 @@
 
 /* The triangle edge functions must be evaluated the same way for both
  * triangles sharing an edge; a contracted a*b - c*d is not antisymmetric.
- * Switched back on (the OpenCL default) at the end of this file. */
+ * Under -cl-fast-relaxed-math, clang may also reassociate, and would do so
+ * differently in the scalar test and the 4-wide block test, which must agree
+ * bit for bit (traversal vs brute force, neighbours on a shared edge):
+ * precise semantics for this file only, the kernels around it stay fast.
+ * Both switched back at the end of this file. */
+#pragma float_control(precise, on, push)
 #pragma OPENCL FP_CONTRACT OFF
 
 #if defined(HAS_TRIANGLES) && defined(cl_khr_fp64)
@@ -173,6 +178,106 @@ bool intersect_triangle(float3 v0, float3 v1, float3 v2, float3 o, float3 d, flo
   return true;
 }
 
+/* The per-ray half of intersect_triangle (shear axes and constants), shared
+ * by every triangle block the ray meets. */
+typedef struct {
+  float ox, oy, oz; /* origin along kx, ky, kz */
+  float sx, sy, sz; /* shear */
+  int kx, ky, kz;
+} TriangleRay;
+
+TriangleRay triangle_ray(float3 o, float3 d) {
+  TriangleRay r;
+  float3 ad = fabs(d);
+  int kz = (ad.x > ad.y) ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
+  int kx = kz == 2 ? 0 : kz + 1;
+  int ky = kx == 2 ? 0 : kx + 1;
+  float dkz = kz == 0 ? d.x : (kz == 1 ? d.y : d.z);
+  if (dkz < 0.0f) {
+    int tmp = kx;
+    kx = ky;
+    ky = tmp;
+  }
+  float dkx = kx == 0 ? d.x : (kx == 1 ? d.y : d.z);
+  float dky = ky == 0 ? d.x : (ky == 1 ? d.y : d.z);
+  r.sx = dkx / dkz;
+  r.sy = dky / dkz;
+  r.sz = 1.0f / dkz;
+  r.ox = kx == 0 ? o.x : (kx == 1 ? o.y : o.z);
+  r.oy = ky == 0 ? o.x : (ky == 1 ? o.y : o.z);
+  r.oz = kz == 0 ? o.x : (kz == 1 ? o.y : o.z);
+  r.kx = kx;
+  r.ky = ky;
+  r.kz = kz;
+  return r;
+}
+
+/* any() on a compare mask, as a byte-narrowed movemask: PoCL's any()
+ * extracts and tests the lanes one by one. */
+bool any4(int4 mask) { return as_uint(convert_char4(mask)) != 0u; }
+
+/* edge_function on four lanes, without its fp64 re-evaluation: *unsure
+ * receives the lanes whose sign it would re-evaluate (see edge_exact4). */
+float4 edge_function4(float4 px, float4 py, float4 qx, float4 qy, int4* unsure) {
+  float4 l = px * qy, r = py * qx;
+  float4 e = l - r;
+  *unsure = fabs(e) <= 2.5e-7f * (fabs(l) + fabs(r));
+  return e;
+}
+
+/* The re-evaluation, done only when some lane of some edge needs it, so that
+ * the common case pays one test for all three edges. */
+float4 edge_exact4(float4 e, float4 px, float4 py, float4 qx, float4 qy, int4 unsure) {
+#ifdef CAUSTICA_EDGE_FP64
+  double4 exact = convert_double4(px) * convert_double4(qy) - convert_double4(py) * convert_double4(qx);
+  e = select(e, convert_float4(exact), unsure);
+#endif
+  return e;
+}
+
+/* intersect_triangle on the four lanes of a block at once, operation for
+ * operation the same (so a lane agrees with the scalar test bit for bit,
+ * shared edges included). The axes are picked per ray by row offset, which
+ * is why the block stores each vertex coordinate as its own row. Returns -1
+ * in the lanes hit with tmin < t < tmax, and their t, u, v. */
+__attribute__((always_inline)) int4 intersect_triangle_block(__global const TriangleBlock4* block, const TriangleRay* r, float tmin, float tmax,
+                              float4* t, float4* u, float4* v) {
+  __global const float4* p = (__global const float4*)block; /* 16-byte aligned rows */
+  float4 az = p[r->kz] - r->oz;
+  float4 bz = p[3 + r->kz] - r->oz;
+  float4 cz = p[6 + r->kz] - r->oz;
+  float4 ax = (p[r->kx] - r->ox) - r->sx * az;
+  float4 ay = (p[r->ky] - r->oy) - r->sy * az;
+  float4 bx = (p[3 + r->kx] - r->ox) - r->sx * bz;
+  float4 by = (p[3 + r->ky] - r->oy) - r->sy * bz;
+  float4 cx = (p[6 + r->kx] - r->ox) - r->sx * cz;
+  float4 cy = (p[6 + r->ky] - r->oy) - r->sy * cz;
+  int4 u0, u1, u2;
+  float4 e0 = edge_function4(cx, cy, bx, by, &u0);
+  float4 e1 = edge_function4(ax, ay, cx, cy, &u1);
+  float4 e2 = edge_function4(bx, by, ax, ay, &u2);
+#ifdef CAUSTICA_EDGE_FP64
+  if (any4(u0 | u1 | u2)) {
+    e0 = edge_exact4(e0, cx, cy, bx, by, u0);
+    e1 = edge_exact4(e1, ax, ay, cx, cy, u1);
+    e2 = edge_exact4(e2, bx, by, ax, ay, u2);
+  }
+#endif
+  int4 outside = ((e0 < 0.0f) | (e1 < 0.0f) | (e2 < 0.0f)) & ((e0 > 0.0f) | (e1 > 0.0f) | (e2 > 0.0f));
+  float4 det = e0 + e1 + e2;
+  int4 hit = ~outside & (det != 0.0f);
+  if (!any4(hit)) return hit;
+  /* No 1/0 even in lanes that are dropped: fast-relaxed-math assumes no inf. */
+  float4 inv = 1.0f / select(det, (float4)(1.0f), det == 0.0f);
+  float4 th = (e0 * (r->sz * az) + e1 * (r->sz * bz) + e2 * (r->sz * cz)) * inv;
+  hit &= (th > tmin) & (th < tmax);
+  *t = th;
+  *u = e1 * inv;
+  *v = e2 * inv;
+  return hit;
+}
+
 #pragma OPENCL FP_CONTRACT ON
+#pragma float_control(pop)
 
 #endif /* CAUSTICA_LIB_INTERSECT_PRIMITIVES_H */

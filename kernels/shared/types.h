@@ -88,6 +88,50 @@ typedef struct {
   cs_uint count;
 } BvhNode; /* 32 bytes */
 
+/* 8-wide BVH, the layout the kernels traverse (host/accel/bvh_wide.cpp
+ * collapses the BVH2 above into it; kernels/lib/bvh_traverse.h). Child
+ * bounds are stored plane by plane, one lane per child, so that one float8
+ * load per plane tests all eight children at once; an axis's lo and hi rows
+ * are adjacent so the traversal picks the near/far row from the ray's sign
+ * by offset alone. An empty slot has lo = +1e18, hi = -1e18 (missed by the
+ * sign-picked slab test) and child WIDE_CHILD_EMPTY.
+ *
+ * child: an inner node index (< 2^22, see WIDE_GROUP_FLAG), or a leaf:
+ * WIDE_LEAF_FLAG | kind | (count - 1) << 27 | first, where kind 0 names
+ * `count` TriangleBlock4s from tri_blocks[first] and WIDE_LEAF_PRIMS names
+ * `count` encoded refs (spheres, cylinders) from the wide prim_refs[first]. */
+#define WIDE_WIDTH 8
+#define WIDE_LEAF_FLAG 0x80000000u
+#define WIDE_LEAF_PRIMS 0x40000000u
+#define WIDE_LEAF_COUNT_SHIFT 27u
+#define WIDE_LEAF_MAX_COUNT 8u
+#define WIDE_LEAF_INDEX_MASK 0x07FFFFFFu
+/* Traversal-stack only: "node, restricted to these child lanes" (lane mask
+ * in bits 22..29). Inner node indices must stay below 2^22 for it. */
+#define WIDE_GROUP_FLAG 0x40000000u
+#define WIDE_GROUP_MASK_SHIFT 22u
+#define WIDE_NODE_INDEX_MASK 0x003FFFFFu
+#define WIDE_CHILD_EMPTY 0xFFFFFFFFu
+
+typedef struct {
+  float lo_x[8], hi_x[8], lo_y[8], hi_y[8], lo_z[8], hi_z[8];
+  cs_uint child[8];
+  /* Inner levels from this node to its deepest leaf, itself included: the
+   * traversal's bound on the stack entries the subtree can still need. */
+  cs_uint height;
+  cs_uint pad[7];
+} BvhNode8; /* 256 bytes */
+
+/* Four triangles stored plane by plane (row r = vertex (r / 3), axis (r % 3),
+ * one lane per triangle), tested together. Vertices, not edges: the
+ * watertight test shears vertices, and v0 + (v1 - v0) would not give back
+ * v1 exactly, so neighbours would no longer agree on a shared edge. Unused
+ * lanes repeat lane 0 (same triangle, same answer: inert). */
+typedef struct {
+  float v[9][4];
+  cs_uint ref[4]; /* encoded PRIM_TRIANGLE refs */
+} TriangleBlock4; /* 160 bytes */
+
 #define MATERIAL_REFLECTIVE 1u
 #define MATERIAL_REFRACTIVE 2u
 

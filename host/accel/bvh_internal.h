@@ -1,0 +1,176 @@
+// Pieces of the BVH builder (host/accel/bvh.cpp drives the recursion and the
+// threads, host/accel/bvh_split.cpp finds and applies splits). Not part of
+// the public API.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <thread>
+#include <vector>
+
+namespace caustica::bvh_detail {
+
+// Finite "empty box" bounds: the traversal rejects inverted boxes only while
+// they stay finite (see bvh_traverse.h).
+constexpr float kEmptyLo = 1e18f;
+constexpr float kEmptyHi = -1e18f;
+
+struct Box {
+  glm::vec3 lo{kEmptyLo};
+  glm::vec3 hi{kEmptyHi};
+
+  void grow(const Box& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  void grow(const glm::vec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
+  // Half the surface area: SAH only needs ratios.
+  double half_area() const {
+    if (empty()) return 0.0;
+    glm::dvec3 e = glm::dvec3(hi) - glm::dvec3(lo);
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+  }
+  glm::vec3 centroid() const { return 0.5f * (lo + hi); }
+};
+
+inline Box intersection(const Box& a, const Box& b) {
+  Box r;
+  r.lo = glm::max(a.lo, b.lo);
+  r.hi = glm::min(a.hi, b.hi);
+  return r;
+}
+
+// Double -> float rounded outward, so that boxes computed in double still
+// contain the exact geometry once stored as floats: the traversal relies on
+// boxes being conservative.
+float round_down(double x);
+float round_up(double x);
+
+// A primitive, or the part of a triangle inside `box`, as the builder moves
+// it around. `prim` indexes Prims.
+struct Ref {
+  Box box;
+  uint32_t prim;
+};
+
+// Every primitive of the scene in one index space: spheres, cylinders, then
+// triangles (only those are ever split, so only their vertices are kept).
+struct Prims {
+  std::vector<uint32_t> codes;  // (type << 30) | index, for the kernels
+  std::vector<glm::vec3> triangle_vertices;
+  uint32_t first_triangle = 0;
+
+  bool splittable(uint32_t p) const { return p >= first_triangle; }
+  const glm::vec3* vertices(uint32_t p) const { return &triangle_vertices[3 * size_t(p - first_triangle)]; }
+};
+
+struct Settings {
+  int max_leaf = 4;
+  int object_bins = 16;
+  bool widest_axis_only = false;  // object splits: bin only the widest centroid axis
+  int spatial_bins = 0;  // most spatial bins per axis; 0: no spatial splits
+  int max_depth = 64;
+  double min_overlap = 0.0;  // half area of child overlap (object split) that makes a spatial split worth trying
+};
+
+// Box of the part of triangle `v` between the planes x[axis] = s0 and s1,
+// intersected with `bound`; empty when nothing of the triangle lies there.
+// Clipping the polygon rather than chopping its box is what makes spatial
+// splits pay off for long diagonal triangles.
+Box clip_triangle(const glm::vec3* v, int axis, float s0, float s1, const Box& bound);
+
+// Runs fn(chunk, begin, end) over contiguous chunks of [0, n), one per
+// thread. Callers merge per-chunk results with exact operations (min, max,
+// integer sums) so that the outcome does not depend on the chunking.
+class Workers {
+ public:
+  explicit Workers(int threads) : threads_(threads < 1 ? 1 : threads) {}
+  int threads() const { return threads_; }
+  int chunks(size_t n) const { return n >= kMinChunk * 2 ? int(std::min<size_t>(threads_, n / kMinChunk)) : 1; }
+
+  template <class F>
+  void for_chunks(size_t n, int chunk_count, F&& fn) const {
+    if (chunk_count <= 1) {
+      fn(0, size_t{0}, n);
+      return;
+    }
+    std::vector<std::thread> pool;
+    for (int c = 1; c < chunk_count; ++c)
+      pool.emplace_back([&fn, n, c, chunk_count] { fn(c, n * c / chunk_count, n * (c + 1) / chunk_count); });
+    fn(0, size_t{0}, n / chunk_count);
+    for (std::thread& t : pool) t.join();
+  }
+
+ private:
+  static constexpr size_t kMinChunk = 2048;  // below this a thread costs more than it saves
+  int threads_;
+};
+
+struct Split {
+  enum Kind { kNone, kObject, kSpatial } kind = kNone;
+  int axis = -1;
+  double cost = std::numeric_limits<double>::max();
+  // Object: centroids binned with (c - bin_lo) * bin_scale go left below `bin`.
+  int bin = 0;
+  float bin_lo = 0.0f, bin_scale = 0.0f;
+  // Object: the children's boxes (their overlap decides whether to try a
+  // spatial split).
+  Box left, right;
+  float plane = 0.0f;  // spatial: split position along axis
+};
+
+constexpr int kMinSpatialBins = 8;
+
+// Split search and partitioning; holds per-thread scratch, so one per thread.
+class Splitter {
+ public:
+  Splitter(const Settings& settings, const Prims& prims) : s_(settings), prims_(prims) {}
+
+  Split object_split(const Ref* refs, size_t n, const Box& centroid_box, const Workers* workers);
+  // Only planes whose estimated duplicates fit in `budget` are considered.
+  Split spatial_split(const Ref* refs, size_t n, const Box& box, uint64_t budget, const Workers* workers);
+
+  // Reorder refs[0, n) into left then right; return the left count.
+  size_t object_partition(Ref* refs, size_t n, const Split& split) const;
+  size_t median_partition(Ref* refs, size_t n, const Box& centroid_box) const;
+  // Replaces stack[begin, end) by the left references followed by the right
+  // ones (straddling triangles either clipped into both or, when that is
+  // cheaper or the budget is spent, moved whole to one side); returns the
+  // left count and adds the duplicates made to *duplicates.
+  size_t spatial_partition(std::vector<Ref>& stack, size_t begin, const Split& split, uint64_t budget,
+                           uint64_t* duplicates);
+
+ private:
+  struct ObjectBin {
+    Box box;
+    uint32_t count = 0;
+  };
+  struct SpatialBin {
+    Box box;
+    uint32_t enter = 0, exit = 0;
+  };
+
+  int object_bin(const glm::vec3& c, int axis, float lo, float scale) const;
+  void bin_objects(const Ref* refs, size_t n, const Box& cbox, const float* scale, ObjectBin* bins) const;
+  void bin_spatial(const Ref* refs, size_t n, int nb, const float* planes, const bool* active, SpatialBin* bins) const;
+
+  const Settings& s_;
+  const Prims& prims_;
+  std::vector<ObjectBin> object_bins_;
+  std::vector<SpatialBin> spatial_bins_;
+  std::vector<float> planes_;
+  std::vector<double> right_cost_;
+  std::vector<Box> right_box_;
+  std::vector<uint32_t> right_count_;
+  std::vector<Ref> scratch_;
+};
+
+}  // namespace caustica::bvh_detail

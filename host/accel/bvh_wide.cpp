@@ -1,0 +1,307 @@
+#include "host/accel/bvh_wide.h"
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+
+#include "host/error.h"
+
+namespace caustica {
+namespace {
+
+constexpr float kEmptyLo = 1e18f;  // finite "empty box": see bvh_traverse.h
+constexpr float kEmptyHi = -1e18f;
+constexpr size_t kBlockLanes = 4;
+constexpr uint32_t kMaxInnerNodes = WIDE_NODE_INDEX_MASK + 1;
+
+struct Box {
+  glm::vec3 lo{kEmptyLo};
+  glm::vec3 hi{kEmptyHi};
+
+  void grow(const Box& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  void grow(const glm::vec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
+  double half_area() const {
+    if (empty()) return 0.0;
+    const glm::dvec3 e = glm::dvec3(hi) - glm::dvec3(lo);
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+  }
+};
+
+Box node_box(const BvhNode& n) {
+  Box b;
+  b.lo = {n.lo_x, n.lo_y, n.lo_z};
+  b.hi = {n.hi_x, n.hi_y, n.hi_z};
+  return b;
+}
+
+bool is_triangle(uint32_t ref) { return (ref >> PRIM_TYPE_SHIFT) == PRIM_TRIANGLE; }
+
+// Leaf references that fit one child slot: up to WIDE_LEAF_MAX_COUNT blocks
+// of triangles, or up to WIDE_LEAF_MAX_COUNT other references.
+struct Chunk {
+  Box box;
+  bool triangles = false;
+  std::vector<uint32_t> refs;
+};
+
+// A child slot while a wide node is assembled: a binary inner node, which
+// may still be opened, or leaf chunks (several of them are opened when the
+// node has room, and otherwise get a wide node of their own).
+struct Slot {
+  Box box;
+  int64_t node = -1;
+  std::vector<Chunk> chunks;
+  bool openable(size_t free_slots) const {
+    return node >= 0 || (chunks.size() > 1 && chunks.size() - 1 <= free_slots);
+  }
+};
+
+class Collapser {
+ public:
+  Collapser(const Bvh& bvh, const Scene& scene, const WideBvhOptions& options, WideBvh& out)
+      : bvh_(bvh), scene_(scene), options_(options), out_(out) {}
+
+  void run() {
+    count_triangles();
+    const BvhNode& root = bvh_.nodes[0];
+    if (bvh_.nodes.size() == 1 && root.count == 0) {  // the empty scene
+      out_.nodes.push_back(empty_node());
+      out_.nodes[0].height = 1;
+      out_.height = 1;
+      return;
+    }
+    emit_node({make_slot(0)});
+    out_.height = static_cast<int>(out_.nodes[0].height);
+    if (out_.height >= kWideStackSize)
+      throw Error("wide BVH: " + std::to_string(out_.height) + " levels deep, the traversal stack holds " +
+                  std::to_string(kWideStackSize - 1));
+  }
+
+ private:
+  static BvhNode8 empty_node() {
+    BvhNode8 n{};
+    for (int i = 0; i < WIDE_WIDTH; ++i) {
+      n.lo_x[i] = n.lo_y[i] = n.lo_z[i] = kEmptyLo;
+      n.hi_x[i] = n.hi_y[i] = n.hi_z[i] = kEmptyHi;
+      n.child[i] = WIDE_CHILD_EMPTY;
+    }
+    return n;
+  }
+
+  // Triangles under each binary node (references, duplicates included), or
+  // UINT32_MAX when the subtree holds anything else: decides which subtrees
+  // merge into one block. Children follow their parent in the depth-first
+  // layout, so one backward sweep sees them first.
+  void count_triangles() {
+    const size_t n = bvh_.nodes.size();
+    triangles_.assign(n, 0);
+    for (size_t i = n; i-- > 0;) {
+      const BvhNode& node = bvh_.nodes[i];
+      if (node.count > 0) {
+        uint32_t c = 0;
+        for (uint32_t k = node.offset; k < node.offset + node.count; ++k)
+          c = (c == UINT32_MAX || !is_triangle(bvh_.prim_refs[k])) ? UINT32_MAX : c + 1;
+        triangles_[i] = c;
+      } else if (i + 1 < n && node.offset > i) {
+        const uint32_t a = triangles_[i + 1], b = triangles_[node.offset];
+        triangles_[i] = (a == UINT32_MAX || b == UINT32_MAX) ? UINT32_MAX : a + b;
+      }
+    }
+  }
+
+  bool leaf_like(int64_t node) const {
+    const BvhNode& n = bvh_.nodes[node];
+    return n.count > 0 || (options_.merge_small_subtrees && triangles_[node] <= options_.merge_max_triangles);
+  }
+
+  void gather(int64_t node, std::vector<uint32_t>& refs) const {
+    const BvhNode& n = bvh_.nodes[node];
+    if (n.count > 0) {
+      refs.insert(refs.end(), bvh_.prim_refs.begin() + n.offset, bvh_.prim_refs.begin() + n.offset + n.count);
+      return;
+    }
+    gather(node + 1, refs);
+    gather(n.offset, refs);
+  }
+
+  Box triangle_box(uint32_t ref) const {
+    const Triangle& t = scene_.triangles[ref & PRIM_INDEX_MASK];
+    Box b;
+    b.grow(to_vec3(t.v0));
+    b.grow(to_vec3(t.v1));
+    b.grow(to_vec3(t.v2));
+    return b;
+  }
+
+  Slot make_slot(int64_t node) const {
+    Slot slot;
+    slot.box = node_box(bvh_.nodes[node]);
+    if (!leaf_like(node)) {
+      slot.node = node;
+      return slot;
+    }
+    std::vector<uint32_t> refs;
+    gather(node, refs);
+    // A merged subtree may hold a spatially split triangle twice.
+    std::sort(refs.begin(), refs.end());
+    refs.erase(std::unique(refs.begin(), refs.end()), refs.end());
+    std::vector<uint32_t> tris, others;
+    for (uint32_t r : refs) (is_triangle(r) ? tris : others).push_back(r);
+    const size_t per_tri_chunk = WIDE_LEAF_MAX_COUNT * kBlockLanes;
+    for (size_t i = 0; i < tris.size(); i += per_tri_chunk) {
+      Chunk c;
+      c.triangles = true;
+      c.refs.assign(tris.begin() + i, tris.begin() + std::min(tris.size(), i + per_tri_chunk));
+      // The binary box may be a clipped part of the triangles (spatial
+      // splits) or a loose union of merged leaves: the intersection of both
+      // still holds every part of them this subtree is responsible for.
+      for (uint32_t r : c.refs) c.box.grow(triangle_box(r));
+      c.box.lo = glm::max(c.box.lo, slot.box.lo);
+      c.box.hi = glm::min(c.box.hi, slot.box.hi);
+      slot.chunks.push_back(std::move(c));
+    }
+    for (size_t i = 0; i < others.size(); i += WIDE_LEAF_MAX_COUNT) {
+      Chunk c;
+      c.box = slot.box;  // sphere and cylinder boxes need the builder's outward rounding: keep its box
+      c.refs.assign(others.begin() + i, others.begin() + std::min(others.size(), i + size_t{WIDE_LEAF_MAX_COUNT}));
+      slot.chunks.push_back(std::move(c));
+    }
+    if (slot.chunks.size() == 1) slot.box = slot.chunks[0].box;
+    return slot;
+  }
+
+  // Replaces an opened slot by its parts.
+  std::vector<Slot> open(const Slot& slot) const {
+    std::vector<Slot> parts;
+    if (slot.node >= 0) {
+      parts.push_back(make_slot(slot.node + 1));
+      parts.push_back(make_slot(bvh_.nodes[slot.node].offset));
+      return parts;
+    }
+    for (const Chunk& c : slot.chunks) {
+      Slot s;
+      s.box = c.box;
+      s.chunks = {c};
+      parts.push_back(std::move(s));
+    }
+    return parts;
+  }
+
+  uint32_t emit_leaf(const Chunk& c) {
+    uint32_t first, count;
+    if (c.triangles) {
+      first = static_cast<uint32_t>(out_.triangle_blocks.size());
+      count = static_cast<uint32_t>((c.refs.size() + kBlockLanes - 1) / kBlockLanes);
+      out_.triangle_lanes += c.refs.size();
+      for (size_t b = 0; b < count; ++b) {
+        TriangleBlock4 block{};
+        for (size_t lane = 0; lane < kBlockLanes; ++lane) {
+          const size_t k = b * kBlockLanes + lane;
+          const uint32_t ref = c.refs[k < c.refs.size() ? k : b * kBlockLanes];  // padding repeats lane 0
+          const Triangle& t = scene_.triangles[ref & PRIM_INDEX_MASK];
+          const cs_float4* v[3] = {&t.v0, &t.v1, &t.v2};
+          for (int vertex = 0; vertex < 3; ++vertex) {
+            block.v[3 * vertex + 0][lane] = v[vertex]->x;
+            block.v[3 * vertex + 1][lane] = v[vertex]->y;
+            block.v[3 * vertex + 2][lane] = v[vertex]->z;
+          }
+          block.ref[lane] = ref;
+        }
+        out_.triangle_blocks.push_back(block);
+      }
+    } else {
+      first = static_cast<uint32_t>(out_.prim_refs.size());
+      count = static_cast<uint32_t>(c.refs.size());
+      out_.prim_refs.insert(out_.prim_refs.end(), c.refs.begin(), c.refs.end());
+    }
+    if (first + count > WIDE_LEAF_INDEX_MASK) throw Error("wide BVH: too many leaf blocks for the child encoding");
+    return WIDE_LEAF_FLAG | (c.triangles ? 0u : WIDE_LEAF_PRIMS) | ((count - 1) << WIDE_LEAF_COUNT_SHIFT) | first;
+  }
+
+  // Builds one wide node from `slots` (opened greedily up to eight) and,
+  // depth first, everything below it; returns its index.
+  uint32_t emit_node(std::vector<Slot> slots) {
+    const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
+    if (index >= kMaxInnerNodes) throw Error("wide BVH: more inner nodes than the traversal can address");
+    out_.nodes.push_back(empty_node());
+    while (slots.size() < WIDE_WIDTH) {
+      const size_t free_slots = WIDE_WIDTH - slots.size();
+      int best = -1;
+      double best_area = -1.0;
+      for (size_t i = 0; i < slots.size(); ++i) {
+        const double area = slots[i].box.half_area();
+        if (slots[i].openable(free_slots) && area > best_area) {
+          best = static_cast<int>(i);
+          best_area = area;
+        }
+      }
+      if (best < 0) break;
+      std::vector<Slot> parts = open(slots[best]);
+      slots.erase(slots.begin() + best);
+      for (Slot& p : parts) slots.push_back(std::move(p));
+    }
+
+    BvhNode8 node = empty_node();
+    uint32_t height = 1;
+    for (size_t i = 0; i < slots.size(); ++i) {
+      Slot& s = slots[i];
+      const Box box = s.box;
+      uint32_t child;
+      if (s.node < 0 && s.chunks.size() == 1) {
+        child = emit_leaf(s.chunks[0]);
+      } else {
+        if (s.node < 0 && s.chunks.size() > WIDE_WIDTH) {
+          // Only depth-limited builds make leaves this big: group the chunks
+          // into eight slots and let the recursion split them further.
+          std::vector<Slot> groups(WIDE_WIDTH);
+          for (size_t k = 0; k < s.chunks.size(); ++k) {
+            Slot& g = groups[k * WIDE_WIDTH / s.chunks.size()];
+            g.box.grow(s.chunks[k].box);
+            g.chunks.push_back(std::move(s.chunks[k]));
+          }
+          child = emit_node(std::move(groups));
+        } else {
+          child = emit_node({std::move(s)});
+        }
+        height = std::max(height, out_.nodes[child].height + 1);
+      }
+      node.lo_x[i] = box.lo.x;
+      node.lo_y[i] = box.lo.y;
+      node.lo_z[i] = box.lo.z;
+      node.hi_x[i] = box.hi.x;
+      node.hi_y[i] = box.hi.y;
+      node.hi_z[i] = box.hi.z;
+      node.child[i] = child;
+    }
+    node.height = height;
+    out_.nodes[index] = node;
+    return index;
+  }
+
+  const Bvh& bvh_;
+  const Scene& scene_;
+  WideBvhOptions options_;
+  WideBvh& out_;
+  std::vector<uint32_t> triangles_;
+};
+
+}  // namespace
+
+WideBvh collapse_bvh(const Bvh& bvh, const Scene& scene, const WideBvhOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (bvh.nodes.empty()) throw Error("wide BVH: the binary BVH has no root");
+  WideBvh out;
+  out.nodes.reserve(bvh.nodes.size() / 4 + 1);
+  Collapser(bvh, scene, options, out).run();
+  out.collapse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace caustica

@@ -1,0 +1,46 @@
+// The 8-wide BVH the kernels traverse (BvhNode8 and TriangleBlock4 in
+// kernels/shared/types.h, kernels/lib/bvh_traverse.h), collapsed from the
+// binary BVH of bvh.h. PoCL runs each work-item as scalar code, so SIMD has
+// to come from inside the work-item: eight child boxes per float8 test and
+// four triangles per float4 test, instead of one box or triangle at a time.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "host/accel/bvh.h"
+#include "host/scene/scene.h"
+
+namespace caustica {
+
+// Stack entries the kernels keep per ray (BVH_STACK_SIZE in bvh_traverse.h).
+// The traversal stays within it as long as the root's height is below it;
+// collapse_bvh refuses deeper trees.
+constexpr int kWideStackSize = 64;
+
+struct WideBvhOptions {
+  // Subtrees holding only triangles, at most four of them, become one leaf
+  // block: the binned builder splits down to one or two triangles a leaf,
+  // and a half-empty block costs as much to test as a full one.
+  bool merge_small_subtrees = true;
+  size_t merge_max_triangles = 4;
+};
+
+struct WideBvh {
+  std::vector<BvhNode8> nodes;  // nodes[0] is the root (an empty scene: all slots empty)
+  std::vector<TriangleBlock4> triangle_blocks;
+  std::vector<uint32_t> prim_refs;  // encoded refs of the sphere/cylinder leaves
+  int height = 0;                   // BvhNode8::height of the root
+  size_t triangle_lanes = 0;        // block lanes holding a distinct triangle (fill statistics)
+  double collapse_ms = 0.0;
+};
+
+// Greedy collapse: each wide node starts from one binary node's two children
+// and repeatedly opens the child with the largest surface area until it has
+// eight or only leaves are left. Leaves keep the binary leaves' boxes
+// (clipped to their triangles), so the spatial-split boxes of a builder that
+// duplicates references stay as tight as built. Throws Error when the result
+// exceeds the kernels' limits (node count, stack height).
+WideBvh collapse_bvh(const Bvh& bvh, const Scene& scene, const WideBvhOptions& options = {});
+
+}  // namespace caustica

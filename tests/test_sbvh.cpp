@@ -1,0 +1,623 @@
+// Spatial-split BVH (BvhBuildOptions::Quality::Spatial): triangles may be
+// referenced from several leaves with clipped boxes. Checked here: the
+// kernels' queries over it still equal brute force, every part of every
+// triangle stays inside some leaf that references it (and every leaf only
+// references primitives it overlaps), the duplication budget and depth
+// limit hold, the tree is the same for any thread count, and spatial splits
+// pay off where they should (long thin diagonal triangles).
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <glm/glm.hpp>
+#include <random>
+
+#include "host/accel/bvh.h"
+#include "host/accel/bvh_wide.h"
+#include "host/bench/host_trace.h"
+#include "host/scene/load_scene.h"
+#include "tests/support/test_support.h"
+
+namespace caustica {
+namespace {
+
+using glm::dvec3;
+using glm::vec3;
+using test::runtime;
+using Quality = BvhBuildOptions::Quality;
+
+// Brute force loops over one reference per primitive (`all_refs`), not over
+// the BVH's references, which may repeat a triangle.
+const char* kCompareKernel = R"CLC(
+#include "lib/bvh_traverse.h"
+
+__kernel void compare(SCENE_GEOMETRY_PARAMS, uint prim_count, __global const uint* all_refs,
+                      __global const float4* rays, uint ray_count, __global float4* out) {
+  uint i = get_global_id(0);
+  if (i >= ray_count) return;
+  float4 o = rays[2 * i], d = rays[2 * i + 1]; /* o.w = tmin, d.w = tmax of the any-hit query */
+  Hit bvh = trace_closest(SCENE_GEOMETRY_ARGS, o.xyz, d.xyz, o.w, RAY_T_FAR);
+  Hit brute = hit_none(RAY_T_FAR);
+  for (uint p = 0; p < prim_count; ++p)
+    intersect_prim_ref(spheres, cylinders, triangles, all_refs[p], o.xyz, d.xyz, o.w, &brute);
+  bool any = trace_any(SCENE_GEOMETRY_ARGS, o.xyz, d.xyz, o.w, d.w);
+  out[i] = (float4)(bvh.t, as_float(bvh.prim), brute.t, as_float(brute.prim));
+  out[ray_count + i] = (float4)(any ? 1.0f : 0.0f, 0.0f, 0.0f, 0.0f);
+}
+)CLC";
+
+struct Ray {
+  vec3 o, d;
+  float tmin, tmax_any;
+};
+
+struct Outcome {
+  float bvh_t, brute_t;
+  uint32_t bvh_prim, brute_prim;
+  bool any;
+};
+
+uint32_t bits(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return u;
+}
+
+template <class T>
+cl::Buffer upload(std::vector<T> v) {
+  if (v.empty()) v.resize(1);  // OpenCL refuses zero-sized buffers
+  return cl::Buffer(runtime().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data());
+}
+
+const char* const kBuildOptions[] = {"", "-cl-fast-relaxed-math"};
+
+std::vector<uint32_t> one_ref_per_primitive(const Scene& s) {
+  std::vector<uint32_t> refs;
+  for (size_t i = 0; i < s.spheres.size(); ++i) refs.push_back(PRIM_SPHERE << PRIM_TYPE_SHIFT | uint32_t(i));
+  for (size_t i = 0; i < s.cylinders.size(); ++i) refs.push_back(PRIM_CYLINDER << PRIM_TYPE_SHIFT | uint32_t(i));
+  for (size_t i = 0; i < s.triangles.size(); ++i) refs.push_back(PRIM_TRIANGLE << PRIM_TYPE_SHIFT | uint32_t(i));
+  return refs;
+}
+
+// The kernels traverse the wide BVH collapsed from the binary one, which
+// keeps the binary leaves' (clipped) boxes.
+std::vector<Outcome> run_compare(const Scene& s, const Bvh& bvh, const std::vector<Ray>& rays, int variant) {
+  static cl::Program programs[2];
+  cl::Program& program = programs[variant];
+  if (!program())
+    program = runtime()
+                  .build_source("test_sbvh.cl", kCompareKernel,
+                                std::string("-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES ") + kBuildOptions[variant])
+                  .program;
+  const WideBvh wide = collapse_bvh(bvh, s);
+  std::vector<cs_float4> data;
+  for (const Ray& r : rays) {
+    data.push_back(to_float4(r.o, r.tmin));
+    data.push_back(to_float4(r.d, r.tmax_any));
+  }
+  const std::vector<uint32_t> all_refs = one_ref_per_primitive(s);
+  const size_t n = rays.size();
+  cl::Buffer out(runtime().context(), CL_MEM_WRITE_ONLY, 2 * n * sizeof(cs_float4));
+  // The kernel does not retain its buffers: keep them alive until the read.
+  std::vector<cl::Buffer> keep = {upload(wide.nodes),   upload(wide.triangle_blocks), upload(wide.prim_refs),
+                                  upload(s.spheres),    upload(s.cylinders),          upload(s.triangles),
+                                  upload(all_refs),     upload(data)};
+  cl::Kernel k(program, "compare");
+  for (int a = 0; a < 6; ++a) k.setArg(a, keep[a]);
+  k.setArg(6, static_cast<cl_uint>(all_refs.size()));
+  k.setArg(7, keep[6]);
+  k.setArg(8, keep[7]);
+  k.setArg(9, static_cast<cl_uint>(n));
+  k.setArg(10, out);
+  runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
+  std::vector<cs_float4> o(2 * n);
+  runtime().queue().enqueueReadBuffer(out, CL_TRUE, 0, o.size() * sizeof(cs_float4), o.data());
+  std::vector<Outcome> result(n);
+  for (size_t i = 0; i < n; ++i) result[i] = {o[i].x, o[i].z, bits(o[i].y), bits(o[i].w), o[n + i].x > 0.5f};
+  return result;
+}
+
+struct Rng {
+  std::mt19937 gen;
+  float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(gen); }
+  vec3 in_box(float h) { return vec3(uniform(-h, h), uniform(-h, h), uniform(-h, h)); }
+  vec3 unit() {
+    std::normal_distribution<float> g;
+    return glm::normalize(vec3(g(gen), g(gen), g(gen)));
+  }
+};
+
+Triangle tri(const vec3& a, const vec3& b, const vec3& c) {
+  return Triangle{to_float4(a), to_float4(b), to_float4(c), 0, 0, 0, 0};
+}
+
+void add_spheres(Scene& s, Rng& rng, int n) {
+  for (int i = 0; i < n; ++i)
+    s.spheres.push_back(Sphere{to_float4(rng.in_box(10), rng.uniform(0.05f, 0.6f)), 0, 0, 0, 0});
+}
+void add_cylinders(Scene& s, Rng& rng, int n) {
+  for (int i = 0; i < n; ++i)
+    s.cylinders.push_back(Cylinder{to_float4(rng.in_box(10), rng.uniform(0.05f, 0.4f)),
+                                   to_float4(rng.unit(), rng.uniform(0.1f, 1.2f)), 0, 0, 0, 0});
+}
+void add_small_triangles(Scene& s, Rng& rng, int n) {
+  for (int i = 0; i < n; ++i) {
+    const vec3 c = rng.in_box(10);
+    const float size = rng.uniform(0.1f, 1.5f);
+    s.triangles.push_back(tri(c + size * rng.unit(), c + size * rng.unit(), c + size * rng.unit()));
+  }
+}
+// Random small triangles plus a closed axis-aligned room: its walls span the
+// scene, so every object split overlaps them and spatial splits chop them.
+void add_triangles(Scene& s, Rng& rng, int n) {
+  add_small_triangles(s, rng, n);
+  const float w = 11.0f;
+  for (int axis = 0; axis < 3; ++axis)
+    for (float side : {-w, w}) {
+      vec3 q[4];
+      for (int k = 0; k < 4; ++k) {
+        q[k][axis] = side;
+        q[k][(axis + 1) % 3] = (k == 1 || k == 2) ? w : -w;
+        q[k][(axis + 2) % 3] = k >= 2 ? w : -w;
+      }
+      s.triangles.push_back(tri(q[0], q[1], q[2]));
+      s.triangles.push_back(tri(q[0], q[2], q[3]));
+    }
+}
+// Long thin triangles along near-diagonal directions across the scene: each
+// one's box is a large, almost empty cube that inflates every node holding
+// it, unless spatial splits chop the triangle into pieces with small boxes.
+void add_thin_diagonal_triangles(Scene& s, Rng& rng, int n) {
+  for (int i = 0; i < n; ++i) {
+    const vec3 diag(rng.uniform(0, 1) < 0.5f ? -1 : 1, rng.uniform(0, 1) < 0.5f ? -1 : 1, 1);
+    const vec3 dir = glm::normalize(diag + 0.15f * rng.unit());
+    const vec3 side = glm::normalize(glm::cross(dir, rng.unit()));
+    const vec3 c = rng.in_box(5);
+    const float len = rng.uniform(10.0f, 25.0f), width = rng.uniform(0.05f, 0.2f);
+    s.triangles.push_back(
+        tri(c - 0.5f * len * dir, c + 0.5f * len * dir, c + rng.uniform(-0.4f, 0.4f) * len * dir + width * side));
+  }
+}
+
+// A point inside primitive `p` (flat index: spheres, cylinders, triangles).
+vec3 point_in(const Scene& s, size_t p, Rng& rng) {
+  if (p < s.spheres.size()) return to_vec3(s.spheres[p].center_radius);
+  p -= s.spheres.size();
+  if (p < s.cylinders.size()) return to_vec3(s.cylinders[p].center_radius);
+  p -= s.cylinders.size();
+  const Triangle& t = s.triangles[p];
+  float u = rng.uniform(0.05f, 0.9f), v = rng.uniform(0.05f, 0.9f);
+  if (u + v > 0.95f) u = 0.95f - u, v = 0.95f - v;
+  u = std::max(u, 0.02f), v = std::max(v, 0.02f);
+  return (1.0f - u - v) * to_vec3(t.v0) + u * to_vec3(t.v1) + v * to_vec3(t.v2);
+}
+
+// Origins inside and outside the scene; directions with zero components;
+// rays with tmin > 0; rays through triangle vertices (box corners, where
+// slab-test rounding must not cull) and through random points of random
+// primitives (which hits thin triangles that random rays would miss).
+std::vector<Ray> random_rays(Rng& rng, int n, const Scene& s) {
+  std::vector<Ray> rays;
+  for (int i = 0; i < n; ++i) {
+    Ray r;
+    r.o = i % 2 ? rng.in_box(12) : 30.0f * rng.unit();
+    r.d = i % 2 ? rng.unit() : glm::normalize(rng.in_box(8) - r.o);
+    if (i % 4 == 1 && !s.triangles.empty()) {
+      const Triangle& t = s.triangles[rng.gen() % s.triangles.size()];
+      const cs_float4 v = i % 3 == 0 ? t.v0 : (i % 3 == 1 ? t.v1 : t.v2);
+      r.o = to_vec3(v) - rng.uniform(0.5f, 20.0f) * r.d;
+      r.d = to_vec3(v) - r.o;  // not normalised: t = 1 is the vertex exactly
+    }
+    if (i % 4 == 2) r.d = glm::normalize(point_in(s, rng.gen() % s.primitive_count(), rng) - r.o);
+    if (i % 10 == 3) r.d[i % 3] = 0.0f;
+    if (i % 10 == 7) {
+      r.d = vec3(0.0f);
+      r.d[i % 3] = (i % 20 < 10) ? 1.0f : -1.0f;
+    }
+    r.d = i % 4 == 1 ? r.d : glm::normalize(r.d);
+    r.tmin = i % 5 == 0 ? rng.uniform(0.0f, 5.0f) : 0.0f;
+    r.tmax_any = rng.uniform(0.0f, 40.0f);
+    rays.push_back(r);
+  }
+  return rays;
+}
+
+void expect_outcomes(const std::vector<Ray>& rays, const std::vector<Outcome>& out) {
+  int closest_bad = 0, any_bad = 0, hits = 0;
+  for (size_t i = 0; i < out.size(); ++i) {
+    const Outcome& o = out[i];
+    const bool hit = o.brute_prim != PRIM_NONE;
+    hits += hit;
+    // Equal t with different prims is a tie the traversal may break either way.
+    if (((o.bvh_prim != PRIM_NONE) != hit ||
+         (hit && std::abs(o.bvh_t - o.brute_t) > 1e-6f * std::max(1.0f, o.brute_t))) &&
+        ++closest_bad <= 5)
+      ADD_FAILURE() << "ray " << i << ": bvh prim " << o.bvh_prim << " t " << o.bvh_t << ", brute prim "
+                    << o.brute_prim << " t " << o.brute_t;
+    const float tmax = rays[i].tmax_any;
+    if (hit && std::abs(o.brute_t - tmax) <= 1e-5f * tmax) continue;  // too close to call
+    if (o.any != (hit && o.brute_t < tmax) && ++any_bad <= 5)
+      ADD_FAILURE() << "ray " << i << ": any-hit " << o.any << " but closest t " << o.brute_t << " tmax " << tmax;
+  }
+  EXPECT_EQ(closest_bad, 0);
+  EXPECT_EQ(any_bad, 0);
+  EXPECT_GT(hits, int(rays.size()) / 5);  // the comparison must not be vacuous
+}
+
+std::vector<Outcome> host_compare(const Scene& s, const Bvh& bvh, const std::vector<Ray>& rays) {
+  const HostTracer tracer(s, bvh);
+  const std::vector<uint32_t> all_refs = one_ref_per_primitive(s);
+  std::vector<Outcome> out;
+  for (const Ray& r : rays) {
+    const HostHit h = tracer.closest(r.o, r.d, r.tmin, kRayTFar);
+    HostHit brute;
+    for (uint32_t ref : all_refs) tracer.intersect_prim(ref, r.o, r.d, r.tmin, &brute);
+    out.push_back({h.t, brute.t, h.prim, brute.prim, tracer.any(r.o, r.d, r.tmin, r.tmax_any)});
+  }
+  return out;
+}
+
+void expect_matches_brute_force(const Scene& s, const Bvh& bvh, const std::vector<Ray>& rays) {
+  for (int variant = 0; variant < 2; ++variant) {
+    SCOPED_TRACE(std::string("build options: ") + kBuildOptions[variant]);
+    expect_outcomes(rays, run_compare(s, bvh, rays, variant));
+  }
+}
+
+BvhBuildOptions with(Quality q, int threads = 0) {
+  BvhBuildOptions o;
+  o.quality = q;
+  o.threads = threads;
+  return o;
+}
+
+Scene triangle_scene() {
+  Scene s;
+  Rng rng{std::mt19937(31)};
+  add_triangles(s, rng, 4000);
+  return s;
+}
+Scene mixed_scene() {
+  Scene s;
+  Rng rng{std::mt19937(32)};
+  add_spheres(s, rng, 1200);
+  add_cylinders(s, rng, 1200);
+  add_triangles(s, rng, 1200);
+  return s;
+}
+Scene thin_scene() {
+  Scene s;
+  Rng rng{std::mt19937(33)};
+  add_small_triangles(s, rng, 2500);
+  add_thin_diagonal_triangles(s, rng, 500);
+  return s;
+}
+
+// ---- structure ----------------------------------------------------------
+
+struct DBox {
+  dvec3 lo{1e300}, hi{-1e300};
+  void grow(const dvec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  bool contains(const dvec3& p, double tol) const {
+    return p.x >= lo.x - tol && p.y >= lo.y - tol && p.z >= lo.z - tol && p.x <= hi.x + tol &&
+           p.y <= hi.y + tol && p.z <= hi.z + tol;
+  }
+};
+
+DBox node_box(const BvhNode& n) { return DBox{dvec3(n.lo_x, n.lo_y, n.lo_z), dvec3(n.hi_x, n.hi_y, n.hi_z)}; }
+
+std::array<dvec3, 3> vertices(const Triangle& t) {
+  return {dvec3(to_vec3(t.v0)), dvec3(to_vec3(t.v1)), dvec3(to_vec3(t.v2))};
+}
+
+// Whether the triangle meets the box (grown by tol): clip its polygon by the
+// six planes and see whether anything is left.
+bool triangle_meets_box(const Triangle& t, const DBox& b, double tol) {
+  const auto v = vertices(t);
+  std::vector<dvec3> poly(v.begin(), v.end()), next;
+  for (int axis = 0; axis < 3 && !poly.empty(); ++axis)
+    for (int side = 0; side < 2 && !poly.empty(); ++side) {
+      const double plane = side ? b.hi[axis] + tol : b.lo[axis] - tol;
+      auto inside = [&](const dvec3& p) { return side ? p[axis] <= plane : p[axis] >= plane; };
+      next.clear();
+      for (size_t i = 0; i < poly.size(); ++i) {
+        const dvec3 &a = poly[i], &c = poly[(i + 1) % poly.size()];
+        if (inside(a)) next.push_back(a);
+        if (inside(a) != inside(c)) next.push_back(a + (plane - a[axis]) / (c[axis] - a[axis]) * (c - a));
+      }
+      poly.swap(next);
+    }
+  return !poly.empty();
+}
+
+DBox prim_box(const Scene& s, uint32_t ref) {
+  const uint32_t type = ref >> PRIM_TYPE_SHIFT, idx = ref & PRIM_INDEX_MASK;
+  DBox b;
+  if (type == PRIM_TRIANGLE) {
+    for (const dvec3& p : vertices(s.triangles[idx])) b.grow(p);
+  } else {
+    const cs_float4 c = type == PRIM_SPHERE ? s.spheres[idx].center_radius : s.cylinders[idx].center_radius;
+    const double reach = c.w + (type == PRIM_CYLINDER ? s.cylinders[idx].axis_half.w : 0.0f);
+    b.grow(dvec3(to_vec3(c)) - reach);
+    b.grow(dvec3(to_vec3(c)) + reach);
+  }
+  return b;
+}
+
+size_t flat_index(const Scene& s, uint32_t ref) {
+  const uint32_t type = ref >> PRIM_TYPE_SHIFT, idx = ref & PRIM_INDEX_MASK;
+  return idx + (type >= PRIM_CYLINDER ? s.spheres.size() : 0) + (type == PRIM_TRIANGLE ? s.cylinders.size() : 0);
+}
+
+// Layout and containment as in test_bvh.cpp, and for spatial splits:
+// - every primitive is referenced at least once; spheres and cylinders
+//   exactly once, whole inside their leaf;
+// - a leaf references only triangles that meet its box, and its box lies
+//   within the union of its primitives' boxes (clipped boxes never grow);
+// - every point of every triangle lies in some leaf that references it
+//   (checked on vertices, edge points and random interior points);
+// - at most `max_ratio` references per primitive.
+void check_structure(const Scene& s, const Bvh& bvh, int max_leaf, double max_ratio) {
+  ASSERT_FALSE(bvh.nodes.empty());
+  const size_t prims = s.primitive_count();
+  std::vector<std::vector<uint32_t>> leaves_of(prims);
+  std::vector<int> slot_owner(bvh.prim_refs.size(), 0);
+  int max_depth = 0;
+  size_t visited = 0;
+  struct Item {
+    uint32_t node;
+    int depth;
+  };
+  std::vector<Item> todo = {{0, 0}};
+  auto inside = [](const BvhNode& c, const BvhNode& p) {
+    return c.lo_x >= p.lo_x && c.lo_y >= p.lo_y && c.lo_z >= p.lo_z && c.hi_x <= p.hi_x && c.hi_y <= p.hi_y &&
+           c.hi_z <= p.hi_z;
+  };
+  while (!todo.empty()) {
+    const Item it = todo.back();
+    todo.pop_back();
+    ++visited;
+    const BvhNode& n = bvh.nodes[it.node];
+    max_depth = std::max(max_depth, it.depth);
+    if (n.count > 0) {
+      ASSERT_LE(n.count, static_cast<uint32_t>(max_leaf));
+      ASSERT_LE(n.offset + n.count, bvh.prim_refs.size());
+      const DBox box = node_box(n);
+      DBox prims_box;
+      for (uint32_t i = n.offset; i < n.offset + n.count; ++i) {
+        ++slot_owner[i];
+        const uint32_t ref = bvh.prim_refs[i], type = ref >> PRIM_TYPE_SHIFT, idx = ref & PRIM_INDEX_MASK;
+        const size_t flat = flat_index(s, ref);
+        ASSERT_LT(flat, prims);
+        leaves_of[flat].push_back(it.node);
+        const DBox pb = prim_box(s, ref);
+        prims_box.grow(pb.lo);
+        prims_box.grow(pb.hi);
+        if (type == PRIM_TRIANGLE)
+          EXPECT_TRUE(triangle_meets_box(s.triangles[idx], box, 1e-6)) << "triangle " << idx << " misses its leaf";
+        else if (type == PRIM_SPHERE)  // (prim_box is loose for cylinders: test_bvh.cpp checks their rims)
+          EXPECT_TRUE(box.contains(pb.lo, 0.0) && box.contains(pb.hi, 0.0)) << "sphere " << idx << " not in its leaf";
+      }
+      EXPECT_TRUE(prims_box.contains(box.lo, 1e-5) && prims_box.contains(box.hi, 1e-5))
+          << "leaf " << it.node << " larger than its primitives";
+      continue;
+    }
+    const uint32_t left = it.node + 1, right = n.offset;
+    ASSERT_GT(right, left);
+    ASSERT_LT(right, bvh.nodes.size());
+    EXPECT_TRUE(inside(bvh.nodes[left], n) && inside(bvh.nodes[right], n)) << "node " << it.node;
+    todo.push_back({right, it.depth + 1});
+    todo.push_back({left, it.depth + 1});
+  }
+  EXPECT_EQ(visited, bvh.nodes.size());
+  for (size_t i = 0; i < slot_owner.size(); ++i) ASSERT_EQ(slot_owner[i], 1) << "prim_refs slot " << i;
+  EXPECT_EQ(bvh.references, bvh.prim_refs.size());
+  EXPECT_LE(double(bvh.references), max_ratio * double(prims) + 1.0);
+  EXPECT_EQ(max_depth, bvh.max_depth);
+  EXPECT_LE(max_depth, kBvhMaxDepth);
+
+  Rng rng{std::mt19937(5)};
+  for (size_t p = 0; p < prims; ++p) {
+    ASSERT_FALSE(leaves_of[p].empty()) << "primitive " << p << " in no leaf";
+    if (p < s.spheres.size() + s.cylinders.size()) {
+      EXPECT_EQ(leaves_of[p].size(), 1u) << "sphere or cylinder " << p << " duplicated";
+      continue;
+    }
+    const Triangle& t = s.triangles[p - s.spheres.size() - s.cylinders.size()];
+    const auto v = vertices(t);
+    std::vector<dvec3> points(v.begin(), v.end());
+    for (int k = 0; k < 3; ++k) points.push_back(0.5 * (v[k] + v[(k + 1) % 3]));
+    for (int k = 0; k < 16; ++k) {
+      double a = rng.uniform(0, 1), b = rng.uniform(0, 1);
+      if (a + b > 1) a = 1 - a, b = 1 - b;
+      points.push_back(v[0] + a * (v[1] - v[0]) + b * (v[2] - v[0]));
+    }
+    for (const dvec3& q : points) {
+      const double tol = 1e-6 * (1.0 + std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)}));
+      const bool covered = std::any_of(leaves_of[p].begin(), leaves_of[p].end(),
+                                       [&](uint32_t leaf) { return node_box(bvh.nodes[leaf]).contains(q, tol); });
+      if (!covered) {
+        ADD_FAILURE() << "triangle " << p << ": point (" << q.x << ", " << q.y << ", " << q.z
+                      << ") outside every leaf referencing it";
+        return;
+      }
+    }
+  }
+}
+
+bool same_tree(const Bvh& a, const Bvh& b) {
+  return a.nodes.size() == b.nodes.size() && a.prim_refs == b.prim_refs &&
+         std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)) == 0 &&
+         a.sah_cost == b.sah_cost && a.max_depth == b.max_depth && a.references == b.references;
+}
+
+// ---- tests --------------------------------------------------------------
+
+struct SceneCase {
+  const char* name;
+  Scene (*make)();
+};
+
+class SbvhTraversal : public ::testing::TestWithParam<SceneCase> {};
+
+TEST_P(SbvhTraversal, MatchesBruteForce) {
+  const Scene s = GetParam().make();
+  const Bvh bvh = build_bvh(s, with(Quality::Spatial));
+  ASSERT_GT(bvh.references, s.primitive_count()) << "no spatial split happened: the test would prove nothing";
+  Rng rng{std::mt19937(101)};
+  expect_matches_brute_force(s, bvh, random_rays(rng, 12000, s));
+}
+
+// The binary tree itself, traced on the host with the kernels' scalar
+// arithmetic (host/bench/host_trace.h), apart from the wide collapse.
+TEST_P(SbvhTraversal, BinaryTreeMatchesBruteForceOnHost) {
+  const Scene s = GetParam().make();
+  const Bvh bvh = build_bvh(s, with(Quality::Spatial));
+  Rng rng{std::mt19937(104)};
+  const std::vector<Ray> rays = random_rays(rng, 12000, s);
+  expect_outcomes(rays, host_compare(s, bvh, rays));
+}
+
+// Every primitive is looked for: one ray at an interior point of each, from
+// inside and outside the scene. With duplicated references a primitive can
+// be tested several times; the answer must still be its nearest t.
+TEST_P(SbvhTraversal, FindsEveryPrimitiveAtItsNearestT) {
+  const Scene s = GetParam().make();
+  const Bvh bvh = build_bvh(s, with(Quality::Spatial));
+  Rng rng{std::mt19937(102)};
+  std::vector<Ray> rays;
+  for (size_t p = 0; p < s.primitive_count(); ++p) {
+    Ray r;
+    r.o = p % 2 ? rng.in_box(12) : 30.0f * rng.unit();
+    r.d = glm::normalize(point_in(s, p, rng) - r.o);
+    r.tmin = 0.0f;
+    r.tmax_any = 100.0f;
+    rays.push_back(r);
+  }
+  expect_matches_brute_force(s, bvh, rays);
+}
+
+TEST_P(SbvhTraversal, StructureAndCoverage) {
+  const Scene s = GetParam().make();
+  const Bvh bvh = build_bvh(s, with(Quality::Spatial));
+  check_structure(s, bvh, 4, 1.3);
+  std::printf("%s: %zu primitives, %zu references, %zu nodes, depth %d, SAH %.2f, %.1f ms\n", GetParam().name,
+              s.primitive_count(), bvh.references, bvh.nodes.size(), bvh.max_depth, bvh.sah_cost, bvh.build_ms);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, SbvhTraversal,
+                         ::testing::Values(SceneCase{"Triangles", triangle_scene}, SceneCase{"Mixed", mixed_scene},
+                                           SceneCase{"ThinDiagonal", thin_scene}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(SbvhBuild, SpatialSplitsLowerTheSahCostOfThinTriangles) {
+  const Scene s = thin_scene();
+  const Bvh sah = build_bvh(s, with(Quality::Sah));
+  const Bvh spatial = build_bvh(s, with(Quality::Spatial));
+  std::printf("thin diagonal triangles: SAH cost %.2f (Sah) vs %.2f (Spatial), %zu references\n", sah.sah_cost,
+              spatial.sah_cost, spatial.references);
+  EXPECT_LT(spatial.sah_cost, sah.sah_cost);
+  EXPECT_LT(spatial.sah_cost, 0.8 * sah.sah_cost);  // not a marginal gain: the case SBVH exists for
+}
+
+TEST(SbvhBuild, OtherQualitiesReferenceEachPrimitiveOnce) {
+  const Scene s = mixed_scene();
+  const Bvh sah = build_bvh(s, with(Quality::Sah));
+  check_structure(s, sah, 4, 1.0);
+  EXPECT_EQ(sah.references, s.primitive_count());
+  const Bvh fast = build_bvh(s, with(Quality::Fast));
+  check_structure(s, fast, 8, 1.0);  // Fast doubles the leaf size
+  EXPECT_EQ(fast.references, s.primitive_count());
+  EXPECT_LT(fast.nodes.size(), sah.nodes.size());
+}
+
+// Large enough for the parallel paths (subtree jobs, chunked binning at the
+// top): the tree must not depend on how the work was spread.
+TEST(SbvhBuild, IdenticalForAnyThreadCount) {
+  Scene big;
+  Rng rng{std::mt19937(34)};
+  add_triangles(big, rng, 30000);
+  add_thin_diagonal_triangles(big, rng, 5000);
+  add_spheres(big, rng, 3000);
+  for (const Scene* s : {&big}) {
+    for (Quality q : {Quality::Fast, Quality::Sah, Quality::Spatial}) {
+      const Bvh one = build_bvh(*s, with(q, 1));
+      for (int threads : {2, 3, 4}) EXPECT_TRUE(same_tree(one, build_bvh(*s, with(q, threads)))) << threads;
+      EXPECT_TRUE(same_tree(one, build_bvh(*s, with(q, 0))));
+    }
+  }
+  const Scene thin = thin_scene(), mixed = mixed_scene();
+  for (const Scene* s : {&thin, &mixed})
+    EXPECT_TRUE(same_tree(build_bvh(*s, with(Quality::Spatial, 1)), build_bvh(*s, with(Quality::Spatial, 2))));
+}
+
+// Near the depth limit the builder falls back to median splits and makes no
+// more spatial splits (they may not shrink a node); the tree must obey the
+// limit and still trace right.
+TEST(SbvhBuild, DepthLimit) {
+  const Scene s = thin_scene();
+  BvhBuildOptions limited = with(Quality::Spatial);
+  limited.max_depth = 14;
+  const Bvh bvh = build_bvh(s, limited);
+  EXPECT_LE(bvh.max_depth, 14);
+  EXPECT_GT(bvh.references, s.primitive_count());
+  check_structure(s, bvh, 4, 1.3);
+  Rng rng{std::mt19937(103)};
+  const std::vector<Ray> rays = random_rays(rng, 4000, s);
+  expect_outcomes(rays, host_compare(s, bvh, rays));
+  expect_matches_brute_force(s, bvh, rays);
+}
+
+TEST(SbvhBuild, SmallAndDegenerateScenes) {
+  Scene one;
+  one.triangles.push_back(tri(vec3(0), vec3(1, 0, 0), vec3(0, 1, 0)));
+  Bvh bvh = build_bvh(one, with(Quality::Spatial));
+  ASSERT_EQ(bvh.nodes.size(), 1u);
+  EXPECT_EQ(bvh.references, 1u);
+
+  Scene same;  // identical triangles: no plane separates anything
+  for (int i = 0; i < 500; ++i) same.triangles.push_back(tri(vec3(0), vec3(1, 1, 1), vec3(0, 1, 0)));
+  bvh = build_bvh(same, with(Quality::Spatial));
+  check_structure(same, bvh, 4, 1.3);
+
+  Scene flat;  // every triangle in the plane z = 0: boxes without depth
+  Rng rng{std::mt19937(35)};
+  for (int i = 0; i < 2000; ++i) {
+    const vec3 c(rng.uniform(-5, 5), rng.uniform(-5, 5), 0.0f);
+    flat.triangles.push_back(tri(c, c + vec3(rng.uniform(-3, 3), rng.uniform(-3, 3), 0),
+                                 c + vec3(rng.uniform(-3, 3), rng.uniform(-3, 3), 0)));
+  }
+  bvh = build_bvh(flat, with(Quality::Spatial));
+  check_structure(flat, bvh, 4, 1.3);
+
+  const Scene empty;
+  bvh = build_bvh(empty, with(Quality::Spatial));
+  ASSERT_EQ(bvh.nodes.size(), 1u);
+  EXPECT_EQ(bvh.references, 0u);
+  EXPECT_EQ(bvh.nodes[0].lo_x, 1e18f);
+}
+
+// The issue's targets on the conference room (331k triangles): Spatial about
+// 1.5 s and Fast about 0.3 s on a 2-core machine. Bounds here are loose (a
+// shared machine); the printed times are the measurement.
+TEST(SbvhBuild, ConferenceBuildTimes) {
+  CAUSTICA_REQUIRE_SHARED(shared);
+  Scene s;
+  try {
+    s = load_scene(test::source_dir() + "/bench/scenes/conference_inside.json");
+  } catch (const std::exception& e) {
+    GTEST_SKIP() << "conference scene not loadable: " << e.what();
+  }
+  for (Quality q : {Quality::Fast, Quality::Sah, Quality::Spatial}) {
+    const Bvh bvh = build_bvh(s, with(q));
+    std::printf("conference, quality %d: %.0f ms, SAH cost %.2f, %zu references (%.3f per triangle), depth %d\n",
+                int(q), bvh.build_ms, bvh.sah_cost, bvh.references, double(bvh.references) / s.primitive_count(),
+                bvh.max_depth);
+    EXPECT_LT(bvh.build_ms, q == Quality::Spatial ? 6000.0 : 2000.0);
+  }
+}
+
+}  // namespace
+}  // namespace caustica
