@@ -140,6 +140,9 @@ int main(int argc, char** argv) {
                          "OpenCL device: index, name substring, cpu or gpu (env CAUSTICA_DEVICE)");
   render_cmd->add_flag("--no-cache", [&](int64_t) { render.session.use_kernel_cache = false; },
                        "rebuild kernels instead of loading cached binaries");
+  render_cmd->add_option_function<std::string>(
+      "--bvh", [&](const std::string& q) { render.session.bvh_quality = parse_bvh_quality(q); },
+      "BVH build: spatial (SBVH, default), sah, or fast for huge scenes");
   render_cmd->add_flag("--strict", render.session.strict, "unknown scene keys are errors, not warnings");
   render_cmd->add_flag("-v,--verbose", render.verbose, "print features, build, BVH and render times");
   render_cmd->add_flag("-q,--quiet", render.quiet, "print nothing but errors");
@@ -154,6 +157,9 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--height", bench.session.height, "image height");
   bench_cmd->add_option("--repetitions", bench.repetitions, "timed repetitions (median)")->check(CLI::PositiveNumber);
   bench_cmd->add_option("--device", bench.session.device, "OpenCL device");
+  bench_cmd->add_option_function<std::string>(
+      "--bvh", [&](const std::string& q) { bench.session.bvh_quality = parse_bvh_quality(q); },
+      "BVH build: spatial (default), sah or fast");
 
   int shapes = 400;
   bool spheres_only = false;

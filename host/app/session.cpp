@@ -20,6 +20,13 @@ std::optional<RenderMode> parse_render_mode(const std::string& name) {
   throw Error("--mode " + name + ": expected binary or phong");
 }
 
+BvhBuildOptions::Quality parse_bvh_quality(const std::string& name) {
+  if (name == "fast") return BvhBuildOptions::Quality::Fast;
+  if (name == "sah") return BvhBuildOptions::Quality::Sah;
+  if (name == "spatial") return BvhBuildOptions::Quality::Spatial;
+  throw Error("--bvh " + name + ": expected fast, sah or spatial");
+}
+
 void resolve_image_size(const CameraDesc& camera, int width_override, int height_override, int* width, int* height) {
   if (width_override < 0 || height_override < 0) throw Error("--width/--height must be positive");
   const double aspect = double(camera.width) / double(camera.height);
@@ -55,7 +62,9 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   session->runtime->set_cache_enabled(options.use_kernel_cache);
   session->program = session->runtime->build_file("render.cl", session->features.build_options());
 
-  session->bvh = build_bvh(scene);
+  BvhBuildOptions bvh_options;
+  bvh_options.quality = options.bvh_quality;
+  session->bvh = build_bvh(scene, bvh_options);
   session->wide = collapse_bvh(session->bvh, scene);
 
   resolve_image_size(scene.camera, options.width, options.height, &session->settings.width,

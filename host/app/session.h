@@ -30,6 +30,8 @@ struct SessionOptions {
   bool use_kernel_cache = true;
   bool strict = false;  // unknown scene keys are errors instead of warnings
   size_t local_size = 64;  // work-group size of the stage launches
+  // --bvh: spatial splits (SBVH) by default; "fast" for huge scenes.
+  BvhBuildOptions::Quality bvh_quality = BvhBuildOptions::Quality::Spatial;
 };
 
 struct Session {
@@ -49,6 +51,9 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options);
 
 // --mode: "" (the scene decides), "binary" or "phong"; anything else throws.
 std::optional<RenderMode> parse_render_mode(const std::string& name);
+
+// --bvh: "fast", "sah" or "spatial"; anything else throws.
+BvhBuildOptions::Quality parse_bvh_quality(const std::string& name);
 
 // Width/height after CLI overrides: one given keeps the camera's aspect.
 void resolve_image_size(const CameraDesc& camera, int width_override, int height_override, int* width, int* height);
