@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 
 #include "host/error.h"
 
@@ -126,8 +125,7 @@ CameraGPU WavefrontRenderer::camera_for_chunk(size_t first_pixel, size_t pixel_c
 
 void WavefrontRenderer::launch(cl::Kernel& kernel, size_t count) {
   if (count == 0) return;
-  size_t local = settings_.local_size;
-  if (const char* e = getenv("CAUSTICA_TMP_LOCAL")) local = size_t(atoi(e));  // TMP experiment
+  const size_t local = settings_.local_size;
   runtime_.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(round_up(count, local)),
                                         cl::NDRange(local));
 }

@@ -130,16 +130,16 @@ WideRay wide_ray(float3 o, float3 d, float tmin) {
   return r;
 }
 
-/* Slab test of all eight children against [tmin, tmax]: returns the hit
- * lanes as BVH8_LANES bits (a compare mask narrowed to bytes and read as one
- * ulong, which PoCL compiles to far less than an OR-reduction) and their
- * entry distances in *entry. */
 /* fmax/fmin must honour NaN operands, which costs a compare and a blend
  * per use; these values are never NaN, and this form is a single max/min
  * instruction. */
 float8 max8(float8 a, float8 b) { return select(b, a, a > b); }
 float8 min8(float8 a, float8 b) { return select(b, a, a < b); }
 
+/* Slab test of all eight children against [tmin, tmax]: returns the hit
+ * lanes as BVH8_LANES bits (a compare mask narrowed to bytes and read as one
+ * ulong, which PoCL compiles to far less than an OR-reduction) and their
+ * entry distances in *entry. */
 ulong bvh8_test(__global const BvhNode8* node, const WideRay* r, float tmax, float8* entry) {
   /* Rows are 32-byte aligned float8s (256-byte nodes); indexing them as such
    * gives one load each, where vload8 at a variable offset gives two. */
@@ -158,13 +158,7 @@ ulong bvh8_test(__global const BvhNode8* node, const WideRay* r, float tmax, flo
   return as_ulong(convert_char8(t_enter <= t_exit)) & BVH8_LANES;
 }
 
-uint bvh8_lane(ulong lanes) {
-#if defined(__clang__) && defined(EXP_CTZ)
-  return (uint)(__builtin_ctzl(lanes) >> 3);
-#else
-  return (uint)(popcount((lanes & (~lanes + 1UL)) - 1UL) >> 3);
-#endif
-}
+uint bvh8_lane(ulong lanes) { return (uint)(popcount((lanes & (~lanes + 1UL)) - 1UL) >> 3); }
 
 ulong bvh8_lanes_of_mask(uint mask) {
   ulong lanes = 0;
@@ -202,15 +196,6 @@ uint bvh8_unpack(uint item, ulong* lanes) {
   return item & WIDE_NODE_INDEX_MASK;
 }
 
-#define BITONIC_STEP(sw, keep_max)                                  \
-  {                                                                   \
-    float8 pk = key.sw;                                   \
-    uint8 pv = val.sw;                                    \
-    int8 take = select(pk < key, pk > key, keep_max);                 \
-    key = select(key, pk, take);                                      \
-    val = select(val, pv, take);                                      \
-  }
-
 uint wide_leaf_count(uint item) { return ((item >> WIDE_LEAF_COUNT_SHIFT) & (WIDE_LEAF_MAX_COUNT - 1u)) + 1u; }
 
 Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax) {
@@ -223,9 +208,6 @@ Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float t
 #endif
   uint stack_item[BVH_STACK_SIZE];
   float stack_entry[BVH_STACK_SIZE];
-#ifdef EXP_TOUCH
-  volatile uint sink;
-#endif
   int sp = 0;
   uint item = 0; /* the root */
   ulong lanes = BVH8_LANES;
@@ -239,67 +221,13 @@ Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float t
         item = node->child[bvh8_lane(m)];
         continue;
       }
-#ifndef EXP_SORT
-#define EXP_SORT 0
-#endif
-#if EXP_SORT == 3
-      if (m != 0 && sp + 7 + (int)node->height <= BVH_STACK_SIZE) {
-        int8 hit8 = as_int8(convert_int8(as_char8(m * 0xFFUL)));
-        float8 key = select((float8)(-RAY_T_FAR), entry, hit8);
-        uint8 val = vload8(0, node->child);
-        BITONIC_STEP(s10325476, (int8)(-1, 0, 0, -1, -1, 0, 0, -1));
-        BITONIC_STEP(s23016745, (int8)(-1, -1, 0, 0, 0, 0, -1, -1));
-        BITONIC_STEP(s10325476, (int8)(-1, 0, -1, 0, 0, -1, 0, -1));
-        BITONIC_STEP(s45670123, (int8)(-1, -1, -1, -1, 0, 0, 0, 0));
-        BITONIC_STEP(s23016745, (int8)(-1, -1, 0, 0, -1, -1, 0, 0));
-        BITONIC_STEP(s10325476, (int8)(-1, 0, -1, 0, -1, 0, -1, 0));
-        vstore8(val, 0, stack_item + sp);
-        vstore8(key, 0, stack_entry + sp);
-        sp += (int)popcount(m) - 1;
-        item = stack_item[sp];
-        continue;
-      }
-#endif
-#if EXP_SORT == 1
-      if (popcount(m) == 2 && sp + 2 + (int)node->height <= BVH_STACK_SIZE + 1) {
-        uint l0 = bvh8_lane(m), l1 = bvh8_lane(m & (m - 1));
-        float8 e = entry;
-        float dd[8];
-        vstore8(e, 0, dd);
-        float t0 = dd[l0], t1 = dd[l1];
-        uint c0 = node->child[l0], c1 = node->child[l1];
-        bool far1 = t1 > t0;
-        stack_item[sp] = far1 ? c1 : c0;
-        stack_entry[sp] = far1 ? t1 : t0;
-        ++sp;
-        item = far1 ? c0 : c1;
-        continue;
-      }
-#endif
-#if EXP_SORT == 2
-      if (m != 0 && sp + (int)popcount(m) + (int)node->height <= BVH_STACK_SIZE + 1) {
-        int8 hit8 = as_int8(convert_int8(as_char8(m * 0xFFUL)));
-        float8 key = select((float8)(RAY_T_FAR), entry, hit8);
-        float4 h4 = fmin(key.lo, key.hi);
-        float2 h2 = fmin(h4.lo, h4.hi);
-        float mn = fmin(h2.x, h2.y);
-        ulong nearm = as_ulong(convert_char8(key == (float8)(mn))) & m;
-        uint nl = bvh8_lane(nearm);
-        float dd[8];
-        vstore8(entry, 0, dd);
-        for (ulong r = m & ~(0xFFUL << (8 * nl)); r != 0; r &= r - 1) {
-          uint lane = bvh8_lane(r);
-          stack_item[sp] = node->child[lane];
-          stack_entry[sp] = dd[lane];
-          ++sp;
-        }
-        item = node->child[nl];
-        continue;
-      }
-#endif
       if (m != 0) {
         float dist[8];
         vstore8(entry, 0, dist);
+        /* On reaching a node, sp + height <= BVH_STACK_SIZE - 1. Leaving
+         * k - 1 entries keeps that true for the children exactly when this
+         * holds (k - 1 = popcount - 1, children one level lower); a single
+         * group entry always keeps it. */
         if (sp + (int)popcount(m) + (int)node->height <= BVH_STACK_SIZE + 1) {
           /* Insertion sort onto the stack, farthest deepest; the nearest
            * ends on top and is taken straight back off. */
@@ -314,17 +242,6 @@ Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float t
             }
             stack_item[j] = node->child[lane];
             stack_entry[j] = t;
-#ifdef EXP_TOUCH
-            {
-              uint c = node->child[lane];
-              if (!(c & WIDE_LEAF_FLAG)) {
-                sink = as_uint(bvh_nodes[c].lo_x[0]);
-                sink = as_uint(bvh_nodes[c].lo_z[0]);
-              } else if (!(c & WIDE_LEAF_PRIMS)) {
-                sink = as_uint(tri_blocks[c & WIDE_LEAF_INDEX_MASK].v[0][0]);
-              }
-            }
-#endif
           }
           item = stack_item[--sp];
         } else {

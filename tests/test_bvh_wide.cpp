@@ -1,0 +1,209 @@
+// The wide BVH collapsed from the binary one (host/accel/bvh_wide.h): the
+// invariants the traversal relies on (kernels/lib/bvh_traverse.h), checked
+// on the host. Traversal against brute force is in test_bvh.cpp.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <glm/glm.hpp>
+#include <random>
+#include <set>
+
+#include "host/accel/bvh_wide.h"
+
+namespace caustica {
+namespace {
+
+using glm::vec3;
+
+struct Rng {
+  std::mt19937 gen;
+  float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(gen); }
+  vec3 in_box(float h) { return vec3(uniform(-h, h), uniform(-h, h), uniform(-h, h)); }
+  vec3 unit() {
+    std::normal_distribution<float> g;
+    return glm::normalize(vec3(g(gen), g(gen), g(gen)));
+  }
+};
+
+Scene random_scene(uint32_t seed, int spheres, int cylinders, int triangles) {
+  Scene s;
+  Rng rng{std::mt19937(seed)};
+  for (int i = 0; i < spheres; ++i)
+    s.spheres.push_back(Sphere{to_float4(rng.in_box(10), rng.uniform(0.05f, 0.6f)), 0, 0, 0, 0});
+  for (int i = 0; i < cylinders; ++i)
+    s.cylinders.push_back(Cylinder{to_float4(rng.in_box(10), rng.uniform(0.05f, 0.4f)),
+                                   to_float4(rng.unit(), rng.uniform(0.1f, 1.2f)), 0, 0, 0, 0});
+  for (int i = 0; i < triangles; ++i) {
+    const vec3 c = rng.in_box(10);
+    const float size = rng.uniform(0.1f, 3.0f);  // some long enough for spatial splits
+    s.triangles.push_back(Triangle{to_float4(c + size * rng.unit()), to_float4(c + size * rng.unit()),
+                                   to_float4(c + size * rng.unit()), 0, 0, 0, 0});
+  }
+  return s;
+}
+
+struct Box {
+  vec3 lo, hi;
+};
+
+Box slot_box(const BvhNode8& n, int i) {
+  return {vec3(n.lo_x[i], n.lo_y[i], n.lo_z[i]), vec3(n.hi_x[i], n.hi_y[i], n.hi_z[i])};
+}
+bool inside(const Box& c, const Box& p) {
+  return glm::all(glm::greaterThanEqual(c.lo, p.lo)) && glm::all(glm::lessThanEqual(c.hi, p.hi));
+}
+bool overlaps(const Box& a, const Box& b) {
+  return glm::all(glm::lessThanEqual(a.lo, b.hi)) && glm::all(glm::lessThanEqual(b.lo, a.hi));
+}
+Box triangle_box(const Triangle& t) {
+  const vec3 a = to_vec3(t.v0), b = to_vec3(t.v1), c = to_vec3(t.v2);
+  return {glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c))};
+}
+
+// Walks the tree from the root: each inner node reached exactly once, boxes
+// nested, heights right, leaves in range and typed, padding lanes inert;
+// returns every primitive reference the leaves hold.
+std::set<uint32_t> check_wide(const Scene& s, const WideBvh& w) {
+  std::set<uint32_t> refs;
+  std::vector<int> seen(w.nodes.size(), 0);
+  struct Item {
+    uint32_t node;
+    Box box;
+  };
+  const float big = 1e30f;
+  std::vector<Item> todo = {{0, {vec3(-big), vec3(big)}}};
+  std::vector<uint32_t> order;  // preorder, to check heights bottom-up afterwards
+  while (!todo.empty()) {
+    const Item it = todo.back();
+    todo.pop_back();
+    EXPECT_LT(it.node, w.nodes.size());
+    if (it.node >= w.nodes.size() || seen[it.node]++) {
+      ADD_FAILURE() << "node " << it.node << " reached twice or out of range";
+      continue;
+    }
+    order.push_back(it.node);
+    const BvhNode8& n = w.nodes[it.node];
+    for (int i = 0; i < WIDE_WIDTH; ++i) {
+      const uint32_t c = n.child[i];
+      const Box b = slot_box(n, i);
+      if (c == WIDE_CHILD_EMPTY) {
+        EXPECT_EQ(n.lo_x[i], 1e18f);
+        EXPECT_EQ(n.hi_z[i], -1e18f);
+        continue;
+      }
+      EXPECT_TRUE(inside(b, it.box)) << "node " << it.node << " slot " << i << " sticks out of its parent";
+      if (!(c & WIDE_LEAF_FLAG)) {
+        EXPECT_LT(c, WIDE_NODE_INDEX_MASK + 1u);
+        todo.push_back({c, b});
+        continue;
+      }
+      const uint32_t first = c & WIDE_LEAF_INDEX_MASK, count = ((c >> WIDE_LEAF_COUNT_SHIFT) & 7u) + 1u;
+      if (c & WIDE_LEAF_PRIMS) {
+        EXPECT_LE(first + count, w.prim_refs.size());
+        for (uint32_t k = first; k < first + count && k < w.prim_refs.size(); ++k) {
+          EXPECT_NE(w.prim_refs[k] >> PRIM_TYPE_SHIFT, PRIM_TRIANGLE);
+          refs.insert(w.prim_refs[k]);
+        }
+        continue;
+      }
+      EXPECT_LE(first + count, w.triangle_blocks.size());
+      for (uint32_t k = first; k < first + count && k < w.triangle_blocks.size(); ++k) {
+        const TriangleBlock4& block = w.triangle_blocks[k];
+        for (int lane = 0; lane < 4; ++lane) {
+          const uint32_t ref = block.ref[lane];
+          EXPECT_EQ(ref >> PRIM_TYPE_SHIFT, PRIM_TRIANGLE);
+          if ((ref >> PRIM_TYPE_SHIFT) != PRIM_TRIANGLE || (ref & PRIM_INDEX_MASK) >= s.triangles.size()) continue;
+          const Triangle& t = s.triangles[ref & PRIM_INDEX_MASK];
+          EXPECT_EQ(block.v[0][lane], t.v0.x);
+          EXPECT_EQ(block.v[4][lane], t.v1.y);
+          EXPECT_EQ(block.v[8][lane], t.v2.z);
+          // A spatial split may clip the box to part of the triangle, never off it.
+          EXPECT_TRUE(overlaps(triangle_box(t), b)) << "triangle " << (ref & PRIM_INDEX_MASK);
+          refs.insert(ref);
+        }
+      }
+    }
+  }
+  for (size_t i = order.size(); i-- > 0;) {
+    const BvhNode8& n = w.nodes[order[i]];
+    uint32_t height = 1;
+    for (uint32_t c : n.child)
+      if (c != WIDE_CHILD_EMPTY && !(c & WIDE_LEAF_FLAG)) height = std::max(height, w.nodes[c].height + 1);
+    EXPECT_EQ(n.height, height) << "node " << order[i];
+  }
+  EXPECT_EQ(order.size(), w.nodes.size()) << "unreachable nodes";
+  EXPECT_EQ(w.height, static_cast<int>(w.nodes[0].height));
+  EXPECT_LT(w.height, kWideStackSize);
+  return refs;
+}
+
+void expect_every_primitive(const Scene& s, const std::set<uint32_t>& refs) {
+  EXPECT_EQ(refs.size(), s.primitive_count());
+  for (size_t i = 0; i < s.triangles.size(); ++i)
+    EXPECT_TRUE(refs.count(PRIM_TRIANGLE << PRIM_TYPE_SHIFT | uint32_t(i))) << "triangle " << i;
+  for (size_t i = 0; i < s.spheres.size(); ++i)
+    EXPECT_TRUE(refs.count(PRIM_SPHERE << PRIM_TYPE_SHIFT | uint32_t(i))) << "sphere " << i;
+  for (size_t i = 0; i < s.cylinders.size(); ++i)
+    EXPECT_TRUE(refs.count(PRIM_CYLINDER << PRIM_TYPE_SHIFT | uint32_t(i))) << "cylinder " << i;
+}
+
+TEST(WideBvh, EveryBuildQualityCollapsesToAValidTree) {
+  const Scene s = random_scene(3, 1500, 1500, 4000);
+  for (auto quality : {BvhBuildOptions::Quality::Fast, BvhBuildOptions::Quality::Sah,
+                       BvhBuildOptions::Quality::Spatial}) {
+    BvhBuildOptions options;
+    options.quality = quality;
+    const Bvh binary = build_bvh(s, options);
+    const WideBvh w = collapse_bvh(binary, s);
+    SCOPED_TRACE("quality " + std::to_string(static_cast<int>(quality)));
+    expect_every_primitive(s, check_wide(s, w));
+    EXPECT_LT(w.nodes.size(), binary.nodes.size() / 3);  // wide: far fewer nodes than the binary tree
+    EXPECT_LE(w.height, binary.max_depth + 1);
+    // A mesh-like scene: merged subtrees keep the 4-wide blocks mostly full.
+    const Scene mesh = random_scene(6, 0, 0, 4000);
+    const WideBvh m = collapse_bvh(build_bvh(mesh, options), mesh);
+    EXPECT_GT(m.triangle_lanes, 5 * m.triangle_blocks.size() / 2);
+  }
+}
+
+// Depth-limited builds make leaves of hundreds of primitives: they become
+// several chunks (blocks of triangles, runs of other refs), grouped under
+// wide nodes of their own when a slot cannot hold them.
+TEST(WideBvh, HugeLeavesBecomeChunks) {
+  const Scene s = random_scene(4, 400, 400, 2000);
+  BvhBuildOptions options;
+  options.max_depth = 2;
+  const Bvh binary = build_bvh(s, options);
+  ASSERT_LE(binary.max_depth, 2);
+  const WideBvh w = collapse_bvh(binary, s);
+  expect_every_primitive(s, check_wide(s, w));
+  EXPECT_GT(w.nodes.size(), 1u);
+}
+
+TEST(WideBvh, SinglePrimitiveAndEmptyScene) {
+  Scene one;
+  one.spheres.push_back(Sphere{to_float4(vec3(1, 2, 3), 0.5f), 0, 0, 0, 0});
+  const WideBvh w = collapse_bvh(build_bvh(one), one);
+  ASSERT_EQ(w.nodes.size(), 1u);
+  EXPECT_EQ(w.nodes[0].child[0], WIDE_LEAF_FLAG | WIDE_LEAF_PRIMS);  // one ref at 0
+  for (int i = 1; i < WIDE_WIDTH; ++i) EXPECT_EQ(w.nodes[0].child[i], WIDE_CHILD_EMPTY);
+  expect_every_primitive(one, check_wide(one, w));
+
+  const Scene none;
+  const WideBvh empty = collapse_bvh(build_bvh(none), none);
+  ASSERT_EQ(empty.nodes.size(), 1u);
+  for (uint32_t c : empty.nodes[0].child) EXPECT_EQ(c, WIDE_CHILD_EMPTY);
+  EXPECT_TRUE(empty.triangle_blocks.empty());
+}
+
+TEST(WideBvh, FastEnoughForLargeScenes) {
+  const Scene s = random_scene(5, 0, 0, 350000);
+  const Bvh binary = build_bvh(s);
+  const WideBvh w = collapse_bvh(binary, s);
+  std::printf("350k triangles: build %.1f ms, collapse %.1f ms (%zu wide nodes, %zu blocks, height %d)\n",
+              binary.build_ms, w.collapse_ms, w.nodes.size(), w.triangle_blocks.size(), w.height);
+  EXPECT_LT(w.collapse_ms, 2000.0);
+}
+
+}  // namespace
+}  // namespace caustica
