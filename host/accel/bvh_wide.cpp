@@ -4,35 +4,19 @@
 #include <chrono>
 #include <string>
 
+#include "host/accel/bvh_internal.h"
 #include "host/error.h"
 
 namespace caustica {
 namespace {
 
-constexpr float kEmptyLo = 1e18f;  // finite "empty box": see bvh_traverse.h
-constexpr float kEmptyHi = -1e18f;
 constexpr size_t kBlockLanes = 4;
 constexpr uint32_t kMaxInnerNodes = WIDE_NODE_INDEX_MASK + 1;
 
-struct Box {
-  glm::vec3 lo{kEmptyLo};
-  glm::vec3 hi{kEmptyHi};
-
-  void grow(const Box& b) {
-    lo = glm::min(lo, b.lo);
-    hi = glm::max(hi, b.hi);
-  }
-  void grow(const glm::vec3& p) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
-  double half_area() const {
-    if (empty()) return 0.0;
-    const glm::dvec3 e = glm::dvec3(hi) - glm::dvec3(lo);
-    return e.x * e.y + e.y * e.z + e.z * e.x;
-  }
-};
+// The builder's box (finite empty sentinels, half-area for SAH ratios).
+using bvh_detail::Box;
+using bvh_detail::kEmptyHi;
+using bvh_detail::kEmptyLo;
 
 Box node_box(const BvhNode& n) {
   Box b;
