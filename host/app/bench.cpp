@@ -154,7 +154,8 @@ int run_bench(BenchArgs& a) {
   std::printf("bvh build      %.2f ms (%zu nodes, SAH %.2f)\n", session->bvh.build_ms, session->bvh.nodes.size(),
               session->bvh.sah_cost);
   const WideBvh& wide = session->wide;
-  std::printf("wide bvh       %.2f ms collapse (%zu nodes, %zu triangle blocks %.0f%% full, %zu other refs, height %d)\n",
+  std::printf("wide bvh       %.2f ms collapse (%zu nodes, %zu triangle blocks %.0f%% full, %zu other refs, "
+              "height %d)\n",
               wide.collapse_ms, wide.nodes.size(), wide.triangle_blocks.size(),
               wide.triangle_blocks.empty() ? 0.0 : 100.0 * wide.triangle_lanes / (4.0 * wide.triangle_blocks.size()),
               wide.prim_refs.size(), wide.height);

@@ -143,8 +143,8 @@ void WavefrontRenderer::write_count(const cl::Buffer& counter, uint32_t value) {
 
 void WavefrontRenderer::bind_intersect(RayQueue& rays) {
   Buffers& b = *buffers_;
-  set_args(intersect_, b.nodes, b.triangle_blocks, b.prim_refs, b.spheres, b.cylinders, b.triangles, rays.count, rays.origin, rays.dir,
-           b.hits);
+  set_args(intersect_, b.nodes, b.triangle_blocks, b.prim_refs, b.spheres, b.cylinders, b.triangles, rays.count,
+           rays.origin, rays.dir, b.hits);
 }
 
 void WavefrontRenderer::bind_shade(const ShadeParams& params, RayQueue& in, RayQueue& next) {
@@ -157,8 +157,8 @@ void WavefrontRenderer::bind_shade(const ShadeParams& params, RayQueue& in, RayQ
 
 void WavefrontRenderer::bind_shadow() {
   Buffers& b = *buffers_;
-  set_args(shadow_, b.nodes, b.triangle_blocks, b.prim_refs, b.spheres, b.cylinders, b.triangles, b.shadow.count, b.shadow.origin,
-           b.shadow.dir, b.shadow.weight, b.shadow.pixel, b.film);
+  set_args(shadow_, b.nodes, b.triangle_blocks, b.prim_refs, b.spheres, b.cylinders, b.triangles, b.shadow.count,
+           b.shadow.origin, b.shadow.dir, b.shadow.weight, b.shadow.pixel, b.film);
 }
 
 ShadeParams WavefrontRenderer::shade_params(cl_uint max_depth) const {
@@ -286,8 +286,8 @@ double WavefrontRenderer::time_ray_kernel(cl::Kernel& kernel, const std::vector<
     cl::Buffer origin_buffer = upload(ctx, origin);
     cl::Buffer dir_buffer = upload(ctx, dir);
     cl::Buffer result_buffer(ctx, CL_MEM_WRITE_ONLY, n * std::max<size_t>(1, result_bytes));
-    set_args(kernel, b.nodes, b.triangle_blocks, b.prim_refs, b.spheres, b.cylinders, b.triangles, count_buffer, origin_buffer,
-             dir_buffer, result_buffer);
+    set_args(kernel, b.nodes, b.triangle_blocks, b.prim_refs, b.spheres, b.cylinders, b.triangles, count_buffer,
+             origin_buffer, dir_buffer, result_buffer);
     const double ms = median_launch_ms(kernel, n, repetitions);
     if (results) runtime_.queue().enqueueReadBuffer(result_buffer, CL_TRUE, 0, n * result_bytes, results);
     return ms;

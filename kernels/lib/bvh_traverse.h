@@ -88,7 +88,8 @@ bool intersect_prim_ref(__global const Sphere* spheres, __global const Cylinder*
 }
 
 /* The nearest lane of a triangle block hit nearer than hit->t replaces *hit. */
-__attribute__((always_inline)) void triangle_block_closest(__global const TriangleBlock4* block, const TriangleRay* r, float tmin, Hit* hit) {
+__attribute__((always_inline)) void triangle_block_closest(__global const TriangleBlock4* block,
+                                                          const TriangleRay* r, float tmin, Hit* hit) {
   float4 t, u, v;
   int4 lanes = intersect_triangle_block(block, r, tmin, hit->t, &t, &u, &v);
   if (!any4(lanes)) return;

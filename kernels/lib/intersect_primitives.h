@@ -240,8 +240,9 @@ float4 edge_exact4(float4 e, float4 px, float4 py, float4 qx, float4 qy, int4 un
  * shared edges included). The axes are picked per ray by row offset, which
  * is why the block stores each vertex coordinate as its own row. Returns -1
  * in the lanes hit with tmin < t < tmax, and their t, u, v. */
-__attribute__((always_inline)) int4 intersect_triangle_block(__global const TriangleBlock4* block, const TriangleRay* r, float tmin, float tmax,
-                              float4* t, float4* u, float4* v) {
+__attribute__((always_inline)) int4 intersect_triangle_block(__global const TriangleBlock4* block,
+                                                             const TriangleRay* r, float tmin, float tmax, float4* t,
+                                                             float4* u, float4* v) {
   __global const float4* p = (__global const float4*)block; /* 16-byte aligned rows */
   float4 az = p[r->kz] - r->oz;
   float4 bz = p[3 + r->kz] - r->oz;
