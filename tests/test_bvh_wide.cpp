@@ -63,14 +63,21 @@ Box triangle_box(const Triangle& t) {
 // Walks the tree from the root: each inner node reached exactly once, boxes
 // nested, heights right, leaves in range and typed, padding lanes inert;
 // returns every primitive reference the leaves hold.
-std::set<uint32_t> check_wide(const Scene& s, const WideBvh& w) {
+double half_area(const Box& b) {
+  const glm::dvec3 e = glm::max(glm::dvec3(b.hi) - glm::dvec3(b.lo), glm::dvec3(0.0));
+  return e.x * e.y + e.y * e.z + e.z * e.x;
+}
+
+std::set<uint32_t> check_wide(const Scene& s, const WideBvh& w, double* sah = nullptr) {
   std::set<uint32_t> refs;
+  double node_area = 0.0, leaf_area = 0.0, root_area = 0.0;
   std::vector<int> seen(w.nodes.size(), 0);
   struct Item {
     uint32_t node;
     Box box;
   };
   const float big = 1e30f;
+  vec3 root_lo(big), root_hi(-big);
   std::vector<Item> todo = {{0, {vec3(-big), vec3(big)}}};
   std::vector<uint32_t> order;  // preorder, to check heights bottom-up afterwards
   while (!todo.empty()) {
@@ -92,12 +99,18 @@ std::set<uint32_t> check_wide(const Scene& s, const WideBvh& w) {
         continue;
       }
       EXPECT_TRUE(inside(b, it.box)) << "node " << it.node << " slot " << i << " sticks out of its parent";
+      if (it.node == 0) {
+        root_lo = glm::min(b.lo, root_lo);
+        root_hi = glm::max(b.hi, root_hi);
+      }
       if (!(c & WIDE_LEAF_FLAG)) {
+        node_area += half_area(b);
         EXPECT_LT(c, WIDE_NODE_INDEX_MASK + 1u);
         todo.push_back({c, b});
         continue;
       }
       const uint32_t first = c & WIDE_LEAF_INDEX_MASK, count = ((c >> WIDE_LEAF_COUNT_SHIFT) & 7u) + 1u;
+      leaf_area += half_area(b) * count;
       if (c & WIDE_LEAF_PRIMS) {
         EXPECT_LE(first + count, w.prim_refs.size());
         for (uint32_t k = first; k < first + count && k < w.prim_refs.size(); ++k) {
@@ -134,6 +147,14 @@ std::set<uint32_t> check_wide(const Scene& s, const WideBvh& w) {
   EXPECT_EQ(order.size(), w.nodes.size()) << "unreachable nodes";
   EXPECT_EQ(w.height, static_cast<int>(w.nodes[0].height));
   EXPECT_LT(w.height, kWideStackSize);
+  // The statistics bench prints: every node but the root at its slot's
+  // area, the root at the union of its slots, leaves times their blocks.
+  if (!w.nodes.empty() && root_lo.x <= root_hi.x) root_area = half_area(Box{root_lo, root_hi});
+  if (root_area > 0.0) {
+    EXPECT_NEAR(w.node_sah, (node_area + root_area) / root_area, 1e-3 * w.node_sah);
+    EXPECT_NEAR(w.leaf_sah, leaf_area / root_area, 1e-3 * w.leaf_sah + 1e-9);
+    if (sah) *sah = w.node_sah + w.leaf_sah;
+  }
   return refs;
 }
 
@@ -147,21 +168,38 @@ void expect_every_primitive(const Scene& s, const std::set<uint32_t>& refs) {
     EXPECT_TRUE(refs.count(PRIM_CYLINDER << PRIM_TYPE_SHIFT | uint32_t(i))) << "cylinder " << i;
 }
 
-TEST(WideBvh, EveryBuildQualityCollapsesToAValidTree) {
+using Collapse = WideBvhOptions::Collapse;
+
+class EveryCollapse : public testing::TestWithParam<Collapse> {
+ protected:
+  WideBvhOptions options() const {
+    WideBvhOptions o;
+    o.collapse = GetParam();
+    return o;
+  }
+};
+
+INSTANTIATE_TEST_SUITE_P(WideBvh, EveryCollapse, testing::Values(Collapse::Sah, Collapse::Greedy),
+                         [](const testing::TestParamInfo<Collapse>& i) {
+                           return std::string(i.param == Collapse::Sah ? "Sah" : "Greedy");
+                         });
+
+TEST_P(EveryCollapse, EveryBuildQualityCollapsesToAValidTree) {
   const Scene s = random_scene(3, 1500, 1500, 4000);
   for (auto quality : {BvhBuildOptions::Quality::Fast, BvhBuildOptions::Quality::Sah,
                        BvhBuildOptions::Quality::Spatial}) {
     BvhBuildOptions options;
     options.quality = quality;
     const Bvh binary = build_bvh(s, options);
-    const WideBvh w = collapse_bvh(binary, s);
+    const WideBvh w = collapse_bvh(binary, s, this->options());
     SCOPED_TRACE("quality " + std::to_string(static_cast<int>(quality)));
     expect_every_primitive(s, check_wide(s, w));
     EXPECT_LT(w.nodes.size(), binary.nodes.size() / 3);  // wide: far fewer nodes than the binary tree
     EXPECT_LE(w.height, binary.max_depth + 1);
     // A mesh-like scene: merged subtrees keep the 4-wide blocks mostly full.
     const Scene mesh = random_scene(6, 0, 0, 4000);
-    const WideBvh m = collapse_bvh(build_bvh(mesh, options), mesh);
+    const WideBvh m = collapse_bvh(build_bvh(mesh, options), mesh, this->options());
+    expect_every_primitive(mesh, check_wide(mesh, m));
     EXPECT_GT(m.triangle_lanes, 5 * m.triangle_blocks.size() / 2);
   }
 }
@@ -169,31 +207,58 @@ TEST(WideBvh, EveryBuildQualityCollapsesToAValidTree) {
 // Depth-limited builds make leaves of hundreds of primitives: they become
 // several chunks (blocks of triangles, runs of other refs), grouped under
 // wide nodes of their own when a slot cannot hold them.
-TEST(WideBvh, HugeLeavesBecomeChunks) {
+TEST_P(EveryCollapse, HugeLeavesBecomeChunks) {
   const Scene s = random_scene(4, 400, 400, 2000);
   BvhBuildOptions options;
   options.max_depth = 2;
   const Bvh binary = build_bvh(s, options);
   ASSERT_LE(binary.max_depth, 2);
-  const WideBvh w = collapse_bvh(binary, s);
+  const WideBvh w = collapse_bvh(binary, s, this->options());
   expect_every_primitive(s, check_wide(s, w));
   EXPECT_GT(w.nodes.size(), 1u);
 }
 
-TEST(WideBvh, SinglePrimitiveAndEmptyScene) {
+TEST_P(EveryCollapse, SinglePrimitiveAndEmptyScene) {
   Scene one;
   one.spheres.push_back(Sphere{to_float4(vec3(1, 2, 3), 0.5f), 0, 0, 0, 0});
-  const WideBvh w = collapse_bvh(build_bvh(one), one);
+  const WideBvh w = collapse_bvh(build_bvh(one), one, options());
   ASSERT_EQ(w.nodes.size(), 1u);
   EXPECT_EQ(w.nodes[0].child[0], WIDE_LEAF_FLAG | WIDE_LEAF_PRIMS);  // one ref at 0
   for (int i = 1; i < WIDE_WIDTH; ++i) EXPECT_EQ(w.nodes[0].child[i], WIDE_CHILD_EMPTY);
   expect_every_primitive(one, check_wide(one, w));
 
   const Scene none;
-  const WideBvh empty = collapse_bvh(build_bvh(none), none);
+  const WideBvh empty = collapse_bvh(build_bvh(none), none, options());
   ASSERT_EQ(empty.nodes.size(), 1u);
   for (uint32_t c : empty.nodes[0].child) EXPECT_EQ(c, WIDE_CHILD_EMPTY);
   EXPECT_TRUE(empty.triangle_blocks.empty());
+}
+
+// The dynamic program minimises the SAH over every way of cutting the
+// binary tree into wide nodes and leaves, the greedy rule's cuts included:
+// it never does worse by that measure, and it packs small subtrees into
+// multi-block leaves, so it makes fewer nodes.
+TEST(WideBvh, CostDrivenCollapseBeatsGreedyOnSah) {
+  for (uint32_t seed : {7u, 8u}) {
+    const Scene mixed = random_scene(seed, 300, 300, 3000);
+    const Scene mesh = random_scene(seed + 10, 0, 0, 6000);
+    for (const Scene* s : {&mixed, &mesh}) {
+      BvhBuildOptions build;
+      build.quality = BvhBuildOptions::Quality::Spatial;
+      const Bvh binary = build_bvh(*s, build);
+      WideBvhOptions greedy_options;
+      greedy_options.collapse = Collapse::Greedy;
+      const WideBvh dp = collapse_bvh(binary, *s);
+      const WideBvh greedy = collapse_bvh(binary, *s, greedy_options);
+      double dp_sah = 0.0, greedy_sah = 0.0;
+      expect_every_primitive(*s, check_wide(*s, dp, &dp_sah));
+      expect_every_primitive(*s, check_wide(*s, greedy, &greedy_sah));
+      SCOPED_TRACE(s == &mesh ? "mesh" : "mixed");
+      EXPECT_LE(dp_sah, greedy_sah * 1.0001);
+      EXPECT_LT(dp.nodes.size(), greedy.nodes.size());
+      EXPECT_LT(dp.leaves, dp.triangle_blocks.size() + dp.prim_refs.size());  // some leaves hold several blocks
+    }
+  }
 }
 
 TEST(WideBvh, FastEnoughForLargeScenes) {

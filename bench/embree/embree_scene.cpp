@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -133,7 +134,10 @@ RTCRay make_ray(const RaySet& rays, size_t i) {
 }  // namespace
 
 EmbreeScene::EmbreeScene(const Scene& scene, int threads) : scene_(scene) {
-  const std::string config = "threads=" + std::to_string(std::max(1, threads));
+  // EMBREE_CONFIG appends Embree's own device options (e.g. "verbose=2"
+  // prints its BVH statistics: SAH cost, node counts, leaf fill).
+  std::string config = "threads=" + std::to_string(std::max(1, threads));
+  if (const char* extra = std::getenv("EMBREE_CONFIG")) config += std::string(",") + extra;
   device_ = rtcNewDevice(config.c_str());
   if (!device_)
     throw Error("Embree: rtcNewDevice failed (RTCError " + std::to_string(rtcGetDeviceError(nullptr)) + ")");

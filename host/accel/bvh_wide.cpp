@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <string>
 
 #include "host/accel/bvh_internal.h"
@@ -25,6 +26,8 @@ Box node_box(const BvhNode& n) {
   return b;
 }
 
+uint32_t wide_leaf_count(uint32_t child) { return ((child >> WIDE_LEAF_COUNT_SHIFT) & (WIDE_LEAF_MAX_COUNT - 1u)) + 1u; }
+
 bool is_triangle(uint32_t ref) { return (ref >> PRIM_TYPE_SHIFT) == PRIM_TRIANGLE; }
 
 // Leaf references that fit one child slot: up to WIDE_LEAF_MAX_COUNT blocks
@@ -41,6 +44,7 @@ struct Chunk {
 struct Slot {
   Box box;
   int64_t node = -1;
+  bool planned = false;  // node: its wide node's children come from the cost-driven plan
   std::vector<Chunk> chunks;
   bool openable(size_t free_slots) const {
     return node >= 0 || (chunks.size() > 1 && chunks.size() - 1 <= free_slots);
@@ -61,7 +65,27 @@ class Collapser {
       out_.height = 1;
       return;
     }
-    emit_node({make_slot(0)});
+    const double root_area = node_box(root).half_area();
+    if (options_.collapse == WideBvhOptions::Collapse::Sah) {
+      plan();
+      emit_node(planned_children(0), root_area);
+    } else {
+      emit_node({make_slot(0)}, root_area);
+    }
+    // Normalised by the box a ray must enter, the union of the root's slots
+    // (the binary root's box, or less where leaf boxes were tightened).
+    Box entered;
+    const BvhNode8& top = out_.nodes[0];
+    for (int i = 0; i < WIDE_WIDTH; ++i)
+      if (top.child[i] != WIDE_CHILD_EMPTY) {
+        entered.grow(glm::vec3(top.lo_x[i], top.lo_y[i], top.lo_z[i]));
+        entered.grow(glm::vec3(top.hi_x[i], top.hi_y[i], top.hi_z[i]));
+      }
+    const double entered_area = entered.half_area();
+    if (entered_area > 0.0) {
+      out_.node_sah = (out_.node_sah - root_area + entered_area) / entered_area;
+      out_.leaf_sah /= entered_area;
+    }
     out_.height = static_cast<int>(out_.nodes[0].height);
     if (out_.height >= kWideStackSize)
       throw Error("wide BVH: " + std::to_string(out_.height) + " levels deep, the traversal stack holds " +
@@ -125,12 +149,20 @@ class Collapser {
   }
 
   Slot make_slot(int64_t node) const {
-    Slot slot;
-    slot.box = node_box(bvh_.nodes[node]);
     if (!leaf_like(node)) {
+      Slot slot;
+      slot.box = node_box(bvh_.nodes[node]);
       slot.node = node;
       return slot;
     }
+    return leaf_slot(node);
+  }
+
+  // Every reference under `node` as leaf chunks (one slot; several chunks
+  // when the references are of both kinds or too many for one chunk).
+  Slot leaf_slot(int64_t node) const {
+    Slot slot;
+    slot.box = node_box(bvh_.nodes[node]);
     std::vector<uint32_t> refs;
     gather(node, refs);
     // A merged subtree may hold a spatially split triangle twice.
@@ -178,6 +210,147 @@ class Collapser {
     return parts;
   }
 
+  // ---- Cost-driven collapse (WideBvhOptions::Collapse::Sah) ----
+  // cost[i - 1]: the least SAH cost of representing a binary subtree by at
+  // most i child slots of the wide node above it; choice[i - 1] says how:
+  // kLeaf (all its references as leaf chunks), kNode (one wide node of its
+  // own), kFewer (as with i - 1 slots) or k > 0 (k slots for the left
+  // child, i - k for the right). split: the left child's share of the
+  // eight slots when the subtree is a wide node.
+  static constexpr int8_t kFewer = 0, kLeaf = -1, kNode = -2;
+  struct Plan {
+    double cost[WIDE_WIDTH];
+    int8_t choice[WIDE_WIDTH];
+    int8_t split = 0;
+  };
+
+  // Leaf cost of a binary subtree in blocks (triangle blocks plus other
+  // references) and the child slots that leaf takes; slots 0 when the
+  // subtree cannot be one leaf slot (both kinds, or too many references).
+  void leaf_shape(int64_t node, const uint32_t* tris, const uint32_t* others, double* blocks, int* slots) const {
+    const BvhNode& n = bvh_.nodes[node];
+    const uint32_t t = tris[node], o = others[node];
+    const uint32_t max_tris = WIDE_LEAF_MAX_COUNT * kBlockLanes;
+    auto distinct_triangles = [&]() -> uint32_t {
+      if (t <= kBlockLanes) return t;  // duplicates can only lower the count: one block either way
+      std::vector<uint32_t> refs;
+      gather(node, refs);
+      std::sort(refs.begin(), refs.end());
+      return static_cast<uint32_t>(std::unique(refs.begin(), refs.end()) - refs.begin());
+    };
+    if (n.count > 0) {  // a binary leaf is always a leaf, in as many chunks as it needs
+      const uint32_t dt = distinct_triangles();
+      *blocks = double((dt + kBlockLanes - 1) / kBlockLanes + o);
+      *slots = static_cast<int>((dt + max_tris - 1) / max_tris + (o + WIDE_LEAF_MAX_COUNT - 1) / WIDE_LEAF_MAX_COUNT);
+      return;
+    }
+    *slots = 0;
+    if (o == 0 && t <= max_tris) {
+      *blocks = double((distinct_triangles() + kBlockLanes - 1) / kBlockLanes);
+      *slots = 1;
+    } else if (t == 0 && o <= WIDE_LEAF_MAX_COUNT) {
+      *blocks = double(o);
+      *slots = 1;
+    }
+  }
+
+  void plan() {
+    const size_t n = bvh_.nodes.size();
+    std::vector<uint32_t> tris(n, 0), others(n, 0);
+    plans_.assign(n, Plan{});
+    for (size_t i = n; i-- > 0;) {  // children follow their parent: one backward sweep
+      const BvhNode& node = bvh_.nodes[i];
+      Plan& p = plans_[i];
+      const double area = node_box(node).half_area();
+      if (node.count > 0) {
+        for (uint32_t k = node.offset; k < node.offset + node.count; ++k)
+          ++(is_triangle(bvh_.prim_refs[k]) ? tris[i] : others[i]);
+      } else {
+        const size_t l = i + 1, r = node.offset;
+        tris[i] = tris[l] + tris[r];
+        others[i] = others[l] + others[r];
+      }
+      double blocks = 0.0;
+      int leaf_slots = 0;
+      leaf_shape(static_cast<int64_t>(i), tris.data(), others.data(), &blocks, &leaf_slots);
+      const double leaf_cost = area * options_.block_cost * blocks;
+      if (node.count > 0) {
+        for (int s = 1; s <= WIDE_WIDTH; ++s) {
+          const bool fits = s >= leaf_slots;
+          p.cost[s - 1] = leaf_cost + (fits ? 0.0 : area * options_.node_cost);
+          p.choice[s - 1] = fits ? kLeaf : kNode;
+        }
+        continue;
+      }
+      const Plan& pl = plans_[i + 1];
+      const Plan& pr = plans_[node.offset];
+      double spread[WIDE_WIDTH + 1];  // spread[s]: best cost of the two children in s slots
+      int8_t spread_k[WIDE_WIDTH + 1];
+      for (int s = 2; s <= WIDE_WIDTH; ++s) {
+        spread[s] = std::numeric_limits<double>::infinity();
+        spread_k[s] = 1;
+        for (int k = 1; k < s; ++k) {
+          const double c = pl.cost[k - 1] + pr.cost[s - k - 1];
+          if (c < spread[s]) {
+            spread[s] = c;
+            spread_k[s] = static_cast<int8_t>(k);
+          }
+        }
+      }
+      p.split = spread_k[WIDE_WIDTH];
+      const double as_node = area * options_.node_cost + spread[WIDE_WIDTH];
+      const bool leaf = leaf_slots == 1 && leaf_cost <= as_node;
+      p.cost[0] = leaf ? leaf_cost : as_node;
+      p.choice[0] = leaf ? kLeaf : kNode;
+      for (int s = 2; s <= WIDE_WIDTH; ++s) {
+        const bool fewer = p.cost[s - 2] <= spread[s];
+        p.cost[s - 1] = fewer ? p.cost[s - 2] : spread[s];
+        p.choice[s - 1] = fewer ? kFewer : spread_k[s];
+      }
+    }
+  }
+
+  // The child slots of `node` as a subtree given at most `slots` of them.
+  void planned_slots(int64_t node, int slots, std::vector<Slot>& out) const {
+    const int8_t c = plans_[node].choice[slots - 1];
+    if (c == kFewer) {
+      planned_slots(node, slots - 1, out);
+    } else if (c > 0) {
+      planned_slots(node + 1, c, out);
+      planned_slots(bvh_.nodes[node].offset, slots - c, out);
+    } else if (c == kLeaf) {
+      const Slot leaf = leaf_slot(node);
+      if (leaf.chunks.size() == 1) {
+        out.push_back(leaf);
+      } else {
+        for (Slot& part : open(leaf)) out.push_back(std::move(part));
+      }
+    } else {
+      Slot s;
+      s.box = node_box(bvh_.nodes[node]);
+      s.node = node;
+      s.planned = true;
+      out.push_back(std::move(s));
+    }
+  }
+
+  // The slots of the wide node made for binary `node`.
+  std::vector<Slot> planned_children(int64_t node) const {
+    std::vector<Slot> slots;
+    const BvhNode& n = bvh_.nodes[node];
+    if (n.count > 0) {  // a leaf too big (or too mixed) for the slots above it
+      Slot leaf = leaf_slot(node);
+      if (leaf.chunks.size() <= WIDE_WIDTH) return open(leaf);
+      leaf.planned = false;
+      slots.push_back(std::move(leaf));  // emit_node groups the chunks
+      return slots;
+    }
+    const int k = plans_[node].split;
+    planned_slots(node + 1, k, slots);
+    planned_slots(n.offset, WIDE_WIDTH - k, slots);
+    return slots;
+  }
+
   uint32_t emit_leaf(const Chunk& c) {
     uint32_t first, count;
     if (c.triangles) {
@@ -211,11 +384,16 @@ class Collapser {
 
   // Builds one wide node from `slots` (opened greedily up to eight) and,
   // depth first, everything below it; returns its index.
-  uint32_t emit_node(std::vector<Slot> slots) {
+  uint32_t emit_node(std::vector<Slot> slots, double area) {
+    out_.node_sah += area;
     const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
     if (index >= kMaxInnerNodes) throw Error("wide BVH: more inner nodes than the traversal can address");
     out_.nodes.push_back(empty_node());
-    while (slots.size() < WIDE_WIDTH) {
+    // The plan fixes every slot but the chunks of a leaf it had to wrap in a
+    // node of its own (too many chunks for the slots above): those open here.
+    const bool greedy = options_.collapse == WideBvhOptions::Collapse::Greedy ||
+                        std::all_of(slots.begin(), slots.end(), [](const Slot& s) { return s.node < 0; });
+    while (greedy && slots.size() < WIDE_WIDTH) {
       const size_t free_slots = WIDE_WIDTH - slots.size();
       int best = -1;
       double best_area = -1.0;
@@ -238,8 +416,13 @@ class Collapser {
       Slot& s = slots[i];
       const Box box = s.box;
       uint32_t child;
-      if (s.node < 0 && s.chunks.size() == 1) {
+      if (s.planned) {
+        child = emit_node(planned_children(s.node), box.half_area());
+        height = std::max(height, out_.nodes[child].height + 1);
+      } else if (s.node < 0 && s.chunks.size() == 1) {
         child = emit_leaf(s.chunks[0]);
+        ++out_.leaves;
+        out_.leaf_sah += box.half_area() * double(wide_leaf_count(child));
       } else {
         if (s.node < 0 && s.chunks.size() > WIDE_WIDTH) {
           // Only depth-limited builds make leaves this big: group the chunks
@@ -250,9 +433,9 @@ class Collapser {
             g.box.grow(s.chunks[k].box);
             g.chunks.push_back(std::move(s.chunks[k]));
           }
-          child = emit_node(std::move(groups));
+          child = emit_node(std::move(groups), box.half_area());
         } else {
-          child = emit_node({std::move(s)});
+          child = emit_node({std::move(s)}, box.half_area());
         }
         height = std::max(height, out_.nodes[child].height + 1);
       }
@@ -274,6 +457,7 @@ class Collapser {
   WideBvhOptions options_;
   WideBvh& out_;
   std::vector<uint32_t> triangles_;
+  std::vector<Plan> plans_;
 };
 
 }  // namespace

@@ -26,6 +26,15 @@ struct WideBvhOptions {
   // Largest merged subtree. More than one block's worth (4) was tried: it
   // halves the node count but tests more blocks than it saves nodes.
   size_t merge_max_triangles = 4;
+  // Which wide tree to make of the binary one. Sah: the dynamic program of
+  // Ylitie, Karras & Laine (2017) that picks, for every binary subtree, the
+  // cheapest of "one leaf", "one wide node" and "split over up to eight
+  // slots", by the SAH with the costs below; leaves may hold several
+  // blocks. Greedy: open the largest child until eight (the older rule).
+  enum class Collapse { Sah, Greedy };
+  Collapse collapse = Collapse::Sah;
+  double node_cost = 1.0;   // testing one wide node (eight boxes at once)
+  double block_cost = 1.0;  // testing one block of four triangles, or one other primitive
 };
 
 struct WideBvh {
@@ -34,6 +43,12 @@ struct WideBvh {
   std::vector<uint32_t> prim_refs;  // encoded refs of the sphere/cylinder leaves
   int height = 0;                   // BvhNode8::height of the root
   size_t triangle_lanes = 0;        // block lanes holding a distinct triangle (fill statistics)
+  size_t leaves = 0;                // leaf child slots
+  // SAH cost in Embree's normalisation (its verbose statistics), so the two
+  // trees compare directly: the half areas of all inner nodes, and of all
+  // leaves times their blocks (or references), over the root's half area.
+  double node_sah = 0.0;
+  double leaf_sah = 0.0;
   double collapse_ms = 0.0;
 };
 

@@ -154,11 +154,11 @@ int run_bench(BenchArgs& a) {
   std::printf("bvh build      %.2f ms (%zu nodes, SAH %.2f)\n", session->bvh.build_ms, session->bvh.nodes.size(),
               session->bvh.sah_cost);
   const WideBvh& wide = session->wide;
-  std::printf("wide bvh       %.2f ms collapse (%zu nodes, %zu triangle blocks %.0f%% full, %zu other refs, "
-              "height %d)\n",
-              wide.collapse_ms, wide.nodes.size(), wide.triangle_blocks.size(),
+  std::printf("wide bvh       %.2f ms collapse (%zu nodes, %zu leaves, %zu triangle blocks %.0f%% full, %zu other "
+              "refs, height %d; SAH %.3f = nodes %.3f + leaves %.3f)\n",
+              wide.collapse_ms, wide.nodes.size(), wide.leaves, wide.triangle_blocks.size(),
               wide.triangle_blocks.empty() ? 0.0 : 100.0 * wide.triangle_lanes / (4.0 * wide.triangle_blocks.size()),
-              wide.prim_refs.size(), wide.height);
+              wide.prim_refs.size(), wide.height, wide.node_sah + wide.leaf_sah, wide.node_sah, wide.leaf_sah);
   std::printf("kernel build   %.1f ms (cold; bench any-hit program %.1f ms)\n", session->program.build_ms,
               shadow_program.build_ms);
   std::printf("ray sets       generated on the host in %.0f ms (shared with caustica_embree_bench)\n",
@@ -176,6 +176,7 @@ int run_bench(BenchArgs& a) {
                       {"build_ms", session->bvh.build_ms},
                       {"collapse_ms", wide.collapse_ms},
                       {"wide_nodes", wide.nodes.size()},
+                      {"wide_sah", wide.node_sah + wide.leaf_sah},
                       {"kernel_build_ms", session->program.build_ms},
                       {"local_size", session->settings.local_size},
                       {"repetitions", a.repetitions},

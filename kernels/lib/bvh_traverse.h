@@ -43,6 +43,34 @@
 #define BVH_PLANE_ERROR 0x1.0p-22f
 #define BVH8_LANES 0x0101010101010101UL /* one bit per child lane (bit 8 * lane) */
 
+#ifdef CAUSTICA_CPU_PREFETCH
+/* Children pushed for later are fetched now, all their cache lines, so that
+ * popping them finds them in cache (Embree does the same); the host defines
+ * CAUSTICA_CPU_PREFETCH for CPU devices. OpenCL's prefetch() is a no-op in
+ * PoCL, hence clang's builtin; it takes a generic pointer, which OpenCL 1.2
+ * cannot convert from __global, so the address goes through an integer:
+ * valid where all address spaces are one, as on CPUs. */
+#define BVH_PREFETCH_AT(p, offset) __builtin_prefetch((const void*)((ulong)(p) + (offset)))
+/* Every cache line of the `bytes` (129..256) from p, aligned or not. */
+#define BVH_PREFETCH(p, bytes)          \
+  do {                                  \
+    BVH_PREFETCH_AT(p, 0);              \
+    BVH_PREFETCH_AT(p, 64);             \
+    BVH_PREFETCH_AT(p, 128);            \
+    BVH_PREFETCH_AT(p, (bytes) - 1);    \
+  } while (0)
+#else
+#define BVH_PREFETCH(p, bytes) ((void)0)
+#endif
+
+/* The node or leaf blocks a stack item will visit, fetched ahead. */
+void bvh8_prefetch_item(__global const BvhNode8* nodes, __global const TriangleBlock4* blocks, uint item) {
+  if ((item & WIDE_LEAF_FLAG) == 0) BVH_PREFETCH(&nodes[item], sizeof(BvhNode8));
+#ifdef HAS_TRIANGLES
+  else if (!(item & WIDE_LEAF_PRIMS)) BVH_PREFETCH(&blocks[item & WIDE_LEAF_INDEX_MASK], sizeof(TriangleBlock4));
+#endif
+}
+
 /* Tests one primitive (encoded ref) and, on a nearer hit, overwrites *hit. */
 bool intersect_prim_ref(__global const Sphere* spheres, __global const Cylinder* cylinders,
                         __global const Triangle* triangles, uint ref, float3 o, float3 d, float tmin, Hit* hit) {
@@ -219,7 +247,8 @@ Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float t
       ulong m = bvh8_test(node, &ray, hit.t, &entry) & lanes;
       lanes = BVH8_LANES;
       if (m != 0 && (m & (m - 1)) == 0) {
-        item = node->child[bvh8_lane(m)];
+        /* The only lane is also the highest: clz is one instruction. */
+        item = node->child[(63 - clz(m)) >> 3];
         continue;
       }
       if (m != 0) {
@@ -241,7 +270,9 @@ Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float t
               stack_item[j] = stack_item[j - 1];
               stack_entry[j] = stack_entry[j - 1];
             }
-            stack_item[j] = node->child[lane];
+            uint child = node->child[lane];
+            bvh8_prefetch_item(bvh_nodes, tri_blocks, child);
+            stack_item[j] = child;
             stack_entry[j] = t;
           }
           item = stack_item[--sp];
@@ -298,7 +329,11 @@ bool trace_any(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax
         /* Any order finds an occluder; no sorting. */
         if ((m & (m - 1)) == 0 || sp + (int)popcount(m) + (int)node->height <= BVH_STACK_SIZE + 1) {
           item = node->child[bvh8_lane(m)];
-          for (m &= m - 1; m != 0; m &= m - 1) stack_item[sp++] = node->child[bvh8_lane(m)];
+          for (m &= m - 1; m != 0; m &= m - 1) {
+            uint child = node->child[bvh8_lane(m)];
+            bvh8_prefetch_item(bvh_nodes, tri_blocks, child);
+            stack_item[sp++] = child;
+          }
         } else {
           float dist[8];
           vstore8(entry, 0, dist);
