@@ -66,6 +66,7 @@ class Collapser {
       return;
     }
     const double root_area = node_box(root).half_area();
+    out_.triangle_blocks.reserve(bvh_.references / kBlockLanes + bvh_.references / 8 + 1);
     if (options_.collapse == WideBvhOptions::Collapse::Sah) {
       plan();
       emit_node(planned_children(0), root_area);
@@ -163,12 +164,17 @@ class Collapser {
   Slot leaf_slot(int64_t node) const {
     Slot slot;
     slot.box = node_box(bvh_.nodes[node]);
-    std::vector<uint32_t> refs;
+    // Scratch vectors kept across calls: this runs once per leaf.
+    std::vector<uint32_t>& refs = scratch_refs_;
+    std::vector<uint32_t>& tris = scratch_tris_;
+    std::vector<uint32_t>& others = scratch_others_;
+    refs.clear();
+    tris.clear();
+    others.clear();
     gather(node, refs);
     // A merged subtree may hold a spatially split triangle twice.
     std::sort(refs.begin(), refs.end());
     refs.erase(std::unique(refs.begin(), refs.end()), refs.end());
-    std::vector<uint32_t> tris, others;
     for (uint32_t r : refs) (is_triangle(r) ? tris : others).push_back(r);
     const size_t per_tri_chunk = WIDE_LEAF_MAX_COUNT * kBlockLanes;
     for (size_t i = 0; i < tris.size(); i += per_tri_chunk) {
@@ -227,52 +233,81 @@ class Collapser {
   // Leaf cost of a binary subtree in blocks (triangle blocks plus other
   // references) and the child slots that leaf takes; slots 0 when the
   // subtree cannot be one leaf slot (both kinds, or too many references).
-  void leaf_shape(int64_t node, const uint32_t* tris, const uint32_t* others, double* blocks, int* slots) const {
-    const BvhNode& n = bvh_.nodes[node];
-    const uint32_t t = tris[node], o = others[node];
+  // `distinct`: its triangles without spatial-split duplicates.
+  void leaf_shape(int64_t node, uint32_t distinct, uint32_t others, double* blocks, int* slots) const {
     const uint32_t max_tris = WIDE_LEAF_MAX_COUNT * kBlockLanes;
-    auto distinct_triangles = [&]() -> uint32_t {
-      if (t <= kBlockLanes) return t;  // duplicates can only lower the count: one block either way
-      std::vector<uint32_t> refs;
-      gather(node, refs);
-      std::sort(refs.begin(), refs.end());
-      return static_cast<uint32_t>(std::unique(refs.begin(), refs.end()) - refs.begin());
-    };
-    if (n.count > 0) {  // a binary leaf is always a leaf, in as many chunks as it needs
-      const uint32_t dt = distinct_triangles();
-      *blocks = double((dt + kBlockLanes - 1) / kBlockLanes + o);
-      *slots = static_cast<int>((dt + max_tris - 1) / max_tris + (o + WIDE_LEAF_MAX_COUNT - 1) / WIDE_LEAF_MAX_COUNT);
+    if (bvh_.nodes[node].count > 0) {  // a binary leaf is always a leaf, in as many chunks as it needs
+      *blocks = double((distinct + kBlockLanes - 1) / kBlockLanes + others);
+      *slots = static_cast<int>((distinct + max_tris - 1) / max_tris +
+                                (others + WIDE_LEAF_MAX_COUNT - 1) / WIDE_LEAF_MAX_COUNT);
       return;
     }
     *slots = 0;
-    if (o == 0 && t <= max_tris) {
-      *blocks = double((distinct_triangles() + kBlockLanes - 1) / kBlockLanes);
+    if (others == 0 && distinct <= max_tris) {
+      *blocks = double((distinct + kBlockLanes - 1) / kBlockLanes);
       *slots = 1;
-    } else if (t == 0 && o <= WIDE_LEAF_MAX_COUNT) {
-      *blocks = double(o);
+    } else if (distinct == 0 && others <= WIDE_LEAF_MAX_COUNT) {
+      *blocks = double(others);
       *slots = 1;
     }
   }
 
   void plan() {
     const size_t n = bvh_.nodes.size();
+    const bool duplicates = bvh_.references > scene_.primitive_count();
+    const size_t max_tris = WIDE_LEAF_MAX_COUNT * kBlockLanes;
+    // Triangles (distinct) and other references under each node. With
+    // spatial-split duplicates, subtrees small enough to be a leaf keep
+    // their sorted triangle refs, merged from their children's, so that
+    // the distinct count costs no more than the merge.
     std::vector<uint32_t> tris(n, 0), others(n, 0);
+    std::vector<std::vector<uint32_t>> small(duplicates ? n : 0);
     plans_.assign(n, Plan{});
     for (size_t i = n; i-- > 0;) {  // children follow their parent: one backward sweep
       const BvhNode& node = bvh_.nodes[i];
       Plan& p = plans_[i];
       const double area = node_box(node).half_area();
       if (node.count > 0) {
-        for (uint32_t k = node.offset; k < node.offset + node.count; ++k)
-          ++(is_triangle(bvh_.prim_refs[k]) ? tris[i] : others[i]);
+        for (uint32_t k = node.offset; k < node.offset + node.count; ++k) {
+          const uint32_t ref = bvh_.prim_refs[k];
+          if (!is_triangle(ref)) {
+            ++others[i];
+          } else if (duplicates) {
+            small[i].push_back(ref);
+          } else {
+            ++tris[i];
+          }
+        }
+        if (duplicates) {
+          std::sort(small[i].begin(), small[i].end());
+          small[i].erase(std::unique(small[i].begin(), small[i].end()), small[i].end());
+          tris[i] = static_cast<uint32_t>(small[i].size());
+        }
       } else {
         const size_t l = i + 1, r = node.offset;
-        tris[i] = tris[l] + tris[r];
         others[i] = others[l] + others[r];
+        if (!duplicates) {
+          tris[i] = tris[l] + tris[r];
+        } else if (small[l].size() + small[r].size() <= 2 * max_tris && tris[l] <= max_tris && tris[r] <= max_tris &&
+                   tris[l] == small[l].size() && tris[r] == small[r].size()) {
+          std::vector<uint32_t>& merged = small[i];
+          merged.resize(small[l].size() + small[r].size());
+          merged.erase(std::set_union(small[l].begin(), small[l].end(), small[r].begin(), small[r].end(),
+                                      merged.begin()),
+                       merged.end());
+          tris[i] = static_cast<uint32_t>(merged.size());
+        } else {
+          tris[i] = tris[l] + tris[r];  // an upper bound, only ever compared with max_tris
+        }
+        if (duplicates) {
+          std::vector<uint32_t>().swap(small[l]);
+          std::vector<uint32_t>().swap(small[r]);
+          if (tris[i] > max_tris) std::vector<uint32_t>().swap(small[i]);
+        }
       }
       double blocks = 0.0;
       int leaf_slots = 0;
-      leaf_shape(static_cast<int64_t>(i), tris.data(), others.data(), &blocks, &leaf_slots);
+      leaf_shape(static_cast<int64_t>(i), tris[i], others[i], &blocks, &leaf_slots);
       const double leaf_cost = area * options_.block_cost * blocks;
       if (node.count > 0) {
         for (int s = 1; s <= WIDE_WIDTH; ++s) {
@@ -319,9 +354,9 @@ class Collapser {
       planned_slots(node + 1, c, out);
       planned_slots(bvh_.nodes[node].offset, slots - c, out);
     } else if (c == kLeaf) {
-      const Slot leaf = leaf_slot(node);
+      Slot leaf = leaf_slot(node);
       if (leaf.chunks.size() == 1) {
-        out.push_back(leaf);
+        out.push_back(std::move(leaf));
       } else {
         for (Slot& part : open(leaf)) out.push_back(std::move(part));
       }
@@ -458,6 +493,7 @@ class Collapser {
   WideBvh& out_;
   std::vector<uint32_t> triangles_;
   std::vector<Plan> plans_;
+  mutable std::vector<uint32_t> scratch_refs_, scratch_tris_, scratch_others_;
 };
 
 }  // namespace

@@ -187,6 +187,12 @@ ulong bvh8_test(__global const BvhNode8* node, const WideRay* r, float tmax, flo
   return as_ulong(convert_char8(t_enter <= t_exit)) & BVH8_LANES;
 }
 
+float entry_lane(float8 e, uint lane) {
+  float d[8];
+  vstore8(e, 0, d);
+  return d[lane];
+}
+
 uint bvh8_lane(ulong lanes) { return (uint)(popcount((lanes & (~lanes + 1UL)) - 1UL) >> 3); }
 
 ulong bvh8_lanes_of_mask(uint mask) {
@@ -246,12 +252,29 @@ Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float t
       float8 entry;
       ulong m = bvh8_test(node, &ray, hit.t, &entry) & lanes;
       lanes = BVH8_LANES;
-      if (m != 0 && (m & (m - 1)) == 0) {
+      if (m == 0) goto pop;
+      const ulong rest = m & (m - 1);
+      if (rest == 0) {
         /* The only lane is also the highest: clz is one instruction. */
         item = node->child[(63 - clz(m)) >> 3];
         continue;
       }
-      if (m != 0) {
+      if ((rest & (rest - 1)) == 0) {
+        /* Two children, the commonest case after one: no sort loop. One
+         * entry pushed, as a group entry would, so the stack bound holds. */
+        const uint a = bvh8_lane(m), b = (uint)(63 - clz(m)) >> 3;
+        const float ta = entry_lane(entry, a), tb = entry_lane(entry, b);
+        const uint ca = node->child[a], cb = node->child[b];
+        const bool a_first = ta <= tb;
+        const uint far_child = a_first ? cb : ca;
+        bvh8_prefetch_item(bvh_nodes, tri_blocks, far_child);
+        stack_item[sp] = far_child;
+        stack_entry[sp] = a_first ? tb : ta;
+        ++sp;
+        item = a_first ? ca : cb;
+        continue;
+      }
+      {
         float dist[8];
         vstore8(entry, 0, dist);
         /* On reaching a node, sp + height <= BVH_STACK_SIZE - 1. Leaving
@@ -298,6 +321,7 @@ Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float t
       }
 #endif
     }
+  pop:
     /* Pop, dropping subtrees that start beyond the closest hit so far. */
     do {
       if (sp == 0) return hit;
