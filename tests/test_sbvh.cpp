@@ -15,6 +15,7 @@
 #include "host/accel/bvh_wide.h"
 #include "host/bench/host_trace.h"
 #include "host/scene/load_scene.h"
+#include "tests/support/bvh_compare.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -22,147 +23,25 @@ namespace {
 
 using glm::dvec3;
 using glm::vec3;
-using test::runtime;
+using test::add_cylinders;
+using test::add_small_triangles;
+using test::add_spheres;
+using test::add_triangles;
+using test::AimAtPrimitives;
+using test::expect_matches_brute_force;
+using test::expect_outcomes;
+using test::flat_index;
+using test::KernelBuild;
+using test::node_contains;
+using test::one_ref_per_primitive;
+using test::Outcome;
+using test::point_in;
+using test::random_rays;
+using test::Ray;
+using test::Rng;
+using test::triangle;
 using Quality = BvhBuildOptions::Quality;
 
-// Brute force loops over one reference per primitive (`all_refs`), not over
-// the BVH's references, which may repeat a triangle.
-const char* kCompareKernel = R"CLC(
-#include "lib/bvh_traverse.h"
-
-__kernel void compare(SCENE_GEOMETRY_PARAMS, uint prim_count, __global const uint* all_refs,
-                      __global const float4* rays, uint ray_count, __global float4* out) {
-  uint i = get_global_id(0);
-  if (i >= ray_count) return;
-  float4 o = rays[2 * i], d = rays[2 * i + 1]; /* o.w = tmin, d.w = tmax of the any-hit query */
-  Hit bvh = trace_closest(SCENE_GEOMETRY_ARGS, o.xyz, d.xyz, o.w, RAY_T_FAR);
-  Hit brute = hit_none(RAY_T_FAR);
-  for (uint p = 0; p < prim_count; ++p)
-    intersect_prim_ref(spheres, cylinders, triangles, all_refs[p], o.xyz, d.xyz, o.w, &brute);
-  bool any = trace_any(SCENE_GEOMETRY_ARGS, o.xyz, d.xyz, o.w, d.w);
-  out[i] = (float4)(bvh.t, as_float(bvh.prim), brute.t, as_float(brute.prim));
-  out[ray_count + i] = (float4)(any ? 1.0f : 0.0f, 0.0f, 0.0f, 0.0f);
-}
-)CLC";
-
-struct Ray {
-  vec3 o, d;
-  float tmin, tmax_any;
-};
-
-struct Outcome {
-  float bvh_t, brute_t;
-  uint32_t bvh_prim, brute_prim;
-  bool any;
-};
-
-uint32_t bits(float f) {
-  uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return u;
-}
-
-template <class T>
-cl::Buffer upload(std::vector<T> v) {
-  if (v.empty()) v.resize(1);  // OpenCL refuses zero-sized buffers
-  return cl::Buffer(runtime().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data());
-}
-
-const char* const kBuildOptions[] = {"", "-cl-fast-relaxed-math"};
-
-std::vector<uint32_t> one_ref_per_primitive(const Scene& s) {
-  std::vector<uint32_t> refs;
-  for (size_t i = 0; i < s.spheres.size(); ++i) refs.push_back(PRIM_SPHERE << PRIM_TYPE_SHIFT | uint32_t(i));
-  for (size_t i = 0; i < s.cylinders.size(); ++i) refs.push_back(PRIM_CYLINDER << PRIM_TYPE_SHIFT | uint32_t(i));
-  for (size_t i = 0; i < s.triangles.size(); ++i) refs.push_back(PRIM_TRIANGLE << PRIM_TYPE_SHIFT | uint32_t(i));
-  return refs;
-}
-
-// The kernels traverse the wide BVH collapsed from the binary one, which
-// keeps the binary leaves' (clipped) boxes.
-std::vector<Outcome> run_compare(const Scene& s, const Bvh& bvh, const std::vector<Ray>& rays, int variant) {
-  static cl::Program programs[2];
-  cl::Program& program = programs[variant];
-  if (!program())
-    program = runtime()
-                  .build_source("test_sbvh.cl", kCompareKernel,
-                                std::string("-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES ") + kBuildOptions[variant])
-                  .program;
-  const WideBvh wide = collapse_bvh(bvh, s);
-  std::vector<cs_float4> data;
-  for (const Ray& r : rays) {
-    data.push_back(to_float4(r.o, r.tmin));
-    data.push_back(to_float4(r.d, r.tmax_any));
-  }
-  const std::vector<uint32_t> all_refs = one_ref_per_primitive(s);
-  const size_t n = rays.size();
-  cl::Buffer out(runtime().context(), CL_MEM_WRITE_ONLY, 2 * n * sizeof(cs_float4));
-  // The kernel does not retain its buffers: keep them alive until the read.
-  std::vector<cl::Buffer> keep = {upload(wide.nodes),   upload(wide.triangle_blocks), upload(wide.prim_refs),
-                                  upload(s.spheres),    upload(s.cylinders),          upload(s.triangles),
-                                  upload(all_refs),     upload(data)};
-  cl::Kernel k(program, "compare");
-  for (int a = 0; a < 6; ++a) k.setArg(a, keep[a]);
-  k.setArg(6, static_cast<cl_uint>(all_refs.size()));
-  k.setArg(7, keep[6]);
-  k.setArg(8, keep[7]);
-  k.setArg(9, static_cast<cl_uint>(n));
-  k.setArg(10, out);
-  runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
-  std::vector<cs_float4> o(2 * n);
-  runtime().queue().enqueueReadBuffer(out, CL_TRUE, 0, o.size() * sizeof(cs_float4), o.data());
-  std::vector<Outcome> result(n);
-  for (size_t i = 0; i < n; ++i) result[i] = {o[i].x, o[i].z, bits(o[i].y), bits(o[i].w), o[n + i].x > 0.5f};
-  return result;
-}
-
-struct Rng {
-  std::mt19937 gen;
-  float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(gen); }
-  vec3 in_box(float h) { return vec3(uniform(-h, h), uniform(-h, h), uniform(-h, h)); }
-  vec3 unit() {
-    std::normal_distribution<float> g;
-    return glm::normalize(vec3(g(gen), g(gen), g(gen)));
-  }
-};
-
-Triangle tri(const vec3& a, const vec3& b, const vec3& c) {
-  return Triangle{to_float4(a), to_float4(b), to_float4(c), 0, 0, 0, 0};
-}
-
-void add_spheres(Scene& s, Rng& rng, int n) {
-  for (int i = 0; i < n; ++i)
-    s.spheres.push_back(Sphere{to_float4(rng.in_box(10), rng.uniform(0.05f, 0.6f)), 0, 0, 0, 0});
-}
-void add_cylinders(Scene& s, Rng& rng, int n) {
-  for (int i = 0; i < n; ++i)
-    s.cylinders.push_back(Cylinder{to_float4(rng.in_box(10), rng.uniform(0.05f, 0.4f)),
-                                   to_float4(rng.unit(), rng.uniform(0.1f, 1.2f)), 0, 0, 0, 0});
-}
-void add_small_triangles(Scene& s, Rng& rng, int n) {
-  for (int i = 0; i < n; ++i) {
-    const vec3 c = rng.in_box(10);
-    const float size = rng.uniform(0.1f, 1.5f);
-    s.triangles.push_back(tri(c + size * rng.unit(), c + size * rng.unit(), c + size * rng.unit()));
-  }
-}
-// Random small triangles plus a closed axis-aligned room: its walls span the
-// scene, so every object split overlaps them and spatial splits chop them.
-void add_triangles(Scene& s, Rng& rng, int n) {
-  add_small_triangles(s, rng, n);
-  const float w = 11.0f;
-  for (int axis = 0; axis < 3; ++axis)
-    for (float side : {-w, w}) {
-      vec3 q[4];
-      for (int k = 0; k < 4; ++k) {
-        q[k][axis] = side;
-        q[k][(axis + 1) % 3] = (k == 1 || k == 2) ? w : -w;
-        q[k][(axis + 2) % 3] = k >= 2 ? w : -w;
-      }
-      s.triangles.push_back(tri(q[0], q[1], q[2]));
-      s.triangles.push_back(tri(q[0], q[2], q[3]));
-    }
-}
 // Long thin triangles along near-diagonal directions across the scene: each
 // one's box is a large, almost empty cube that inflates every node holding
 // it, unless spatial splits chop the triangle into pieces with small boxes.
@@ -173,74 +52,9 @@ void add_thin_diagonal_triangles(Scene& s, Rng& rng, int n) {
     const vec3 side = glm::normalize(glm::cross(dir, rng.unit()));
     const vec3 c = rng.in_box(5);
     const float len = rng.uniform(10.0f, 25.0f), width = rng.uniform(0.05f, 0.2f);
-    s.triangles.push_back(
-        tri(c - 0.5f * len * dir, c + 0.5f * len * dir, c + rng.uniform(-0.4f, 0.4f) * len * dir + width * side));
+    s.triangles.push_back(triangle(c - 0.5f * len * dir, c + 0.5f * len * dir,
+                                   c + rng.uniform(-0.4f, 0.4f) * len * dir + width * side));
   }
-}
-
-// A point inside primitive `p` (flat index: spheres, cylinders, triangles).
-vec3 point_in(const Scene& s, size_t p, Rng& rng) {
-  if (p < s.spheres.size()) return to_vec3(s.spheres[p].center_radius);
-  p -= s.spheres.size();
-  if (p < s.cylinders.size()) return to_vec3(s.cylinders[p].center_radius);
-  p -= s.cylinders.size();
-  const Triangle& t = s.triangles[p];
-  float u = rng.uniform(0.05f, 0.9f), v = rng.uniform(0.05f, 0.9f);
-  if (u + v > 0.95f) u = 0.95f - u, v = 0.95f - v;
-  u = std::max(u, 0.02f), v = std::max(v, 0.02f);
-  return (1.0f - u - v) * to_vec3(t.v0) + u * to_vec3(t.v1) + v * to_vec3(t.v2);
-}
-
-// Origins inside and outside the scene; directions with zero components;
-// rays with tmin > 0; rays through triangle vertices (box corners, where
-// slab-test rounding must not cull) and through random points of random
-// primitives (which hits thin triangles that random rays would miss).
-std::vector<Ray> random_rays(Rng& rng, int n, const Scene& s) {
-  std::vector<Ray> rays;
-  for (int i = 0; i < n; ++i) {
-    Ray r;
-    r.o = i % 2 ? rng.in_box(12) : 30.0f * rng.unit();
-    r.d = i % 2 ? rng.unit() : glm::normalize(rng.in_box(8) - r.o);
-    if (i % 4 == 1 && !s.triangles.empty()) {
-      const Triangle& t = s.triangles[rng.gen() % s.triangles.size()];
-      const cs_float4 v = i % 3 == 0 ? t.v0 : (i % 3 == 1 ? t.v1 : t.v2);
-      r.o = to_vec3(v) - rng.uniform(0.5f, 20.0f) * r.d;
-      r.d = to_vec3(v) - r.o;  // not normalised: t = 1 is the vertex exactly
-    }
-    if (i % 4 == 2) r.d = glm::normalize(point_in(s, rng.gen() % s.primitive_count(), rng) - r.o);
-    if (i % 10 == 3) r.d[i % 3] = 0.0f;
-    if (i % 10 == 7) {
-      r.d = vec3(0.0f);
-      r.d[i % 3] = (i % 20 < 10) ? 1.0f : -1.0f;
-    }
-    r.d = i % 4 == 1 ? r.d : glm::normalize(r.d);
-    r.tmin = i % 5 == 0 ? rng.uniform(0.0f, 5.0f) : 0.0f;
-    r.tmax_any = rng.uniform(0.0f, 40.0f);
-    rays.push_back(r);
-  }
-  return rays;
-}
-
-void expect_outcomes(const std::vector<Ray>& rays, const std::vector<Outcome>& out) {
-  int closest_bad = 0, any_bad = 0, hits = 0;
-  for (size_t i = 0; i < out.size(); ++i) {
-    const Outcome& o = out[i];
-    const bool hit = o.brute_prim != PRIM_NONE;
-    hits += hit;
-    // Equal t with different prims is a tie the traversal may break either way.
-    if (((o.bvh_prim != PRIM_NONE) != hit ||
-         (hit && std::abs(o.bvh_t - o.brute_t) > 1e-6f * std::max(1.0f, o.brute_t))) &&
-        ++closest_bad <= 5)
-      ADD_FAILURE() << "ray " << i << ": bvh prim " << o.bvh_prim << " t " << o.bvh_t << ", brute prim "
-                    << o.brute_prim << " t " << o.brute_t;
-    const float tmax = rays[i].tmax_any;
-    if (hit && std::abs(o.brute_t - tmax) <= 1e-5f * tmax) continue;  // too close to call
-    if (o.any != (hit && o.brute_t < tmax) && ++any_bad <= 5)
-      ADD_FAILURE() << "ray " << i << ": any-hit " << o.any << " but closest t " << o.brute_t << " tmax " << tmax;
-  }
-  EXPECT_EQ(closest_bad, 0);
-  EXPECT_EQ(any_bad, 0);
-  EXPECT_GT(hits, int(rays.size()) / 5);  // the comparison must not be vacuous
 }
 
 std::vector<Outcome> host_compare(const Scene& s, const Bvh& bvh, const std::vector<Ray>& rays) {
@@ -256,11 +70,10 @@ std::vector<Outcome> host_compare(const Scene& s, const Bvh& bvh, const std::vec
   return out;
 }
 
-void expect_matches_brute_force(const Scene& s, const Bvh& bvh, const std::vector<Ray>& rays) {
-  for (int variant = 0; variant < 2; ++variant) {
-    SCOPED_TRACE(std::string("build options: ") + kBuildOptions[variant]);
-    expect_outcomes(rays, run_compare(s, bvh, rays, variant));
-  }
+// The kernels traverse the wide BVH collapsed from the binary one, which
+// keeps the binary leaves' (clipped) boxes.
+void expect_device_matches_brute_force(const Scene& s, const Bvh& bvh, const std::vector<Ray>& rays) {
+  expect_matches_brute_force(s, collapse_bvh(bvh, s), rays, {KernelBuild::Plain, KernelBuild::FastRelaxedMath});
 }
 
 BvhBuildOptions with(Quality q, int threads = 0) {
@@ -346,11 +159,6 @@ DBox prim_box(const Scene& s, uint32_t ref) {
   return b;
 }
 
-size_t flat_index(const Scene& s, uint32_t ref) {
-  const uint32_t type = ref >> PRIM_TYPE_SHIFT, idx = ref & PRIM_INDEX_MASK;
-  return idx + (type >= PRIM_CYLINDER ? s.spheres.size() : 0) + (type == PRIM_TRIANGLE ? s.cylinders.size() : 0);
-}
-
 // Layout and containment as in test_bvh.cpp, and for spatial splits:
 // - every primitive is referenced at least once; spheres and cylinders
 //   exactly once, whole inside their leaf;
@@ -371,10 +179,6 @@ void check_structure(const Scene& s, const Bvh& bvh, int max_leaf, double max_ra
     int depth;
   };
   std::vector<Item> todo = {{0, 0}};
-  auto inside = [](const BvhNode& c, const BvhNode& p) {
-    return c.lo_x >= p.lo_x && c.lo_y >= p.lo_y && c.lo_z >= p.lo_z && c.hi_x <= p.hi_x && c.hi_y <= p.hi_y &&
-           c.hi_z <= p.hi_z;
-  };
   while (!todo.empty()) {
     const Item it = todo.back();
     todo.pop_back();
@@ -407,7 +211,7 @@ void check_structure(const Scene& s, const Bvh& bvh, int max_leaf, double max_ra
     const uint32_t left = it.node + 1, right = n.offset;
     ASSERT_GT(right, left);
     ASSERT_LT(right, bvh.nodes.size());
-    EXPECT_TRUE(inside(bvh.nodes[left], n) && inside(bvh.nodes[right], n)) << "node " << it.node;
+    EXPECT_TRUE(node_contains(n, bvh.nodes[left]) && node_contains(n, bvh.nodes[right])) << "node " << it.node;
     todo.push_back({right, it.depth + 1});
     todo.push_back({left, it.depth + 1});
   }
@@ -467,7 +271,7 @@ TEST_P(SbvhTraversal, MatchesBruteForce) {
   const Bvh bvh = build_bvh(s, with(Quality::Spatial));
   ASSERT_GT(bvh.references, s.primitive_count()) << "no spatial split happened: the test would prove nothing";
   Rng rng{std::mt19937(101)};
-  expect_matches_brute_force(s, bvh, random_rays(rng, 12000, s));
+  expect_device_matches_brute_force(s, bvh, random_rays(rng, 12000, s, AimAtPrimitives::Yes));
 }
 
 // The binary tree itself, traced on the host with the kernels' scalar
@@ -476,7 +280,7 @@ TEST_P(SbvhTraversal, BinaryTreeMatchesBruteForceOnHost) {
   const Scene s = GetParam().make();
   const Bvh bvh = build_bvh(s, with(Quality::Spatial));
   Rng rng{std::mt19937(104)};
-  const std::vector<Ray> rays = random_rays(rng, 12000, s);
+  const std::vector<Ray> rays = random_rays(rng, 12000, s, AimAtPrimitives::Yes);
   expect_outcomes(rays, host_compare(s, bvh, rays));
 }
 
@@ -496,7 +300,7 @@ TEST_P(SbvhTraversal, FindsEveryPrimitiveAtItsNearestT) {
     r.tmax_any = 100.0f;
     rays.push_back(r);
   }
-  expect_matches_brute_force(s, bvh, rays);
+  expect_device_matches_brute_force(s, bvh, rays);
 }
 
 TEST_P(SbvhTraversal, StructureAndCoverage) {
@@ -565,20 +369,20 @@ TEST(SbvhBuild, DepthLimit) {
   EXPECT_GT(bvh.references, s.primitive_count());
   check_structure(s, bvh, 4, 1.3);
   Rng rng{std::mt19937(103)};
-  const std::vector<Ray> rays = random_rays(rng, 4000, s);
+  const std::vector<Ray> rays = random_rays(rng, 4000, s, AimAtPrimitives::Yes);
   expect_outcomes(rays, host_compare(s, bvh, rays));
-  expect_matches_brute_force(s, bvh, rays);
+  expect_device_matches_brute_force(s, bvh, rays);
 }
 
 TEST(SbvhBuild, SmallAndDegenerateScenes) {
   Scene one;
-  one.triangles.push_back(tri(vec3(0), vec3(1, 0, 0), vec3(0, 1, 0)));
+  one.triangles.push_back(triangle(vec3(0), vec3(1, 0, 0), vec3(0, 1, 0)));
   Bvh bvh = build_bvh(one, with(Quality::Spatial));
   ASSERT_EQ(bvh.nodes.size(), 1u);
   EXPECT_EQ(bvh.references, 1u);
 
   Scene same;  // identical triangles: no plane separates anything
-  for (int i = 0; i < 500; ++i) same.triangles.push_back(tri(vec3(0), vec3(1, 1, 1), vec3(0, 1, 0)));
+  for (int i = 0; i < 500; ++i) same.triangles.push_back(triangle(vec3(0), vec3(1, 1, 1), vec3(0, 1, 0)));
   bvh = build_bvh(same, with(Quality::Spatial));
   check_structure(same, bvh, 4, 1.3);
 
@@ -586,8 +390,8 @@ TEST(SbvhBuild, SmallAndDegenerateScenes) {
   Rng rng{std::mt19937(35)};
   for (int i = 0; i < 2000; ++i) {
     const vec3 c(rng.uniform(-5, 5), rng.uniform(-5, 5), 0.0f);
-    flat.triangles.push_back(tri(c, c + vec3(rng.uniform(-3, 3), rng.uniform(-3, 3), 0),
-                                 c + vec3(rng.uniform(-3, 3), rng.uniform(-3, 3), 0)));
+    flat.triangles.push_back(triangle(c, c + vec3(rng.uniform(-3, 3), rng.uniform(-3, 3), 0),
+                                      c + vec3(rng.uniform(-3, 3), rng.uniform(-3, 3), 0)));
   }
   bvh = build_bvh(flat, with(Quality::Spatial));
   check_structure(flat, bvh, 4, 1.3);

@@ -115,6 +115,7 @@ struct Args {
   int width = 0, height = 0;
   int repetitions = 5;
   int threads = 2;
+  std::string build = "high";
 };
 
 int run(const Args& a) {
@@ -136,7 +137,8 @@ int run(const Args& a) {
   const std::vector<uint8_t> shadow_reference = host_occlusion(tracer, rays.shadow);
   const double check_ms = ms_since(t0);
 
-  const EmbreeScene embree(scene, a.threads);
+  const RTCBuildQuality quality = a.build == "medium" ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
+  const EmbreeScene embree(scene, a.threads, quality);
   const KindResult primary = closest_kind("primary", embree, rays.primary, rays.primary_hits, a.threads,
                                           a.repetitions);
   const KindResult diffuse = closest_kind("diffuse", embree, rays.diffuse, diffuse_reference, a.threads,
@@ -146,8 +148,8 @@ int run(const Args& a) {
   std::printf("scene          %s (%zu spheres, %zu cylinders, %zu triangles, %zu lights; loaded in %.0f ms)\n",
               scene.source_path.c_str(), scene.spheres.size(), scene.cylinders.size(), scene.triangles.size(),
               scene.point_lights.size(), load_ms);
-  std::printf("tracer         Embree %s, rtcIntersect1/rtcOccluded1 on %d threads, build quality high%s\n",
-              RTC_VERSION_STRING, a.threads,
+  std::printf("tracer         Embree %s, rtcIntersect1/rtcOccluded1 on %d threads, build quality %s%s\n",
+              RTC_VERSION_STRING, a.threads, a.build.c_str(),
               scene.spheres.empty() && scene.cylinders.empty() ? "" : ", spheres/cylinders as user geometry");
   std::printf("image          %dx%d\n", width, height);
   std::printf("bvh build      %.2f ms (rtcCommitScene; geometry setup %.2f ms)\n", embree.build_ms(),
@@ -160,6 +162,7 @@ int run(const Args& a) {
   nlohmann::json j = {{"scene", scene.source_path},
                       {"tracer", std::string("embree ") + RTC_VERSION_STRING},
                       {"threads", a.threads},
+                      {"build_quality", a.build},
                       {"width", width},
                       {"height", height},
                       {"primitives", scene.primitive_count()},
@@ -193,6 +196,9 @@ int main(int argc, char** argv) {
   app.add_option("--height", a.height, "image height");
   app.add_option("--repetitions", a.repetitions, "timed repetitions (median)")->check(CLI::PositiveNumber);
   app.add_option("--threads", a.threads, "tracing and build threads")->check(CLI::PositiveNumber);
+  app.add_option("--build", a.build,
+                 "Embree build quality: high (spatial splits, the reference) or medium (rtcNewScene's default)")
+      ->check(CLI::IsMember({"high", "medium"}));
   CLI11_PARSE(app, argc, argv);
   try {
     return run(a);

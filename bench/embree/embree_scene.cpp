@@ -133,7 +133,7 @@ RTCRay make_ray(const RaySet& rays, size_t i) {
 
 }  // namespace
 
-EmbreeScene::EmbreeScene(const Scene& scene, int threads) : scene_(scene) {
+EmbreeScene::EmbreeScene(const Scene& scene, int threads, RTCBuildQuality quality) : scene_(scene) {
   // EMBREE_CONFIG appends Embree's own device options (e.g. "verbose=2"
   // prints its BVH statistics: SAH cost, node counts, leaf fill).
   std::string config = "threads=" + std::to_string(std::max(1, threads));
@@ -143,11 +143,11 @@ EmbreeScene::EmbreeScene(const Scene& scene, int threads) : scene_(scene) {
     throw Error("Embree: rtcNewDevice failed (RTCError " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
   const auto t0 = std::chrono::steady_clock::now();
   rtc_scene_ = rtcNewScene(device_);
-  rtcSetSceneBuildQuality(rtc_scene_, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneBuildQuality(rtc_scene_, quality);
   rtcSetSceneFlags(rtc_scene_, RTC_SCENE_FLAG_NONE);
 
   auto attach = [&](RTCGeometry geom, uint32_t type) {
-    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+    rtcSetGeometryBuildQuality(geom, quality);
     rtcCommitGeometry(geom);
     const unsigned id = rtcAttachGeometry(rtc_scene_, geom);
     rtcReleaseGeometry(geom);

@@ -23,7 +23,8 @@ class EmbreeScene {
  public:
   // threads: Embree's own worker threads (the build); tracing threads are
   // chosen per call. Throws caustica::Error on an Embree error.
-  EmbreeScene(const Scene& scene, int threads);
+  // quality: RTC_BUILD_QUALITY_HIGH (spatial splits) or _MEDIUM (rtcNewScene's default).
+  EmbreeScene(const Scene& scene, int threads, RTCBuildQuality quality = RTC_BUILD_QUALITY_HIGH);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
