@@ -115,6 +115,39 @@ bool node_contains(const BvhNode& outer, const BvhNode& inner) {
          inner.hi_x <= outer.hi_x && inner.hi_y <= outer.hi_y && inner.hi_z <= outer.hi_z;
 }
 
+void walk_binary_bvh(const Bvh& bvh, int max_leaf, const std::function<void(uint32_t, const BvhNode&)>& leaf) {
+  ASSERT_FALSE(bvh.nodes.empty());
+  int max_depth = 0;
+  struct Item {
+    uint32_t node;
+    int depth;
+  };
+  std::vector<Item> todo = {{0, 0}};
+  size_t visited = 0;
+  while (!todo.empty()) {
+    const Item it = todo.back();
+    todo.pop_back();
+    ++visited;
+    const BvhNode& n = bvh.nodes[it.node];
+    max_depth = std::max(max_depth, it.depth);
+    if (n.count > 0) {
+      ASSERT_LE(n.count, static_cast<uint32_t>(max_leaf));
+      ASSERT_LE(n.offset + n.count, bvh.prim_refs.size());
+      leaf(it.node, n);
+      continue;
+    }
+    const uint32_t left = it.node + 1, right = n.offset;
+    ASSERT_GT(right, left);
+    ASSERT_LT(right, bvh.nodes.size());
+    EXPECT_TRUE(node_contains(n, bvh.nodes[left]) && node_contains(n, bvh.nodes[right])) << "node " << it.node;
+    todo.push_back({right, it.depth + 1});
+    todo.push_back({left, it.depth + 1});
+  }
+  EXPECT_EQ(visited, bvh.nodes.size());
+  EXPECT_EQ(max_depth, bvh.max_depth);
+  EXPECT_LE(max_depth, kBvhMaxDepth);
+}
+
 std::vector<Ray> random_rays(Rng& rng, int n, const Scene& s, AimAtPrimitives aim) {
   std::vector<Ray> rays;
   for (int i = 0; i < n; ++i) {

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <glm/glm.hpp>
 #include <initializer_list>
 #include <random>
@@ -46,6 +47,14 @@ std::vector<uint32_t> one_ref_per_primitive(const Scene& s);
 // A point inside primitive `p` (a flat index).
 glm::vec3 point_in(const Scene& s, size_t p, Rng& rng);
 bool node_contains(const BvhNode& outer, const BvhNode& inner);
+
+// Walks a binary BVH from the root checking what every build must hold:
+// depth-first layout (left child next, right child after it), children
+// inside their parent, leaves of at most max_leaf references within
+// prim_refs, every node reached once, depth as recorded and within the
+// traversal's limit. Calls leaf(index, node) for each leaf, whose contents
+// the caller checks.
+void walk_binary_bvh(const Bvh& bvh, int max_leaf, const std::function<void(uint32_t, const BvhNode&)>& leaf);
 
 struct Ray {
   glm::vec3 o, d;
