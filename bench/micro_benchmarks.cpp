@@ -1,5 +1,7 @@
 // Google Benchmark micro-benchmarks of the host-side stages (scene parse,
-// BVH build, tone mapping) on the seed report's Table 1 scenes. Kernel
+// BVH build, tone mapping) on the seed report's Table 1 scenes, and the BVH
+// build and collapse on the Conference room of bench/scenes (skipped when
+// ../shared is not beside the checkout). Kernel
 // throughput is measured by `caustica bench`, which times the renderer's own
 // launches on a real scene.
 #include <benchmark/benchmark.h>
@@ -11,6 +13,18 @@
 #include "host/scene/load_scene.h"
 
 namespace {
+
+// The issue-4 benchmark scene with the largest mesh, loaded once.
+const caustica::Scene* conference_scene() {
+  static const caustica::Scene* scene = []() -> const caustica::Scene* {
+    try {
+      return new caustica::Scene(caustica::load_scene(CAUSTICA_SOURCE_DIR "/bench/scenes/conference_inside.json"));
+    } catch (const std::exception&) {
+      return nullptr;
+    }
+  }();
+  return scene;
+}
 
 caustica::Scene table1_scene(int shapes) {
   const auto json = caustica::generate_table1_scene(shapes, shapes != 400, 1);
@@ -70,6 +84,29 @@ void BM_CollapseWide(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * int64_t(bvh.nodes.size()));
 }
 BENCHMARK(BM_CollapseWide)->ArgName("greedy")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// Binary build (0 Fast, 2 Spatial) then collapse of the Conference room, the
+// two parts `caustica bench` reports as build_ms and collapse_ms.
+void BM_BuildConference(benchmark::State& state) {
+  const caustica::Scene* scene = conference_scene();
+  if (!scene) {
+    state.SkipWithError("bench/scenes/conference_inside.json needs ../shared/models");
+    return;
+  }
+  caustica::BvhBuildOptions options;
+  options.quality = caustica::BvhBuildOptions::Quality(state.range(0));
+  double build_ms = 0.0, collapse_ms = 0.0;
+  for (auto _ : state) {
+    const caustica::Bvh bvh = caustica::build_bvh(*scene, options);
+    const caustica::WideBvh wide = caustica::collapse_bvh(bvh, *scene, {});
+    build_ms += bvh.build_ms;
+    collapse_ms += wide.collapse_ms;
+    benchmark::DoNotOptimize(wide.nodes.data());
+  }
+  state.counters["build_ms"] = build_ms / double(state.iterations());
+  state.counters["collapse_ms"] = collapse_ms / double(state.iterations());
+}
+BENCHMARK(BM_BuildConference)->ArgName("quality")->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond);
 
 void BM_ToDisplay(benchmark::State& state) {
   caustica::ImageF image(1200, 800, 0.3f);

@@ -1,6 +1,7 @@
 // The wide BVH collapsed from the binary one (host/accel/bvh_wide.h): the
 // invariants the traversal relies on (kernels/lib/bvh_traverse.h), checked
 // on the host. Traversal against brute force is in test_bvh.cpp.
+#include <cstring>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -261,13 +262,31 @@ TEST(WideBvh, CostDrivenCollapseBeatsGreedyOnSah) {
   }
 }
 
-TEST(WideBvh, FastEnoughForLargeScenes) {
-  const Scene s = random_scene(5, 0, 0, 350000);
-  const Bvh binary = build_bvh(s);
-  const WideBvh w = collapse_bvh(binary, s);
-  std::printf("350k triangles: build %.1f ms, collapse %.1f ms (%zu wide nodes, %zu blocks, height %d)\n",
-              binary.build_ms, w.collapse_ms, w.nodes.size(), w.triangle_blocks.size(), w.height);
-  EXPECT_LT(w.collapse_ms, 2000.0);
+// The triangle blocks are written by several threads (WideBvhOptions::threads):
+// the tree must be the same byte for byte whatever their number. Large
+// enough that the block fill is split between threads.
+TEST(WideBvh, IdenticalForAnyThreadCount) {
+  const Scene s = random_scene(5, 200, 200, 60000);
+  BvhBuildOptions build;
+  build.quality = BvhBuildOptions::Quality::Spatial;
+  const Bvh binary = build_bvh(s, build);
+  WideBvhOptions one_thread;
+  one_thread.threads = 1;
+  const WideBvh one = collapse_bvh(binary, s, one_thread);
+  expect_every_primitive(s, check_wide(s, one, nullptr));
+  for (int threads : {2, 3, 0}) {
+    WideBvhOptions options;
+    options.threads = threads;
+    const WideBvh w = collapse_bvh(binary, s, options);
+    SCOPED_TRACE(threads);
+    ASSERT_EQ(w.nodes.size(), one.nodes.size());
+    ASSERT_EQ(w.triangle_blocks.size(), one.triangle_blocks.size());
+    EXPECT_EQ(std::memcmp(w.nodes.data(), one.nodes.data(), one.nodes.size() * sizeof(BvhNode8)), 0);
+    EXPECT_EQ(std::memcmp(w.triangle_blocks.data(), one.triangle_blocks.data(),
+                          one.triangle_blocks.size() * sizeof(TriangleBlock4)),
+              0);
+    EXPECT_EQ(w.prim_refs, one.prim_refs);
+  }
 }
 
 }  // namespace

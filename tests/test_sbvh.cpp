@@ -377,10 +377,11 @@ TEST(SbvhBuild, SmallAndDegenerateScenes) {
   EXPECT_EQ(bvh.nodes[0].lo_x, 1e18f);
 }
 
-// The targets on the conference room (331k triangles): Spatial about
-// 1.5 s and Fast about 0.3 s on a 2-core machine. Bounds here are loose (a
-// shared machine); the printed times are the measurement.
-TEST(SbvhBuild, ConferenceBuildTimes) {
+// The conference room (331k triangles), the largest bench scene: each
+// quality keeps its promise on a real mesh. Build times are measured by
+// BM_BuildConference (caustica_micro_benchmarks) and `caustica bench`, not
+// here; this prints them for the log only.
+TEST(SbvhBuild, ConferenceQualities) {
   CAUSTICA_REQUIRE_SHARED(shared);
   Scene s;
   try {
@@ -388,13 +389,24 @@ TEST(SbvhBuild, ConferenceBuildTimes) {
   } catch (const std::exception& e) {
     GTEST_SKIP() << "conference scene not loadable: " << e.what();
   }
+  double sah_cost[3] = {0.0, 0.0, 0.0};
   for (Quality q : {Quality::Fast, Quality::Sah, Quality::Spatial}) {
     const Bvh bvh = build_bvh(s, with(q));
     std::printf("conference, quality %d: %.0f ms, SAH cost %.2f, %zu references (%.3f per triangle), depth %d\n",
                 int(q), bvh.build_ms, bvh.sah_cost, bvh.references, double(bvh.references) / s.primitive_count(),
                 bvh.max_depth);
-    EXPECT_LT(bvh.build_ms, q == Quality::Spatial ? 6000.0 : 2000.0);
+    sah_cost[int(q)] = bvh.sah_cost;
+    if (q == Quality::Spatial) {
+      EXPECT_GT(bvh.references, s.primitive_count());  // spatial splits happened
+      EXPECT_LE(double(bvh.references), 1.3 * double(s.primitive_count()) + 1.0);  // within the budget
+    } else {
+      EXPECT_EQ(bvh.references, s.primitive_count());
+    }
+    EXPECT_LE(bvh.max_depth, kBvhMaxDepth);
   }
+  // Each step up in quality buys a lower SAH cost on this scene.
+  EXPECT_LT(sah_cost[int(Quality::Sah)], sah_cost[int(Quality::Fast)]);
+  EXPECT_LT(sah_cost[int(Quality::Spatial)], sah_cost[int(Quality::Sah)]);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <deque>
 #include <cmath>
 #include <exception>
 #include <mutex>
@@ -96,16 +98,7 @@ struct Job {
   Arena arena;
 };
 
-struct Bounds {
-  Box box, centroids;
-  bool splittable = false;
-
-  void merge(const Bounds& o) {
-    box.grow(o.box);
-    centroids.grow(o.centroids);
-    splittable = splittable || o.splittable;
-  }
-};
+class JobQueue;
 
 // Builds one subtree depth-first. References live on `stack`: a node owns
 // the top range, and splitting replaces it by the left then the right
@@ -117,13 +110,15 @@ class SubtreeBuilder {
 
   // The top of the tree: large nodes bin on all threads, and subtrees of at
   // most `threshold` references are left to jobs.
-  void spawn_jobs(const Workers* workers, std::vector<Job>* jobs, size_t threshold) {
+  void spawn_jobs(const Workers* workers, JobQueue* jobs, size_t threshold) {
     workers_ = workers;
     jobs_ = jobs;
     job_threshold_ = threshold;
   }
 
-  uint32_t build(std::vector<Ref>& stack, size_t begin, int depth, uint64_t budget) {
+  // `known`: the references' bounds when the parent's partition gathered them.
+  uint32_t build(std::vector<Ref>& stack, size_t begin, int depth, uint64_t budget,
+                 const RefBounds* known = nullptr) {
     const size_t n = stack.size() - begin;
     const uint32_t id = static_cast<uint32_t>(arena_.nodes.size());
     if (jobs_ && n <= job_threshold_) {
@@ -132,11 +127,10 @@ class SubtreeBuilder {
       job.depth = depth;
       job.budget = budget;
       stack.resize(begin);
-      jobs_->push_back(std::move(job));
-      arena_.nodes.push_back(BuildNode{Box{}, uint32_t(jobs_->size() - 1), 0, BuildNode::kLink});
+      arena_.nodes.push_back(BuildNode{Box{}, hand_off(std::move(job)), 0, BuildNode::kLink});
       return id;
     }
-    const Bounds bd = bounds(&stack[begin], n);
+    const RefBounds bd = known ? *known : bounds(&stack[begin], n);
     arena_.nodes.push_back(BuildNode{bd.box, 0, 0, BuildNode::kInner});
 
     if (n <= size_t(s_.max_leaf) || depth >= s_.max_depth) {
@@ -154,11 +148,14 @@ class SubtreeBuilder {
     // splits, which may keep all of them on one side) must stop.
     size_t left_count = 0;
     uint64_t duplicates = 0;
+    RefBounds children[2];
+    bool children_known = false;
     if (ceil_log2(n) < s_.max_depth - depth) {
-      const Split object = splitter_.object_split(&stack[begin], n, bd.centroids, workers_);
+      const Workers* workers = helpers();
+      const Split object = splitter_.object_split(&stack[begin], n, bd.centroids, workers);
       if (s_.spatial_bins > 0 && bd.splittable && budget > 0 &&
           (object.kind == Split::kNone || intersection(object.left, object.right).half_area() > s_.min_overlap)) {
-        const Split spatial = splitter_.spatial_split(&stack[begin], n, bd.box, budget, workers_);
+        const Split spatial = splitter_.spatial_split(&stack[begin], n, bd.box, budget, workers);
         if (spatial.kind != Split::kNone && spatial.cost < object.cost) {
           left_count = splitter_.spatial_partition(stack, begin, spatial, budget, &duplicates);
           // All on one side means nothing was clipped and the order is
@@ -167,7 +164,8 @@ class SubtreeBuilder {
         }
       }
       if (left_count == 0 && object.kind != Split::kNone) {
-        left_count = splitter_.object_partition(&stack[begin], n, object);
+        left_count = splitter_.object_partition(&stack[begin], n, object, children);
+        children_known = left_count > 0 && left_count < n;
         if (left_count == n) left_count = 0;
       }
     }
@@ -178,17 +176,18 @@ class SubtreeBuilder {
     const size_t total = stack.size() - begin;
     const uint64_t rest = budget - duplicates;
     const uint64_t left_budget = rest * left_count / total;
-    const uint32_t right = build(stack, begin + left_count, depth + 1, rest - left_budget);
-    const uint32_t left = build(stack, begin, depth + 1, left_budget);
+    const uint32_t right =
+        build(stack, begin + left_count, depth + 1, rest - left_budget, children_known ? &children[1] : nullptr);
+    const uint32_t left = build(stack, begin, depth + 1, left_budget, children_known ? &children[0] : nullptr);
     arena_.nodes[id].a = left;
     arena_.nodes[id].b = right;
     return id;
   }
 
  private:
-  Bounds bounds(const Ref* refs, size_t n) const {
+  RefBounds bounds(const Ref* refs, size_t n) const {
     auto scan = [&](size_t b, size_t e) {
-      Bounds r;
+      RefBounds r;
       for (size_t i = b; i < e; ++i) {
         r.box.grow(refs[i].box);
         r.centroids.grow(refs[i].box.centroid());
@@ -196,10 +195,11 @@ class SubtreeBuilder {
       }
       return r;
     };
-    const int chunks = workers_ ? workers_->chunks(n) : 1;
+    const Workers* workers = helpers();
+    const int chunks = workers ? workers->chunks(n) : 1;
     if (chunks <= 1) return scan(0, n);
-    std::vector<Bounds> part(chunks);
-    workers_->for_chunks(n, chunks, [&](int c, size_t b, size_t e) { part[c] = scan(b, e); });
+    std::vector<RefBounds> part(chunks);
+    workers->for_chunks(n, chunks, [&](int c, size_t b, size_t e) { part[c] = scan(b, e); });
     for (int c = 1; c < chunks; ++c) part[0].merge(part[c]);
     return part[0];
   }
@@ -209,44 +209,105 @@ class SubtreeBuilder {
   Splitter& splitter_;
   Arena& arena_;
   const Workers* workers_ = nullptr;
-  std::vector<Job>* jobs_ = nullptr;
+  uint32_t hand_off(Job job);  // queues a job; defined after JobQueue
+  // Threads for one node's binning: only until the first job is queued,
+  // after which the workers have subtrees to build and extra threads would
+  // only take turns with them.
+  const Workers* helpers() const;
+
+  JobQueue* jobs_ = nullptr;
   size_t job_threshold_ = 0;
 };
 
-void run_jobs(std::vector<Job>& jobs, const Settings& settings, const Prims& prims, int threads) {
-  // Largest first, so that no thread is left with a big job at the end.
-  std::vector<size_t> order(jobs.size());
-  std::iota(order.begin(), order.end(), size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&](size_t a, size_t b) { return jobs[a].refs.size() > jobs[b].refs.size(); });
-  std::atomic<size_t> next{0};
-  std::mutex error_mutex;
-  std::exception_ptr error;  // the first failure (out of memory), rethrown on the calling thread
-  auto worker = [&] {
-    try {
-      Splitter splitter(settings, prims);
-      for (size_t k; (k = next.fetch_add(1)) < order.size();) {
-        Job& job = jobs[order[k]];
-        SubtreeBuilder(settings, prims, splitter, job.arena).build(job.refs, 0, job.depth, job.budget);
-        std::vector<Ref>().swap(job.refs);
-      }
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(error_mutex);
-      if (!error) error = std::current_exception();
-      next = order.size();
+// Subtrees handed off by the top of the build. Worker threads build each as
+// soon as it is queued, while the calling thread goes on splitting the top
+// levels (whose partitions are sequential), and joins them when it is done.
+// Each subtree depends on its own references only, so neither the order nor
+// the thread count changes the tree.
+class JobQueue {
+ public:
+  JobQueue(const Settings& settings, const Prims& prims, int threads) : settings_(settings), prims_(prims) {
+    for (int t = 1; t < threads; ++t) pool_.emplace_back([this] { work(); });
+  }
+  ~JobQueue() { close(); }
+
+  // Queues a job; returns its index, which the flattening uses.
+  uint32_t push(Job job) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    jobs_.push_back(std::move(job));
+    ready_.notify_one();
+    return static_cast<uint32_t>(jobs_.size() - 1);
+  }
+
+  size_t queued() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return jobs_.size();
+  }
+
+  // Builds what is left on the calling thread too, then waits for the rest.
+  const std::deque<Job>& finish() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      closed_ = true;
+      ready_.notify_all();
     }
-  };
-  const int extra = std::min<int>(threads, static_cast<int>(jobs.size())) - 1;
-  std::vector<std::thread> pool;
-  for (int t = 0; t < extra; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
-}
+    work();
+    close();
+    if (error_) std::rethrow_exception(error_);
+    return jobs_;
+  }
+
+ private:
+  void close() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      closed_ = true;
+      ready_.notify_all();
+    }
+    for (std::thread& t : pool_) t.join();
+    pool_.clear();
+  }
+
+  void work() {
+    try {
+      Splitter splitter(settings_, prims_);
+      for (;;) {
+        Job* job;
+        {
+          std::unique_lock<std::mutex> lock(mutex_);
+          ready_.wait(lock, [this] { return next_ < jobs_.size() || closed_; });
+          if (next_ == jobs_.size()) return;
+          job = &jobs_[next_++];  // deque elements stay put while others are pushed
+        }
+        SubtreeBuilder(settings_, prims_, splitter, job->arena).build(job->refs, 0, job->depth, job->budget);
+        std::vector<Ref>().swap(job->refs);
+      }
+    } catch (...) {  // the first failure (out of memory) is rethrown by finish()
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!error_) error_ = std::current_exception();
+      next_ = jobs_.size();
+      closed_ = true;
+      ready_.notify_all();
+    }
+  }
+
+  const Settings& settings_;
+  const Prims& prims_;
+  std::deque<Job> jobs_;
+  size_t next_ = 0;
+  bool closed_ = false;
+  std::exception_ptr error_;
+  std::mutex mutex_;
+  std::condition_variable ready_;
+  std::vector<std::thread> pool_;
+};
+
+uint32_t SubtreeBuilder::hand_off(Job job) { return jobs_->push(std::move(job)); }
+const Workers* SubtreeBuilder::helpers() const { return jobs_ && jobs_->queued() > 0 ? nullptr : workers_; }
 
 class Flattener {
  public:
-  Flattener(Bvh& out, const std::vector<Job>& jobs, double root_area) : out_(out), jobs_(jobs), root_area_(root_area) {}
+  Flattener(Bvh& out, const std::deque<Job>& jobs, double root_area) : out_(out), jobs_(jobs), root_area_(root_area) {}
 
   void emit(const Arena& arena, uint32_t id, int depth) {
     const BuildNode& b = arena.nodes[id];
@@ -270,7 +331,7 @@ class Flattener {
 
  private:
   Bvh& out_;
-  const std::vector<Job>& jobs_;
+  const std::deque<Job>& jobs_;
   double root_area_;
 };
 
@@ -319,12 +380,12 @@ void build_nonempty(const Scene& scene, const BvhBuildOptions& options, Bvh& bvh
   Workers workers(threads);
   Splitter splitter(settings, prims);
   Arena top;
-  std::vector<Job> jobs;
+  JobQueue queue(settings, prims, threads);
   SubtreeBuilder builder(settings, prims, splitter, top);
-  builder.spawn_jobs(threads > 1 ? &workers : nullptr, &jobs, std::max(kMinJobRefs, n / kJobsPerScene));
+  builder.spawn_jobs(threads > 1 ? &workers : nullptr, &queue, std::max(kMinJobRefs, n / kJobsPerScene));
   builder.build(refs, 0, 0, budget);
   std::vector<Ref>().swap(refs);
-  run_jobs(jobs, settings, prims, threads);
+  const std::deque<Job>& jobs = queue.finish();
 
   size_t nodes = top.nodes.size(), references = top.refs.size();
   for (const Job& job : jobs) {

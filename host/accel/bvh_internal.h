@@ -48,6 +48,19 @@ inline Box intersection(const Box& a, const Box& b) {
   return r;
 }
 
+// What a node needs to know of its references before splitting: their box,
+// their centroids' box, and whether any of them is a triangle (only those
+// can be split spatially).
+struct RefBounds {
+  Box box, centroids;
+  bool splittable = false;
+  void merge(const RefBounds& o) {
+    box.grow(o.box);
+    centroids.grow(o.centroids);
+    splittable = splittable || o.splittable;
+  }
+};
+
 // Double -> float rounded outward, so that boxes computed in double still
 // contain the exact geometry once stored as floats: the traversal relies on
 // boxes being conservative.
@@ -138,8 +151,10 @@ class Splitter {
   // Only planes whose estimated duplicates fit in `budget` are considered.
   Split spatial_split(const Ref* refs, size_t n, const Box& box, uint64_t budget, const Workers* workers);
 
-  // Reorder refs[0, n) into left then right; return the left count.
-  size_t object_partition(Ref* refs, size_t n, const Split& split) const;
+  // Reorder refs[0, n) into left then right; return the left count. The
+  // same pass gathers each side's RefBounds into children[0] and [1], so
+  // that the children need not scan their references again.
+  size_t object_partition(Ref* refs, size_t n, const Split& split, RefBounds children[2]) const;
   size_t median_partition(Ref* refs, size_t n, const Box& centroid_box) const;
   // Replaces stack[begin, end) by the left references followed by the right
   // ones (straddling triangles either clipped into both or, when that is

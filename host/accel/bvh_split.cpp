@@ -137,11 +137,31 @@ Split Splitter::object_split(const Ref* refs, size_t n, const Box& cbox, const W
   return best;
 }
 
-size_t Splitter::object_partition(Ref* refs, size_t n, const Split& split) const {
-  Ref* mid = std::partition(refs, refs + n, [&](const Ref& r) {
+size_t Splitter::object_partition(Ref* refs, size_t n, const Split& split, RefBounds children[2]) const {
+  RefBounds left, right;
+  auto add = [&](RefBounds& b, const Ref& r) {
+    b.box.grow(r.box);
+    b.centroids.grow(r.box.centroid());
+    b.splittable = b.splittable || prims_.splittable(r.prim);
+  };
+  auto goes_left = [&](const Ref& r) {
     return object_bin(r.box.centroid(), split.axis, split.bin_lo, split.bin_scale) < split.bin;
-  });
-  return static_cast<size_t>(mid - refs);
+  };
+  // Hoare's scheme: every reference is classified once, from whichever end
+  // reaches it.
+  Ref* lo = refs;
+  Ref* hi = refs + n;
+  for (;;) {
+    while (lo < hi && goes_left(*lo)) add(left, *lo++);
+    while (lo < hi && !goes_left(hi[-1])) add(right, *--hi);
+    if (lo >= hi) break;
+    std::swap(*lo, hi[-1]);
+    add(left, *lo++);
+    add(right, *--hi);
+  }
+  children[0] = left;
+  children[1] = right;
+  return static_cast<size_t>(lo - refs);
 }
 
 // Object median along the widest centroid axis; any halving will do when all

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <limits>
 #include <string>
+#include <thread>
 
 #include "host/accel/bvh_internal.h"
 #include "host/error.h"
@@ -66,13 +67,14 @@ class Collapser {
       return;
     }
     const double root_area = node_box(root).half_area();
-    out_.triangle_blocks.reserve(bvh_.references / kBlockLanes + bvh_.references / 8 + 1);
+    block_refs_.reserve(bvh_.references + bvh_.references / 2 + kBlockLanes);
     if (options_.collapse == WideBvhOptions::Collapse::Sah) {
       plan();
       emit_node(planned_children(0), root_area);
     } else {
       emit_node({make_slot(0)}, root_area);
     }
+    fill_blocks();
     // Normalised by the box a ray must enter, the union of the root's slots
     // (the binary root's box, or less where leaf boxes were tightened).
     Box entered;
@@ -130,14 +132,16 @@ class Collapser {
     return n.count > 0 || (options_.merge_small_subtrees && triangles_[node] <= options_.merge_max_triangles);
   }
 
-  void gather(int64_t node, std::vector<uint32_t>& refs) const {
+  // The references under `node` and the union of its binary leaves' boxes.
+  void gather(int64_t node, std::vector<uint32_t>& refs, Box& leaf_union) const {
     const BvhNode& n = bvh_.nodes[node];
     if (n.count > 0) {
       refs.insert(refs.end(), bvh_.prim_refs.begin() + n.offset, bvh_.prim_refs.begin() + n.offset + n.count);
+      leaf_union.grow(node_box(n));
       return;
     }
-    gather(node + 1, refs);
-    gather(n.offset, refs);
+    gather(node + 1, refs, leaf_union);
+    gather(n.offset, refs, leaf_union);
   }
 
   Box triangle_box(uint32_t ref) const {
@@ -171,7 +175,8 @@ class Collapser {
     refs.clear();
     tris.clear();
     others.clear();
-    gather(node, refs);
+    Box leaf_union;
+    gather(node, refs, leaf_union);
     // A merged subtree may hold a spatially split triangle twice.
     std::sort(refs.begin(), refs.end());
     refs.erase(std::unique(refs.begin(), refs.end()), refs.end());
@@ -181,12 +186,19 @@ class Collapser {
       Chunk c;
       c.triangles = true;
       c.refs.assign(tris.begin() + i, tris.begin() + std::min(tris.size(), i + per_tri_chunk));
-      // The binary box may be a clipped part of the triangles (spatial
-      // splits) or a loose union of merged leaves: the intersection of both
-      // still holds every part of them this subtree is responsible for.
-      for (uint32_t r : c.refs) c.box.grow(triangle_box(r));
-      c.box.lo = glm::max(c.box.lo, slot.box.lo);
-      c.box.hi = glm::min(c.box.hi, slot.box.hi);
+      if (others.empty() && tris.size() <= per_tri_chunk) {
+        // Each binary leaf's box bounds the parts of its triangles it is
+        // responsible for (clipped ones, after spatial splits), so their
+        // union is the tightest box of one chunk holding them all, and it
+        // costs no reads of the triangles.
+        c.box = leaf_union;
+      } else {
+        // Chunks of part of the references: the box of their triangles,
+        // restricted to this subtree's (which may be a clipped part of them).
+        for (uint32_t r : c.refs) c.box.grow(triangle_box(r));
+        c.box.lo = glm::max(c.box.lo, slot.box.lo);
+        c.box.hi = glm::min(c.box.hi, slot.box.hi);
+      }
       slot.chunks.push_back(std::move(c));
     }
     for (size_t i = 0; i < others.size(); i += WIDE_LEAF_MAX_COUNT) {
@@ -389,14 +401,38 @@ class Collapser {
   uint32_t emit_leaf(const Chunk& c) {
     uint32_t first, count;
     if (c.triangles) {
-      first = static_cast<uint32_t>(out_.triangle_blocks.size());
+      // The blocks are only numbered here; fill_blocks() writes them.
+      first = blocks_;
       count = static_cast<uint32_t>((c.refs.size() + kBlockLanes - 1) / kBlockLanes);
+      blocks_ += count;
       out_.triangle_lanes += c.refs.size();
       for (size_t b = 0; b < count; ++b) {
-        TriangleBlock4 block{};
+        const size_t lanes = std::min(kBlockLanes, c.refs.size() - b * kBlockLanes);
+        block_refs_.insert(block_refs_.end(), c.refs.begin() + b * kBlockLanes,
+                           c.refs.begin() + b * kBlockLanes + lanes);
+        block_refs_.insert(block_refs_.end(), kBlockLanes - lanes, c.refs[b * kBlockLanes]);  // padding repeats lane 0
+      }
+    } else {
+      first = static_cast<uint32_t>(out_.prim_refs.size());
+      count = static_cast<uint32_t>(c.refs.size());
+      out_.prim_refs.insert(out_.prim_refs.end(), c.refs.begin(), c.refs.end());
+    }
+    if (size_t{first} + count > WIDE_LEAF_INDEX_MASK) throw Error("wide BVH: too many leaf blocks for the child encoding");
+    return WIDE_LEAF_FLAG | (c.triangles ? 0u : WIDE_LEAF_PRIMS) | ((count - 1) << WIDE_LEAF_COUNT_SHIFT) | first;
+  }
+
+  // Writes every triangle block from its references, on all threads: the
+  // scattered reads of the scene's triangles are most of the collapse's
+  // memory traffic, and each block depends on its four references only.
+  void fill_blocks() {
+    out_.triangle_blocks.resize(blocks_);
+    const bvh_detail::Workers workers(options_.threads > 0 ? options_.threads
+                                                           : static_cast<int>(std::thread::hardware_concurrency()));
+    workers.for_chunks(blocks_, workers.chunks(blocks_), [this](int, size_t begin, size_t end) {
+      for (size_t b = begin; b < end; ++b) {
+        TriangleBlock4& block = out_.triangle_blocks[b];
         for (size_t lane = 0; lane < kBlockLanes; ++lane) {
-          const size_t k = b * kBlockLanes + lane;
-          const uint32_t ref = c.refs[k < c.refs.size() ? k : b * kBlockLanes];  // padding repeats lane 0
+          const uint32_t ref = block_refs_[b * kBlockLanes + lane];
           const Triangle& t = scene_.triangles[ref & PRIM_INDEX_MASK];
           const cs_float4* v[3] = {&t.v0, &t.v1, &t.v2};
           for (int vertex = 0; vertex < 3; ++vertex) {
@@ -406,15 +442,8 @@ class Collapser {
           }
           block.ref[lane] = ref;
         }
-        out_.triangle_blocks.push_back(block);
       }
-    } else {
-      first = static_cast<uint32_t>(out_.prim_refs.size());
-      count = static_cast<uint32_t>(c.refs.size());
-      out_.prim_refs.insert(out_.prim_refs.end(), c.refs.begin(), c.refs.end());
-    }
-    if (first + count > WIDE_LEAF_INDEX_MASK) throw Error("wide BVH: too many leaf blocks for the child encoding");
-    return WIDE_LEAF_FLAG | (c.triangles ? 0u : WIDE_LEAF_PRIMS) | ((count - 1) << WIDE_LEAF_COUNT_SHIFT) | first;
+    });
   }
 
   // Builds one wide node from `slots` (opened greedily up to eight) and,
@@ -493,6 +522,8 @@ class Collapser {
   WideBvh& out_;
   std::vector<uint32_t> triangles_;
   std::vector<Plan> plans_;
+  uint32_t blocks_ = 0;               // triangle blocks numbered so far
+  std::vector<uint32_t> block_refs_;  // kBlockLanes references per numbered block
   mutable std::vector<uint32_t> scratch_refs_, scratch_tris_, scratch_others_;
 };
 

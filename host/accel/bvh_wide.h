@@ -35,6 +35,9 @@ struct WideBvhOptions {
   Collapse collapse = Collapse::Sah;
   double node_cost = 1.0;   // testing one wide node (eight boxes at once)
   double block_cost = 1.0;  // testing one block of four triangles, or one other primitive
+  // Threads that fill the triangle blocks; 0: std::thread::hardware_concurrency().
+  // The result does not depend on it.
+  int threads = 0;
 };
 
 struct WideBvh {
