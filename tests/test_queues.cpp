@@ -42,7 +42,7 @@ PushResult run_push(uint32_t n, uint32_t capacity, size_t local) {
   std::vector<uint32_t> init(capacity + guard, 0xDEADBEEFu);
   cl::Buffer slots(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, init.size() * 4, init.data());
   uint32_t zero = 0;
-  cl::Buffer count(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, 4, &zero);
+  cl::Buffer count(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof(zero), &zero);
   k.setArg(0, count);
   k.setArg(1, capacity);
   k.setArg(2, slots);

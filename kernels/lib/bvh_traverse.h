@@ -122,11 +122,16 @@ __attribute__((always_inline)) void triangle_block_closest(__global const Triang
   int4 lanes = intersect_triangle_block(block, r, tmin, hit->t, &t, &u, &v);
   if (!any4(lanes)) return;
   t = select((float4)(hit->t), t, lanes);
-  float best = fmin(fmin(t.x, t.y), fmin(t.z, t.w));
-  int lane = t.x == best ? 0 : (t.y == best ? 1 : (t.z == best ? 2 : 3));
-  hit->t = best;
-  hit->u = lane == 0 ? u.x : (lane == 1 ? u.y : (lane == 2 ? u.z : u.w));
-  hit->v = lane == 0 ? v.x : (lane == 1 ? v.y : (lane == 2 ? v.z : v.w));
+  /* Plain compares, not fmin: t is never NaN here. */
+  const float t01 = t.y < t.x ? t.y : t.x, t23 = t.w < t.z ? t.w : t.z;
+  const int l01 = t.y < t.x ? 1 : 0, l23 = t.w < t.z ? 3 : 2;
+  const int lane = t23 < t01 ? l23 : l01;
+  float tu[4], tv[4];
+  vstore4(u, 0, tu);
+  vstore4(v, 0, tv);
+  hit->t = t23 < t01 ? t23 : t01;
+  hit->u = tu[lane];
+  hit->v = tv[lane];
   hit->prim = block->ref[lane];
 }
 
