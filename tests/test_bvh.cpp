@@ -32,7 +32,8 @@ void expect_traversal_matches_brute_force(const Scene& s, int ray_count, uint32_
   const WideBvh bvh = collapse_bvh(binary, s);
   Rng rng{std::mt19937(seed)};
   const auto rays = random_rays(rng, ray_count, s);
-  expect_matches_brute_force(s, bvh, rays, {KernelBuild::Plain, KernelBuild::FastRelaxedMath, KernelBuild::SmallStack});
+  expect_matches_brute_force(s, bvh, rays, {KernelBuild::Plain, KernelBuild::FastRelaxedMath, KernelBuild::SmallStack,
+                                             KernelBuild::PortableLanes});
 }
 
 struct Mix {

@@ -180,6 +180,8 @@ std::string build_options(KernelBuild build) {
     case KernelBuild::Plain: return "";
     case KernelBuild::FastRelaxedMath: return "-cl-fast-relaxed-math";
     case KernelBuild::SmallStack: return "-DBVH_STACK_SIZE=" + std::to_string(kSmallStackSize);
+    case KernelBuild::PortableLanes:
+      return "-DBVH8_PORTABLE_LANES -DBVH_STACK_SIZE=" + std::to_string(kSmallStackSize);
   }
   return "";
 }
@@ -246,7 +248,7 @@ void expect_matches_brute_force(const Scene& s, const WideBvh& bvh, const std::v
   for (KernelBuild build : builds) {
     SCOPED_TRACE("build options: " + build_options(build));
     // A tree deeper than the small stack is not a build that kernel can trace.
-    if (build == KernelBuild::SmallStack) ASSERT_LT(bvh.height, kSmallStackSize);
+    if (build == KernelBuild::SmallStack || build == KernelBuild::PortableLanes) ASSERT_LT(bvh.height, kSmallStackSize);
     expect_outcomes(rays, run_compare(s, bvh, rays, build));
   }
 }

@@ -82,7 +82,9 @@ struct Outcome {
 // force under both. SmallStack shrinks the traversal stack to
 // kSmallStackSize so that nodes fall back to group entries
 // (bvh_traverse.h) far more often than with the real size.
-enum class KernelBuild { Plain, FastRelaxedMath, SmallStack };
+// PortableLanes: the lane sets GPUs use (bvh_traverse.h picks bit lanes on
+// x86 CPUs), with the small stack so that their group entries run too.
+enum class KernelBuild { Plain, FastRelaxedMath, SmallStack, PortableLanes };
 constexpr int kSmallStackSize = 10;
 std::string build_options(KernelBuild build);
 
