@@ -1,14 +1,12 @@
 #include "host/accel/bvh.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <deque>
-#include <cmath>
 #include <exception>
 #include <mutex>
-#include <numeric>
 #include <thread>
 
 #include "host/accel/bvh_internal.h"
