@@ -6,6 +6,8 @@
 // launches on a real scene.
 #include <benchmark/benchmark.h>
 
+#include <optional>
+
 #include "host/accel/bvh.h"
 #include "host/accel/bvh_wide.h"
 #include "host/image/tonemap.h"
@@ -16,14 +18,14 @@ namespace {
 
 // The issue-4 benchmark scene with the largest mesh, loaded once.
 const caustica::Scene* conference_scene() {
-  static const caustica::Scene* scene = []() -> const caustica::Scene* {
+  static const std::optional<caustica::Scene> scene = []() -> std::optional<caustica::Scene> {
     try {
-      return new caustica::Scene(caustica::load_scene(CAUSTICA_SOURCE_DIR "/bench/scenes/conference_inside.json"));
+      return caustica::load_scene(CAUSTICA_SOURCE_DIR "/bench/scenes/conference_inside.json");
     } catch (const std::exception&) {
-      return nullptr;
+      return std::nullopt;
     }
   }();
-  return scene;
+  return scene ? &*scene : nullptr;
 }
 
 caustica::Scene table1_scene(int shapes) {

@@ -345,8 +345,7 @@ void build_nonempty(const Scene& scene, const BvhBuildOptions& options, Bvh& bvh
     settings.max_leaf *= 2;
   }
   if (options.quality == Quality::Spatial) settings.spatial_bins = kSpatialBins;
-  const int threads =
-      options.threads > 0 ? options.threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int threads = resolve_threads(options.threads);
 
   Prims prims;
   std::vector<Ref> refs;

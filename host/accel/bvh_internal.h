@@ -103,6 +103,11 @@ Box clip_triangle(const glm::vec3* v, int axis, float s0, float s1, const Box& b
 // Runs fn(chunk, begin, end) over contiguous chunks of [0, n), one per
 // thread. Callers merge per-chunk results with exact operations (min, max,
 // integer sums) so that the outcome does not depend on the chunking.
+// A thread-count option: positive as given, 0 for every hardware thread.
+inline int resolve_threads(int requested) {
+  return requested > 0 ? requested : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
 class Workers {
  public:
   explicit Workers(int threads) : threads_(threads < 1 ? 1 : threads) {}

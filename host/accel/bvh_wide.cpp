@@ -4,7 +4,6 @@
 #include <chrono>
 #include <limits>
 #include <string>
-#include <thread>
 
 #include "host/accel/bvh_internal.h"
 #include "host/error.h"
@@ -426,8 +425,7 @@ class Collapser {
   // memory traffic, and each block depends on its four references only.
   void fill_blocks() {
     out_.triangle_blocks.resize(blocks_);
-    const bvh_detail::Workers workers(options_.threads > 0 ? options_.threads
-                                                           : static_cast<int>(std::thread::hardware_concurrency()));
+    const bvh_detail::Workers workers(bvh_detail::resolve_threads(options_.threads));
     workers.for_chunks(blocks_, workers.chunks(blocks_), [this](int, size_t begin, size_t end) {
       for (size_t b = begin; b < end; ++b) {
         TriangleBlock4& block = out_.triangle_blocks[b];

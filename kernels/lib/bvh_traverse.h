@@ -225,7 +225,6 @@ float entry_lane(float8 e, uint lane) {
   return d[lane];
 }
 
-
 /* The rare case where pushing every hit child of `node` could overrun the
  * stack: pushes one group entry for all of them but the nearest (at the
  * distance of the next nearest) and returns the nearest child. */
