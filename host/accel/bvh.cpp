@@ -146,13 +146,14 @@ class SubtreeBuilder {
     // splits, which may keep all of them on one side) must stop.
     size_t left_count = 0;
     uint64_t duplicates = 0;
-    RefBounds children[2];
-    bool children_known = false;
+    RefBounds sides[2];
+    const RefBounds* children = nullptr;  // sides, when the object split's binning gave them
     if (ceil_log2(n) < s_.max_depth - depth) {
       const Workers* workers = helpers();
       const Split object = splitter_.object_split(&stack[begin], n, bd.centroids, workers);
       if (s_.spatial_bins > 0 && bd.splittable && budget > 0 &&
-          (object.kind == Split::kNone || intersection(object.left, object.right).half_area() > s_.min_overlap)) {
+          (object.kind == Split::kNone ||
+           intersection(object.left.box, object.right.box).half_area() > s_.min_overlap)) {
         const Split spatial = splitter_.spatial_split(&stack[begin], n, bd.box, budget, workers);
         if (spatial.kind != Split::kNone && spatial.cost < object.cost) {
           left_count = splitter_.spatial_partition(stack, begin, spatial, budget, &duplicates);
@@ -162,9 +163,10 @@ class SubtreeBuilder {
         }
       }
       if (left_count == 0 && object.kind != Split::kNone) {
-        left_count = splitter_.object_partition(&stack[begin], n, object, children);
-        children_known = left_count > 0 && left_count < n;
-        if (left_count == n) left_count = 0;
+        left_count = splitter_.object_partition(&stack[begin], n, object, workers);
+        sides[0] = object.left;
+        sides[1] = object.right;
+        children = sides;
       }
     }
     if (left_count == 0) left_count = splitter_.median_partition(&stack[begin], n, bd.centroids);
@@ -175,8 +177,8 @@ class SubtreeBuilder {
     const uint64_t rest = budget - duplicates;
     const uint64_t left_budget = rest * left_count / total;
     const uint32_t right =
-        build(stack, begin + left_count, depth + 1, rest - left_budget, children_known ? &children[1] : nullptr);
-    const uint32_t left = build(stack, begin, depth + 1, left_budget, children_known ? &children[0] : nullptr);
+        build(stack, begin + left_count, depth + 1, rest - left_budget, children ? &children[1] : nullptr);
+    const uint32_t left = build(stack, begin, depth + 1, left_budget, children ? &children[0] : nullptr);
     arena_.nodes[id].a = left;
     arena_.nodes[id].b = right;
     return id;

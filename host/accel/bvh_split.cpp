@@ -53,25 +53,84 @@ Box clip_triangle(const glm::vec3* v, int axis, float s0, float s1, const Box& b
   return intersection(r, bound);
 }
 
-int Splitter::object_bin(const glm::vec3& c, int axis, float lo, float scale) const {
+int Splitter::object_bin(float c, float lo, float scale) const {
   const int nb = s_.object_bins;
-  const float k = (c[axis] - lo) * scale;  // may exceed int range for tiny extents
+  const float k = (c - lo) * scale;  // may exceed int range for tiny extents
   if (!(k < static_cast<float>(nb - 1))) return nb - 1;
   return k > 0.0f ? static_cast<int>(k) : 0;
 }
 
 void Splitter::bin_objects(const Ref* refs, size_t n, const Box& cbox, const float* scale, ObjectBin* bins) const {
+  // object_bin() on all three axes at once, lane by lane the same float
+  // operations, so that the partition (which calls object_bin) sends every
+  // reference to the side its bin is on.
   const int nb = s_.object_bins;
-  for (size_t i = 0; i < n; ++i) {
-    const glm::vec3 c = refs[i].box.centroid();
-    for (int axis = 0; axis < 3; ++axis) {
-      if (scale[axis] == 0.0f) continue;
-      ObjectBin& b = bins[axis * nb + object_bin(c, axis, cbox.lo[axis], scale[axis])];
-      b.box.grow(refs[i].box);
+  const Lane4 base{cbox.lo.x, cbox.lo.y, cbox.lo.z, 0.0f};
+  const Lane4 scales{scale[0], scale[1], scale[2], 0.0f};
+  const Lane4 last = lane4_splat(static_cast<float>(nb - 1)), zero = lane4_splat(0.0f);
+  int axes[3], axis_count = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    if (scale[axis] != 0.0f) axes[axis_count++] = axis;
+  const size_t set_size = size_t(axis_count) * nb;
+  auto add = [&](const Ref& r, ObjectBin* set) {
+    const Lane4 lo = ref_lo(r), hi = ref_hi(r);
+    const Lane4 c = (lo + hi) * 0.5f;
+    Lane4 k = (c - base) * scales;
+    k = k < last ? k : last;  // NaN and beyond: the last bin
+    k = k > zero ? k : zero;
+    typedef int Int4 __attribute__((vector_size(16)));
+    const Int4 bin = __builtin_convertvector(k, Int4);
+    const bool splittable = prims_.splittable(r.prim);
+    for (int a = 0; a < axis_count; ++a) {
+      ObjectBin& b = set[a * nb + bin[axes[a]]];
+      b.lo = lane4_min(b.lo, lo);
+      b.hi = lane4_max(b.hi, hi);
+      b.centroid_lo = lane4_min(b.centroid_lo, c);
+      b.centroid_hi = lane4_max(b.centroid_hi, c);
       ++b.count;
+      b.splittable = b.splittable || splittable;
     }
-  }
+  };
+  // Neighbouring references tend to fall in the same bin, and each update
+  // of a bin waits for the previous one: two sets of bins, for even and
+  // odd references, halve that chain.
+  size_t i = 0;
+  if (object_sets_ == 2)
+    for (; i + 1 < n; i += 2) {
+      add(refs[i], bins);
+      add(refs[i + 1], bins + set_size);
+    }
+  for (; i < n; ++i) add(refs[i], bins);
 }
+
+namespace {
+
+// What a run of bins holds, as the RefBounds of its references.
+struct BinSum {
+  Lane4 lo = lane4_splat(kEmptyLo), hi = lane4_splat(kEmptyHi);
+  Lane4 centroid_lo = lane4_splat(kEmptyLo), centroid_hi = lane4_splat(kEmptyHi);
+  uint32_t count = 0;
+  bool splittable = false;
+
+  template <class Bin>
+  void add(const Bin& b) {
+    lo = lane4_min(lo, b.lo);
+    hi = lane4_max(hi, b.hi);
+    centroid_lo = lane4_min(centroid_lo, b.centroid_lo);
+    centroid_hi = lane4_max(centroid_hi, b.centroid_hi);
+    count += b.count;
+    splittable = splittable || b.splittable;
+  }
+  RefBounds bounds() const {
+    RefBounds r;
+    r.box = box_of(lo, hi);
+    r.centroids = box_of(centroid_lo, centroid_hi);
+    r.splittable = splittable;
+    return r;
+  }
+};
+
+}  // namespace
 
 Split Splitter::object_split(const Ref* refs, size_t n, const Box& cbox, const Workers* workers) {
   const int nb = s_.object_bins;
@@ -87,41 +146,54 @@ Split Splitter::object_split(const Ref* refs, size_t n, const Box& cbox, const W
   }
   Split best;
   if (!any) return best;
+  int axes[3], axis_count = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    if (scale[axis] != 0.0f) axes[axis_count++] = axis;
   const int chunks = workers ? workers->chunks(n) : 1;
-  object_bins_.assign(size_t(chunks) * 3 * nb, ObjectBin{});
-  auto bin_chunk = [&](int c, size_t b, size_t e) { bin_objects(refs + b, e - b, cbox, scale, &object_bins_[c * 3 * nb]); };
+  object_chunks_ = chunks;
+  object_sets_ = n >= 64 ? 2 : 1;
+  // Per chunk `object_sets_` sets of bins, then their sum; a set holds the
+  // bins of the axes binned, one after the other.
+  const size_t set_size = size_t(axis_count) * nb, chunk_size = set_size * object_sets_;
+  object_bins_.assign(chunk_size * chunks + set_size, ObjectBin{});
+  auto bin_chunk = [&](int c, size_t b, size_t e) {
+    bin_objects(refs + b, e - b, cbox, scale, &object_bins_[c * chunk_size]);
+  };
   if (chunks > 1)
     workers->for_chunks(n, chunks, bin_chunk);
   else
     bin_chunk(0, 0, n);
-  for (int c = 1; c < chunks; ++c)
-    for (int i = 0; i < 3 * nb; ++i) {
-      object_bins_[i].box.grow(object_bins_[c * 3 * nb + i].box);
-      object_bins_[i].count += object_bins_[c * 3 * nb + i].count;
-    }
+  ObjectBin* sum = &object_bins_[chunk_size * chunks];
+  for (size_t j = 0; j < chunk_size * chunks; ++j) {
+    const ObjectBin& b = object_bins_[j];
+    ObjectBin& s = sum[j % set_size];
+    s.lo = lane4_min(s.lo, b.lo);
+    s.hi = lane4_max(s.hi, b.hi);
+    s.centroid_lo = lane4_min(s.centroid_lo, b.centroid_lo);
+    s.centroid_hi = lane4_max(s.centroid_hi, b.centroid_hi);
+    s.count += b.count;
+    s.splittable = s.splittable || b.splittable;
+  }
 
   right_cost_.resize(nb);
   right_box_.resize(nb);
-  for (int axis = 0; axis < 3; ++axis) {
-    if (scale[axis] == 0.0f) continue;
-    const ObjectBin* bins = &object_bins_[axis * nb];
+  int best_slot = 0;  // the best axis's place among the binned ones
+  for (int a = 0; a < axis_count; ++a) {
+    const int axis = axes[a];
+    const ObjectBin* bins = sum + a * nb;
     // Sweep from the right storing area * count of everything right of
     // each plane, then from the left evaluating each plane.
-    Box acc;
-    uint32_t count = 0;
+    BinSum acc;
     for (int k = nb - 1; k > 0; --k) {
-      acc.grow(bins[k].box);
-      count += bins[k].count;
-      right_cost_[k] = count > 0 ? acc.half_area() * count : -1.0;
-      right_box_[k] = acc;
+      acc.add(bins[k]);
+      right_box_[k] = box_of(acc.lo, acc.hi);
+      right_cost_[k] = acc.count > 0 ? right_box_[k].half_area() * acc.count : -1.0;
     }
-    acc = Box{};
-    count = 0;
+    acc = BinSum{};
     for (int k = 1; k < nb; ++k) {
-      acc.grow(bins[k - 1].box);
-      count += bins[k - 1].count;
-      if (count == 0 || right_cost_[k] < 0.0) continue;
-      const double cost = acc.half_area() * count + right_cost_[k];
+      acc.add(bins[k - 1]);
+      if (acc.count == 0 || right_cost_[k] < 0.0) continue;
+      const double cost = box_of(acc.lo, acc.hi).half_area() * acc.count + right_cost_[k];
       if (cost < best.cost) {
         best.kind = Split::kObject;
         best.cost = cost;
@@ -129,39 +201,58 @@ Split Splitter::object_split(const Ref* refs, size_t n, const Box& cbox, const W
         best.bin = k;
         best.bin_lo = cbox.lo[axis];
         best.bin_scale = scale[axis];
-        best.left = acc;
-        best.right = right_box_[k];
+        best_slot = a;
       }
     }
   }
+  if (best.kind == Split::kNone) return best;
+  // The children as the partition will leave them, and each chunk's share
+  // of the left side, which places its references in the partition.
+  const ObjectBin* bins = sum + best_slot * nb;
+  BinSum left, right;
+  for (int k = 0; k < nb; ++k) (k < best.bin ? left : right).add(bins[k]);
+  best.left = left.bounds();
+  best.right = right.bounds();
+  best.left_count = left.count;
+  chunk_left_.assign(chunks, 0);
+  for (int c = 0; c < chunks; ++c)
+    for (int set = 0; set < object_sets_; ++set)
+      for (int k = 0; k < best.bin; ++k)
+        chunk_left_[c] += object_bins_[c * chunk_size + set * set_size + best_slot * nb + k].count;
   return best;
 }
 
-size_t Splitter::object_partition(Ref* refs, size_t n, const Split& split, RefBounds children[2]) const {
-  RefBounds left, right;
-  auto add = [&](RefBounds& b, const Ref& r) {
-    b.box.grow(r.box);
-    b.centroids.grow(r.box.centroid());
-    b.splittable = b.splittable || prims_.splittable(r.prim);
+size_t Splitter::object_partition(Ref* refs, size_t n, const Split& split, const Workers* workers) {
+  // Out of place and stable: every reference is copied to the next free
+  // slot of its side, the slot chosen without a branch (which side a
+  // reference goes to is a coin toss near the root, and mispredicted
+  // branches made the in-place partition the build's largest cost). Chunk
+  // c's references go after those of chunks before it on each side, which
+  // is where a single pass would put them.
+  Ref* out = partitioned_.reserve(n);
+  const int chunks = object_chunks_;
+  auto partition_chunk = [&](int c, size_t b, size_t e) {
+    size_t left = 0, right = split.left_count;
+    for (int k = 0; k < c; ++k) left += chunk_left_[k];
+    right += b - left;
+    for (size_t i = b; i < e; ++i) {
+      const Ref& r = refs[i];
+      const float centroid = 0.5f * (r.box.lo[split.axis] + r.box.hi[split.axis]);
+      const bool goes_left = object_bin(centroid, split.bin_lo, split.bin_scale) < split.bin;
+      out[goes_left ? left : right] = r;
+      left += goes_left;
+      right += !goes_left;
+    }
   };
-  auto goes_left = [&](const Ref& r) {
-    return object_bin(r.box.centroid(), split.axis, split.bin_lo, split.bin_scale) < split.bin;
-  };
-  // Hoare's scheme: every reference is classified once, from whichever end
-  // reaches it.
-  Ref* lo = refs;
-  Ref* hi = refs + n;
-  for (;;) {
-    while (lo < hi && goes_left(*lo)) add(left, *lo++);
-    while (lo < hi && !goes_left(hi[-1])) add(right, *--hi);
-    if (lo >= hi) break;
-    std::swap(*lo, hi[-1]);
-    add(left, *lo++);
-    add(right, *--hi);
+  auto copy_back = [&](int, size_t b, size_t e) { std::memcpy(refs + b, out + b, (e - b) * sizeof(Ref)); };
+  if (chunks > 1 && workers) {
+    workers->for_chunks(n, chunks, partition_chunk);
+    workers->for_chunks(n, chunks, copy_back);
+  } else {
+    partition_chunk(0, 0, n);
+    copy_back(0, 0, n);
   }
-  children[0] = left;
-  children[1] = right;
-  return static_cast<size_t>(lo - refs);
+  return split.left_count;
 }
 
 // Object median along the widest centroid axis; any halving will do when all
