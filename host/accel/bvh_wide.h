@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "host/accel/bulk_allocator.h"
 #include "host/accel/bvh.h"
 #include "host/scene/scene.h"
 
@@ -42,7 +43,7 @@ struct WideBvhOptions {
 
 struct WideBvh {
   std::vector<BvhNode8> nodes;  // nodes[0] is the root (an empty scene: all slots empty)
-  std::vector<TriangleBlock4> triangle_blocks;
+  BulkVector<TriangleBlock4> triangle_blocks;
   std::vector<uint32_t> prim_refs;  // encoded refs of the sphere/cylinder leaves
   int height = 0;                   // BvhNode8::height of the root
   size_t triangle_lanes = 0;        // block lanes holding a distinct triangle (fill statistics)

@@ -9,8 +9,8 @@
 namespace caustica {
 namespace {
 
-template <typename T>
-cl::Buffer upload(cl::Context& ctx, const std::vector<T>& data) {
+template <typename T, typename Allocator>
+cl::Buffer upload(cl::Context& ctx, const std::vector<T, Allocator>& data) {
   // OpenCL forbids zero-sized buffers; an absent primitive type gets one
   // dummy element that no BVH leaf references.
   const size_t bytes = std::max<size_t>(1, data.size()) * sizeof(T);

@@ -38,8 +38,8 @@ uint32_t bits(float f) {
   return u;
 }
 
-template <class T>
-cl::Buffer upload(std::vector<T> v) {
+template <class T, class Allocator>
+cl::Buffer upload(std::vector<T, Allocator> v) {
   if (v.empty()) v.resize(1);  // OpenCL refuses zero-sized buffers
   return cl::Buffer(runtime().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data());
 }
