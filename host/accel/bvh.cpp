@@ -8,6 +8,7 @@
 #include <exception>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 
 #include "host/accel/bvh_internal.h"
 
@@ -89,8 +90,28 @@ struct Arena {
   std::vector<uint32_t> refs;    // leaf contents, as kernel prim refs
 };
 
+// A job's references where no spatial split can add any: a range of the
+// top builder's array, which nothing else touches once handed off, so it
+// is built in place rather than copied (10 MB of copying and page faults
+// on the conference room). The stack only shrinks there.
+class RefSpan {
+ public:
+  RefSpan() = default;
+  RefSpan(Ref* data, size_t size) : data_(data), size_(size) {}
+  size_t size() const { return size_; }
+  void resize(size_t n) { size_ = n; }
+  Ref& operator[](size_t i) { return data_[i]; }
+  Ref* begin() { return data_; }
+  Ref* end() { return data_ + size_; }
+
+ private:
+  Ref* data_ = nullptr;
+  size_t size_ = 0;
+};
+
 struct Job {
-  std::vector<Ref> refs;
+  std::vector<Ref> refs;  // its own copy, when spatial splits may grow it
+  RefSpan span;           // otherwise
   int depth = 0;
   uint64_t budget = 0;
   Arena arena;
@@ -115,13 +136,18 @@ class SubtreeBuilder {
   }
 
   // `known`: the references' bounds when the parent's partition gathered them.
-  uint32_t build(std::vector<Ref>& stack, size_t begin, int depth, uint64_t budget,
-                 const RefBounds* known = nullptr) {
+  // Stack: std::vector<Ref>, or RefSpan where there are no spatial splits.
+  template <class Stack>
+  uint32_t build(Stack& stack, size_t begin, int depth, uint64_t budget, const RefBounds* known = nullptr) {
+    constexpr bool kCanGrow = std::is_same<Stack, std::vector<Ref>>::value;
     const size_t n = stack.size() - begin;
     const uint32_t id = static_cast<uint32_t>(arena_.nodes.size());
     if (jobs_ && n <= job_threshold_) {
       Job job;
-      job.refs.assign(stack.begin() + begin, stack.end());
+      if (s_.spatial_bins > 0)
+        job.refs.assign(stack.begin() + begin, stack.end());
+      else
+        job.span = RefSpan(&stack[begin], n);
       job.depth = depth;
       job.budget = budget;
       stack.resize(begin);
@@ -151,12 +177,12 @@ class SubtreeBuilder {
     if (ceil_log2(n) < s_.max_depth - depth) {
       const Workers* workers = helpers();
       const Split object = splitter_.object_split(&stack[begin], n, bd.centroids, workers);
-      if (s_.spatial_bins > 0 && bd.splittable && budget > 0 &&
+      if (kCanGrow && s_.spatial_bins > 0 && bd.splittable && budget > 0 &&
           (object.kind == Split::kNone ||
            intersection(object.left.box, object.right.box).half_area() > s_.min_overlap)) {
         const Split spatial = splitter_.spatial_split(&stack[begin], n, bd.box, budget, workers);
         if (spatial.kind != Split::kNone && spatial.cost < object.cost) {
-          left_count = splitter_.spatial_partition(stack, begin, spatial, budget, &duplicates);
+          left_count = spatial_partition(stack, begin, spatial, budget, &duplicates);
           // All on one side means nothing was clipped and the order is
           // unchanged: the object split still applies.
           if (left_count == stack.size() - begin) left_count = 0;
@@ -185,6 +211,12 @@ class SubtreeBuilder {
   }
 
  private:
+  size_t spatial_partition(std::vector<Ref>& stack, size_t begin, const Split& split, uint64_t budget,
+                           uint64_t* duplicates) {
+    return splitter_.spatial_partition(stack, begin, split, budget, duplicates);
+  }
+  size_t spatial_partition(RefSpan&, size_t, const Split&, uint64_t, uint64_t*) { return 0; }  // never called
+
   RefBounds bounds(const Ref* refs, size_t n) const {
     auto scan = [&](size_t b, size_t e) {
       RefBounds r;
@@ -279,8 +311,13 @@ class JobQueue {
           if (next_ == jobs_.size()) return;
           job = &jobs_[next_++];  // deque elements stay put while others are pushed
         }
-        SubtreeBuilder(settings_, prims_, splitter, job->arena).build(job->refs, 0, job->depth, job->budget);
-        std::vector<Ref>().swap(job->refs);
+        SubtreeBuilder builder(settings_, prims_, splitter, job->arena);
+        if (settings_.spatial_bins > 0) {
+          builder.build(job->refs, 0, job->depth, job->budget);
+          std::vector<Ref>().swap(job->refs);
+        } else {
+          builder.build(job->span, 0, job->depth, job->budget);
+        }
       }
     } catch (...) {  // the first failure (out of memory) is rethrown by finish()
       std::lock_guard<std::mutex> lock(mutex_);
@@ -349,42 +386,54 @@ void build_nonempty(const Scene& scene, const BvhBuildOptions& options, Bvh& bvh
   if (options.quality == Quality::Spatial) settings.spatial_bins = kSpatialBins;
   const int threads = resolve_threads(options.threads);
 
+  Workers workers(threads);
   Prims prims;
-  std::vector<Ref> refs;
   const size_t n = scene.primitive_count();
-  refs.reserve(n);
-  prims.codes.reserve(n);
-  auto add = [&](const Box& box, uint32_t code) {
-    refs.push_back(Ref{box, static_cast<uint32_t>(prims.codes.size())});
-    prims.codes.push_back(code);
+  std::vector<Ref> refs(n);
+  prims.codes.resize(n);
+  std::vector<RefBounds> part(1);
+  auto add = [&](RefBounds& bounds, size_t i, const Box& box, uint32_t code) {
+    refs[i].box = box;
+    refs[i].prim = static_cast<uint32_t>(i);
+    prims.codes[i] = code;
+    bounds.box.grow(box);
+    bounds.centroids.grow(box.centroid());
   };
-  for (size_t i = 0; i < scene.spheres.size(); ++i) add(sphere_box(scene.spheres[i]), make_ref(PRIM_SPHERE, i));
+  for (size_t i = 0; i < scene.spheres.size(); ++i) add(part[0], i, sphere_box(scene.spheres[i]), make_ref(PRIM_SPHERE, i));
   for (size_t i = 0; i < scene.cylinders.size(); ++i)
-    add(cylinder_box(scene.cylinders[i]), make_ref(PRIM_CYLINDER, i));
-  prims.first_triangle = static_cast<uint32_t>(prims.codes.size());
-  if (settings.spatial_bins > 0) prims.triangle_vertices.reserve(3 * scene.triangles.size());
-  for (size_t i = 0; i < scene.triangles.size(); ++i) {
-    const Triangle& t = scene.triangles[i];
-    add(triangle_box(t), make_ref(PRIM_TRIANGLE, i));
-    if (settings.spatial_bins > 0)
-      prims.triangle_vertices.insert(prims.triangle_vertices.end(), {to_vec3(t.v0), to_vec3(t.v1), to_vec3(t.v2)});
-  }
-
-  Box root;
-  for (const Ref& r : refs) root.grow(r.box);
-  const double root_area = root.half_area();
+    add(part[0], scene.spheres.size() + i, cylinder_box(scene.cylinders[i]), make_ref(PRIM_CYLINDER, i));
+  prims.first_triangle = static_cast<uint32_t>(scene.spheres.size() + scene.cylinders.size());
+  if (settings.spatial_bins > 0) prims.triangle_vertices.resize(3 * scene.triangles.size());
+  // Triangles, the bulk of large scenes, on all threads; the root's bounds
+  // are gathered on the way (merged with exact min/max, so per chunk).
+  const int chunks = workers.chunks(scene.triangles.size());
+  part.resize(std::max(1, chunks));
+  part[0].splittable = !scene.triangles.empty();
+  workers.for_chunks(scene.triangles.size(), chunks, [&](int c, size_t b, size_t e) {
+    for (size_t i = b; i < e; ++i) {
+      const Triangle& t = scene.triangles[i];
+      add(part[c], prims.first_triangle + i, triangle_box(t), make_ref(PRIM_TRIANGLE, i));
+      if (settings.spatial_bins > 0) {
+        prims.triangle_vertices[3 * i + 0] = to_vec3(t.v0);
+        prims.triangle_vertices[3 * i + 1] = to_vec3(t.v1);
+        prims.triangle_vertices[3 * i + 2] = to_vec3(t.v2);
+      }
+    }
+  });
+  RefBounds root = part[0];
+  for (size_t c = 1; c < part.size(); ++c) root.merge(part[c]);
+  const double root_area = root.box.half_area();
   settings.min_overlap = kSpatialOverlap * root_area;
   const uint64_t budget = settings.spatial_bins > 0 ? static_cast<uint64_t>(kSpatialBudget * n) : 0;
 
-  Workers workers(threads);
   Splitter splitter(settings, prims);
   Arena top;
   JobQueue queue(settings, prims, threads);
   SubtreeBuilder builder(settings, prims, splitter, top);
   builder.spawn_jobs(threads > 1 ? &workers : nullptr, &queue, std::max(kMinJobRefs, n / kJobsPerScene));
-  builder.build(refs, 0, 0, budget);
+  builder.build(refs, 0, 0, budget, &root);
+  const std::deque<Job>& jobs = queue.finish();  // before refs go: jobs may be built in them
   std::vector<Ref>().swap(refs);
-  const std::deque<Job>& jobs = queue.finish();
 
   size_t nodes = top.nodes.size(), references = top.refs.size();
   for (const Job& job : jobs) {
