@@ -57,6 +57,7 @@ class Collapser {
       : bvh_(bvh), scene_(scene), options_(options), out_(out) {}
 
   void run() {
+    duplicates_ = bvh_.references > scene_.primitive_count();
     count_triangles();
     const BvhNode& root = bvh_.nodes[0];
     if (bvh_.nodes.size() == 1 && root.count == 0) {  // the empty scene
@@ -176,9 +177,12 @@ class Collapser {
     others.clear();
     Box leaf_union;
     gather(node, refs, leaf_union);
-    // A merged subtree may hold a spatially split triangle twice.
-    std::sort(refs.begin(), refs.end());
-    refs.erase(std::unique(refs.begin(), refs.end()), refs.end());
+    // A merged subtree may hold a spatially split triangle twice; only
+    // builds with spatial splits make duplicates.
+    if (duplicates_) {
+      std::sort(refs.begin(), refs.end());
+      refs.erase(std::unique(refs.begin(), refs.end()), refs.end());
+    }
     for (uint32_t r : refs) (is_triangle(r) ? tris : others).push_back(r);
     const size_t per_tri_chunk = WIDE_LEAF_MAX_COUNT * kBlockLanes;
     for (size_t i = 0; i < tris.size(); i += per_tri_chunk) {
@@ -265,7 +269,7 @@ class Collapser {
 
   void plan() {
     const size_t n = bvh_.nodes.size();
-    const bool duplicates = bvh_.references > scene_.primitive_count();
+    const bool duplicates = duplicates_;
     const size_t max_tris = WIDE_LEAF_MAX_COUNT * kBlockLanes;
     // Triangles (distinct) and other references under each node. With
     // spatial-split duplicates, subtrees small enough to be a leaf keep
@@ -518,6 +522,7 @@ class Collapser {
   const Scene& scene_;
   WideBvhOptions options_;
   WideBvh& out_;
+  bool duplicates_ = false;  // some primitive is referenced twice (spatial splits)
   std::vector<uint32_t> triangles_;
   std::vector<Plan> plans_;
   uint32_t blocks_ = 0;               // triangle blocks numbered so far
