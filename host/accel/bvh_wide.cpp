@@ -1,6 +1,7 @@
 #include "host/accel/bvh_wide.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <limits>
 #include <string>
@@ -267,18 +268,54 @@ class Collapser {
     }
   }
 
+  // Plans every node bottom-up. Subtrees occupy contiguous index ranges in
+  // the depth-first layout and a node's plan depends on its children's
+  // only, so disjoint subtrees are planned on all threads, and then the few
+  // nodes above them, deepest first: the same plans as one backward sweep.
   void plan() {
     const size_t n = bvh_.nodes.size();
-    const bool duplicates = duplicates_;
-    const size_t max_tris = WIDE_LEAF_MAX_COUNT * kBlockLanes;
     // Triangles (distinct) and other references under each node. With
     // spatial-split duplicates, subtrees small enough to be a leaf keep
     // their sorted triangle refs, merged from their children's, so that
     // the distinct count costs no more than the merge.
-    std::vector<uint32_t> tris(n, 0), others(n, 0);
-    std::vector<std::vector<uint32_t>> small(duplicates ? n : 0);
-    plans_.assign(n, Plan{});
-    for (size_t i = n; i-- > 0;) {  // children follow their parent: one backward sweep
+    tris_.assign(n, 0);
+    others_.assign(n, 0);
+    small_.assign(duplicates_ ? n : 0, {});
+    plans_.resize(n);  // every entry is written by plan_node
+    const bvh_detail::Workers workers(bvh_detail::resolve_threads(options_.threads));
+    std::vector<std::pair<size_t, size_t>> ranges{{0, n}};  // [root, end) of subtrees
+    std::vector<size_t> above;                              // nodes above them
+    constexpr size_t kRangesPerThread = 8, kMinRange = 4096;
+    while (workers.threads() > 1 && ranges.size() < kRangesPerThread * size_t(workers.threads())) {
+      const auto largest = std::max_element(ranges.begin(), ranges.end(), [](const auto& a, const auto& b) {
+        return a.second - a.first < b.second - b.first;
+      });
+      const auto [root, end] = *largest;
+      if (end - root < kMinRange || bvh_.nodes[root].count > 0) break;
+      above.push_back(root);
+      const size_t right = bvh_.nodes[root].offset;
+      *largest = {root + 1, right};
+      ranges.emplace_back(right, end);
+    }
+    std::atomic<size_t> next{0};
+    workers.for_chunks(workers.threads(), ranges.size() > 1 ? workers.threads() : 1, [&](int, size_t, size_t) {
+      for (size_t r; (r = next++) < ranges.size();)
+        for (size_t i = ranges[r].second; i-- > ranges[r].first;) plan_node(i);
+    });
+    std::sort(above.rbegin(), above.rend());
+    for (size_t i : above) plan_node(i);
+    std::vector<uint32_t>().swap(tris_);
+    std::vector<uint32_t>().swap(others_);
+    std::vector<std::vector<uint32_t>>().swap(small_);
+  }
+
+  void plan_node(size_t i) {
+    const size_t max_tris = WIDE_LEAF_MAX_COUNT * kBlockLanes;
+    const bool duplicates = duplicates_;
+    std::vector<uint32_t>& tris = tris_;
+    std::vector<uint32_t>& others = others_;
+    std::vector<std::vector<uint32_t>>& small = small_;
+    {
       const BvhNode& node = bvh_.nodes[i];
       Plan& p = plans_[i];
       const double area = node_box(node).half_area();
@@ -330,7 +367,7 @@ class Collapser {
           p.cost[s - 1] = leaf_cost + (fits ? 0.0 : area * options_.node_cost);
           p.choice[s - 1] = fits ? kLeaf : kNode;
         }
-        continue;
+        return;
       }
       const Plan& pl = plans_[i + 1];
       const Plan& pr = plans_[node.offset];
@@ -524,7 +561,9 @@ class Collapser {
   WideBvh& out_;
   bool duplicates_ = false;  // some primitive is referenced twice (spatial splits)
   std::vector<uint32_t> triangles_;
-  std::vector<Plan> plans_;
+  BulkVector<Plan> plans_;
+  std::vector<uint32_t> tris_, others_;  // plan(): distinct triangles and other references under each node
+  std::vector<std::vector<uint32_t>> small_;
   uint32_t blocks_ = 0;               // triangle blocks numbered so far
   std::vector<uint32_t> block_refs_;  // kBlockLanes references per numbered block
   mutable std::vector<uint32_t> scratch_refs_, scratch_tris_, scratch_others_;
