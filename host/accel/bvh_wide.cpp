@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <string>
 
 #include "host/accel/bvh_internal.h"
@@ -52,6 +55,22 @@ struct Slot {
   }
 };
 
+// What emitting a subtree produces: its wide nodes in depth-first order
+// (indices from 0, the subtree's root first), its leaves' triangle blocks
+// (numbered from 0; only their references, fill_blocks() writes them) and
+// other references. Subtrees of the root are emitted on all threads, each
+// into its own Emission, and joined in slot order with their indices
+// offset: the same layout as emitting them one after the other.
+struct Emission {
+  std::vector<BvhNode8> nodes;
+  std::vector<uint32_t> prim_refs;
+  std::vector<uint32_t> block_refs;  // kBlockLanes references per numbered block
+  uint32_t blocks = 0;
+  size_t triangle_lanes = 0, leaves = 0;
+  double node_sah = 0.0, leaf_sah = 0.0;
+  std::vector<uint32_t> scratch_refs, scratch_tris, scratch_others;  // leaf_slot's, kept across calls
+};
+
 class Collapser {
  public:
   Collapser(const Bvh& bvh, const Scene& scene, const WideBvhOptions& options, WideBvh& out)
@@ -68,13 +87,15 @@ class Collapser {
       return;
     }
     const double root_area = node_box(root).half_area();
-    block_refs_.reserve(bvh_.references + bvh_.references / 2 + kBlockLanes);
+    Emission scratch;  // for the root's own slots
+    std::vector<Slot> slots;
     if (options_.collapse == WideBvhOptions::Collapse::Sah) {
       plan();
-      emit_node(planned_children(0), root_area);
+      slots = planned_children(scratch, 0);
     } else {
-      emit_node({make_slot(0)}, root_area);
+      slots = {make_slot(scratch, 0)};
     }
+    emit_root(scratch, std::move(slots), root_area);
     fill_blocks();
     // Normalised by the box a ray must enter, the union of the root's slots
     // (the binary root's box, or less where leaf boxes were tightened).
@@ -114,8 +135,10 @@ class Collapser {
   void count_triangles() {
     const size_t n = bvh_.nodes.size();
     triangles_.assign(n, 0);
+    subtree_end_.assign(n, 0);
     for (size_t i = n; i-- > 0;) {
       const BvhNode& node = bvh_.nodes[i];
+      subtree_end_[i] = node.count > 0 || node.offset <= i ? uint32_t(i + 1) : subtree_end_[node.offset];
       if (node.count > 0) {
         uint32_t c = 0;
         for (uint32_t k = node.offset; k < node.offset + node.count; ++k)
@@ -154,25 +177,25 @@ class Collapser {
     return b;
   }
 
-  Slot make_slot(int64_t node) const {
+  Slot make_slot(Emission& e, int64_t node) const {
     if (!leaf_like(node)) {
       Slot slot;
       slot.box = node_box(bvh_.nodes[node]);
       slot.node = node;
       return slot;
     }
-    return leaf_slot(node);
+    return leaf_slot(e, node);
   }
 
   // Every reference under `node` as leaf chunks (one slot; several chunks
   // when the references are of both kinds or too many for one chunk).
-  Slot leaf_slot(int64_t node) const {
+  Slot leaf_slot(Emission& e, int64_t node) const {
     Slot slot;
     slot.box = node_box(bvh_.nodes[node]);
     // Scratch vectors kept across calls: this runs once per leaf.
-    std::vector<uint32_t>& refs = scratch_refs_;
-    std::vector<uint32_t>& tris = scratch_tris_;
-    std::vector<uint32_t>& others = scratch_others_;
+    std::vector<uint32_t>& refs = e.scratch_refs;
+    std::vector<uint32_t>& tris = e.scratch_tris;
+    std::vector<uint32_t>& others = e.scratch_others;
     refs.clear();
     tris.clear();
     others.clear();
@@ -216,11 +239,11 @@ class Collapser {
   }
 
   // Replaces an opened slot by its parts.
-  std::vector<Slot> open(const Slot& slot) const {
+  std::vector<Slot> open(Emission& e, const Slot& slot) const {
     std::vector<Slot> parts;
     if (slot.node >= 0) {
-      parts.push_back(make_slot(slot.node + 1));
-      parts.push_back(make_slot(bvh_.nodes[slot.node].offset));
+      parts.push_back(make_slot(e, slot.node + 1));
+      parts.push_back(make_slot(e, bvh_.nodes[slot.node].offset));
       return parts;
     }
     for (const Chunk& c : slot.chunks) {
@@ -398,19 +421,19 @@ class Collapser {
   }
 
   // The child slots of `node` as a subtree given at most `slots` of them.
-  void planned_slots(int64_t node, int slots, std::vector<Slot>& out) const {
+  void planned_slots(Emission& e, int64_t node, int slots, std::vector<Slot>& out) const {
     const int8_t c = plans_[node].choice[slots - 1];
     if (c == kFewer) {
-      planned_slots(node, slots - 1, out);
+      planned_slots(e, node, slots - 1, out);
     } else if (c > 0) {
-      planned_slots(node + 1, c, out);
-      planned_slots(bvh_.nodes[node].offset, slots - c, out);
+      planned_slots(e, node + 1, c, out);
+      planned_slots(e, bvh_.nodes[node].offset, slots - c, out);
     } else if (c == kLeaf) {
-      Slot leaf = leaf_slot(node);
+      Slot leaf = leaf_slot(e, node);
       if (leaf.chunks.size() == 1) {
         out.push_back(std::move(leaf));
       } else {
-        for (Slot& part : open(leaf)) out.push_back(std::move(part));
+        for (Slot& part : open(e, leaf)) out.push_back(std::move(part));
       }
     } else {
       Slot s;
@@ -422,42 +445,42 @@ class Collapser {
   }
 
   // The slots of the wide node made for binary `node`.
-  std::vector<Slot> planned_children(int64_t node) const {
+  std::vector<Slot> planned_children(Emission& e, int64_t node) const {
     std::vector<Slot> slots;
     const BvhNode& n = bvh_.nodes[node];
     if (n.count > 0) {  // a leaf too big (or too mixed) for the slots above it
-      Slot leaf = leaf_slot(node);
-      if (leaf.chunks.size() <= WIDE_WIDTH) return open(leaf);
+      Slot leaf = leaf_slot(e, node);
+      if (leaf.chunks.size() <= WIDE_WIDTH) return open(e, leaf);
       leaf.planned = false;
       slots.push_back(std::move(leaf));  // emit_node groups the chunks
       return slots;
     }
     const int k = plans_[node].split;
-    planned_slots(node + 1, k, slots);
-    planned_slots(n.offset, WIDE_WIDTH - k, slots);
+    planned_slots(e, node + 1, k, slots);
+    planned_slots(e, n.offset, WIDE_WIDTH - k, slots);
     return slots;
   }
 
-  uint32_t emit_leaf(const Chunk& c) {
+  uint32_t emit_leaf(Emission& e, const Chunk& c) const {
     uint32_t first, count;
     if (c.triangles) {
       // The blocks are only numbered here; fill_blocks() writes them.
-      first = blocks_;
+      first = e.blocks;
       count = static_cast<uint32_t>((c.refs.size() + kBlockLanes - 1) / kBlockLanes);
-      blocks_ += count;
-      out_.triangle_lanes += c.refs.size();
+      e.blocks += count;
+      e.triangle_lanes += c.refs.size();
       for (size_t b = 0; b < count; ++b) {
         const size_t lanes = std::min(kBlockLanes, c.refs.size() - b * kBlockLanes);
-        block_refs_.insert(block_refs_.end(), c.refs.begin() + b * kBlockLanes,
+        e.block_refs.insert(e.block_refs.end(), c.refs.begin() + b * kBlockLanes,
                            c.refs.begin() + b * kBlockLanes + lanes);
-        block_refs_.insert(block_refs_.end(), kBlockLanes - lanes, c.refs[b * kBlockLanes]);  // padding repeats lane 0
+        e.block_refs.insert(e.block_refs.end(), kBlockLanes - lanes, c.refs[b * kBlockLanes]);  // padding repeats lane 0
       }
     } else {
-      first = static_cast<uint32_t>(out_.prim_refs.size());
+      first = static_cast<uint32_t>(e.prim_refs.size());
       count = static_cast<uint32_t>(c.refs.size());
-      out_.prim_refs.insert(out_.prim_refs.end(), c.refs.begin(), c.refs.end());
+      e.prim_refs.insert(e.prim_refs.end(), c.refs.begin(), c.refs.end());
     }
-    if (size_t{first} + count > WIDE_LEAF_INDEX_MASK) throw Error("wide BVH: too many leaf blocks for the child encoding");
+    check_leaf_index(size_t{first} + count);
     return WIDE_LEAF_FLAG | (c.triangles ? 0u : WIDE_LEAF_PRIMS) | ((count - 1) << WIDE_LEAF_COUNT_SHIFT) | first;
   }
 
@@ -465,9 +488,10 @@ class Collapser {
   // scattered reads of the scene's triangles are most of the collapse's
   // memory traffic, and each block depends on its four references only.
   void fill_blocks() {
-    out_.triangle_blocks.resize(blocks_);
+    const uint32_t blocks = static_cast<uint32_t>(block_refs_.size() / kBlockLanes);
+    out_.triangle_blocks.resize(blocks);
     const bvh_detail::Workers workers(bvh_detail::resolve_threads(options_.threads));
-    workers.for_chunks(blocks_, workers.chunks(blocks_), [this](int, size_t begin, size_t end) {
+    workers.for_chunks(blocks, workers.chunks(blocks), [this](int, size_t begin, size_t end) {
       for (size_t b = begin; b < end; ++b) {
         TriangleBlock4& block = out_.triangle_blocks[b];
         for (size_t lane = 0; lane < kBlockLanes; ++lane) {
@@ -485,15 +509,17 @@ class Collapser {
     });
   }
 
-  // Builds one wide node from `slots` (opened greedily up to eight) and,
-  // depth first, everything below it; returns its index.
-  uint32_t emit_node(std::vector<Slot> slots, double area) {
-    out_.node_sah += area;
-    const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
-    if (index >= kMaxInnerNodes) throw Error("wide BVH: more inner nodes than the traversal can address");
-    out_.nodes.push_back(empty_node());
-    // The plan fixes every slot but the chunks of a leaf it had to wrap in a
-    // node of its own (too many chunks for the slots above): those open here.
+  static void check_leaf_index(size_t end) {
+    if (end > WIDE_LEAF_INDEX_MASK) throw Error("wide BVH: too many leaf blocks for the child encoding");
+  }
+  static void check_node_count(size_t count) {
+    if (count > kMaxInnerNodes) throw Error("wide BVH: more inner nodes than the traversal can address");
+  }
+
+  // The slots of a wide node: the plan fixes every slot but the chunks of a
+  // leaf it had to wrap in a node of its own (too many chunks for the slots
+  // above), which open here, as do all slots of a greedy collapse.
+  std::vector<Slot> open_slots(Emission& e, std::vector<Slot> slots) const {
     const bool greedy = options_.collapse == WideBvhOptions::Collapse::Greedy ||
                         std::all_of(slots.begin(), slots.end(), [](const Slot& s) { return s.node < 0; });
     while (greedy && slots.size() < WIDE_WIDTH) {
@@ -508,47 +534,177 @@ class Collapser {
         }
       }
       if (best < 0) break;
-      std::vector<Slot> parts = open(slots[best]);
+      std::vector<Slot> parts = open(e, slots[best]);
       slots.erase(slots.begin() + best);
       for (Slot& p : parts) slots.push_back(std::move(p));
     }
+    return slots;
+  }
 
+  // Emits what one child slot holds; returns the child field and raises
+  // *height to the levels below the slot plus one.
+  uint32_t emit_slot(Emission& e, Slot& s, uint32_t* height) const {
+    const double area = s.box.half_area();
+    uint32_t child;
+    if (s.planned) {
+      child = emit_node(e, planned_children(e, s.node), area);
+    } else if (s.node < 0 && s.chunks.size() == 1) {
+      child = emit_leaf(e, s.chunks[0]);
+      ++e.leaves;
+      e.leaf_sah += area * double(wide_leaf_count(child));
+      return child;
+    } else if (s.node < 0 && s.chunks.size() > WIDE_WIDTH) {
+      // Only depth-limited builds make leaves this big: group the chunks
+      // into eight slots and let the recursion split them further.
+      std::vector<Slot> groups(WIDE_WIDTH);
+      for (size_t k = 0; k < s.chunks.size(); ++k) {
+        Slot& g = groups[k * WIDE_WIDTH / s.chunks.size()];
+        g.box.grow(s.chunks[k].box);
+        g.chunks.push_back(std::move(s.chunks[k]));
+      }
+      child = emit_node(e, std::move(groups), area);
+    } else {
+      child = emit_node(e, {std::move(s)}, area);
+    }
+    *height = std::max(*height, e.nodes[child].height + 1);
+    return child;
+  }
+
+  static void set_slot(BvhNode8& node, int i, const Box& box, uint32_t child) {
+    node.lo_x[i] = box.lo.x;
+    node.lo_y[i] = box.lo.y;
+    node.lo_z[i] = box.lo.z;
+    node.hi_x[i] = box.hi.x;
+    node.hi_y[i] = box.hi.y;
+    node.hi_z[i] = box.hi.z;
+    node.child[i] = child;
+  }
+
+  // Builds one wide node from `slots` and, depth first, everything below
+  // it; returns its index.
+  uint32_t emit_node(Emission& e, std::vector<Slot> slots, double area) const {
+    e.node_sah += area;
+    const uint32_t index = static_cast<uint32_t>(e.nodes.size());
+    check_node_count(size_t{index} + 1);
+    e.nodes.push_back(empty_node());
+    slots = open_slots(e, std::move(slots));
     BvhNode8 node = empty_node();
     uint32_t height = 1;
     for (size_t i = 0; i < slots.size(); ++i) {
-      Slot& s = slots[i];
-      const Box box = s.box;
-      uint32_t child;
-      if (s.planned) {
-        child = emit_node(planned_children(s.node), box.half_area());
-        height = std::max(height, out_.nodes[child].height + 1);
-      } else if (s.node < 0 && s.chunks.size() == 1) {
-        child = emit_leaf(s.chunks[0]);
-        ++out_.leaves;
-        out_.leaf_sah += box.half_area() * double(wide_leaf_count(child));
-      } else {
-        if (s.node < 0 && s.chunks.size() > WIDE_WIDTH) {
-          // Only depth-limited builds make leaves this big: group the chunks
-          // into eight slots and let the recursion split them further.
-          std::vector<Slot> groups(WIDE_WIDTH);
-          for (size_t k = 0; k < s.chunks.size(); ++k) {
-            Slot& g = groups[k * WIDE_WIDTH / s.chunks.size()];
-            g.box.grow(s.chunks[k].box);
-            g.chunks.push_back(std::move(s.chunks[k]));
-          }
-          child = emit_node(std::move(groups), box.half_area());
-        } else {
-          child = emit_node({std::move(s)}, box.half_area());
-        }
-        height = std::max(height, out_.nodes[child].height + 1);
+      const Box box = slots[i].box;
+      set_slot(node, static_cast<int>(i), box, emit_slot(e, slots[i], &height));
+    }
+    node.height = height;
+    e.nodes[index] = node;
+    return index;
+  }
+
+  // The top of the tree is drafted on one thread: wide nodes whose slots
+  // hold more than `threshold` binary nodes stay in the draft, everything
+  // else becomes a part, emitted on whichever thread is free into an
+  // Emission of its own. Parts are then joined depth first into out_, with
+  // their indices offset: the same layout as emitting everything in turn.
+  struct Draft {
+    std::vector<Slot> slots;
+    double area = 0.0;
+    std::vector<std::unique_ptr<Draft>> below;  // per slot: a drafted node, or null for a part
+    std::vector<size_t> part;                   // per slot: its part, where below is null
+  };
+
+  std::unique_ptr<Draft> draft(Emission& scratch, std::vector<Slot> slots, double area, size_t threshold,
+                               std::vector<Slot*>& parts) const {
+    auto d = std::make_unique<Draft>();
+    d->slots = open_slots(scratch, std::move(slots));
+    d->area = area;
+    d->below.resize(d->slots.size());
+    d->part.assign(d->slots.size(), 0);
+    for (size_t i = 0; i < d->slots.size(); ++i) {
+      Slot& s = d->slots[i];
+      const size_t size = s.node >= 0 ? subtree_end_[s.node] - size_t(s.node) : 0;
+      if (size > threshold && s.planned)
+        d->below[i] = draft(scratch, planned_children(scratch, s.node), s.box.half_area(), threshold, parts);
+      else if (size > threshold)
+        d->below[i] = draft(scratch, {s}, s.box.half_area(), threshold, parts);
+      else
+        d->part[i] = parts.size(), parts.push_back(&s);
+    }
+    return d;
+  }
+
+  void emit_root(Emission& scratch, std::vector<Slot> slots, double area) {
+    const bvh_detail::Workers workers(bvh_detail::resolve_threads(options_.threads));
+    constexpr size_t kPartsPerThread = 16;
+    const size_t threshold = workers.threads() > 1 ? bvh_.nodes.size() / (kPartsPerThread * workers.threads())
+                                                   : std::numeric_limits<size_t>::max();
+    std::vector<Slot*> todo;
+    const std::unique_ptr<Draft> top = draft(scratch, std::move(slots), area, threshold, todo);
+
+    std::vector<Emission> parts(todo.size());
+    std::vector<uint32_t> local(todo.size()), heights(todo.size(), 1);
+    std::atomic<size_t> next{0};
+    const int threads = static_cast<int>(std::max<size_t>(1, std::min<size_t>(workers.threads(), todo.size())));
+    std::exception_ptr error;
+    std::mutex error_mutex;
+    workers.for_chunks(size_t(threads), threads, [&](int, size_t, size_t) {
+      try {
+        for (size_t i; (i = next++) < todo.size();) local[i] = emit_slot(parts[i], *todo[i], &heights[i]);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next = todo.size();
       }
-      node.lo_x[i] = box.lo.x;
-      node.lo_y[i] = box.lo.y;
-      node.lo_z[i] = box.lo.z;
-      node.hi_x[i] = box.hi.x;
-      node.hi_y[i] = box.hi.y;
-      node.hi_z[i] = box.hi.z;
-      node.child[i] = child;
+    });
+    if (error) std::rethrow_exception(error);
+
+    size_t blocks = 0;
+    for (const Emission& p : parts) blocks += p.blocks;
+    block_refs_.reserve(blocks * kBlockLanes);
+    join(*top, parts, local, heights);
+    check_node_count(out_.nodes.size());
+    check_leaf_index(std::max(block_refs_.size() / kBlockLanes, out_.prim_refs.size()));
+  }
+
+  // Appends a drafted node and, depth first, what is below it; returns its index.
+  uint32_t join(const Draft& d, std::vector<Emission>& parts, const std::vector<uint32_t>& local,
+                const std::vector<uint32_t>& heights) {
+    const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
+    check_node_count(size_t{index} + 1);
+    out_.nodes.push_back(empty_node());
+    out_.node_sah += d.area;
+    BvhNode8 node = empty_node();
+    uint32_t height = 1;
+    for (size_t i = 0; i < d.slots.size(); ++i) {
+      uint32_t child;
+      if (d.below[i]) {
+        child = join(*d.below[i], parts, local, heights);
+        height = std::max(height, out_.nodes[child].height + 1);
+      } else {
+        Emission& p = parts[d.part[i]];
+        // Indices in the part count from 0; in the tree, from what precedes it.
+        const uint32_t node_base = static_cast<uint32_t>(out_.nodes.size());
+        const uint32_t block_base = static_cast<uint32_t>(block_refs_.size() / kBlockLanes);
+        const uint32_t prim_base = static_cast<uint32_t>(out_.prim_refs.size());
+        check_leaf_index(size_t{block_base} + p.blocks);
+        check_leaf_index(size_t{prim_base} + p.prim_refs.size());
+        auto rebase = [&](uint32_t c) {
+          if (c == WIDE_CHILD_EMPTY) return c;
+          if (!(c & WIDE_LEAF_FLAG)) return c + node_base;
+          return c + ((c & WIDE_LEAF_PRIMS) ? prim_base : block_base);
+        };
+        for (BvhNode8& n : p.nodes)
+          for (uint32_t& c : n.child) c = rebase(c);
+        out_.nodes.insert(out_.nodes.end(), p.nodes.begin(), p.nodes.end());
+        block_refs_.insert(block_refs_.end(), p.block_refs.begin(), p.block_refs.end());
+        out_.prim_refs.insert(out_.prim_refs.end(), p.prim_refs.begin(), p.prim_refs.end());
+        out_.triangle_lanes += p.triangle_lanes;
+        out_.leaves += p.leaves;
+        out_.node_sah += p.node_sah;
+        out_.leaf_sah += p.leaf_sah;
+        child = rebase(local[d.part[i]]);
+        height = std::max(height, heights[d.part[i]]);
+        p = Emission();  // its memory goes as soon as it is copied
+      }
+      set_slot(node, static_cast<int>(i), d.slots[i].box, child);
     }
     node.height = height;
     out_.nodes[index] = node;
@@ -561,12 +717,11 @@ class Collapser {
   WideBvh& out_;
   bool duplicates_ = false;  // some primitive is referenced twice (spatial splits)
   std::vector<uint32_t> triangles_;
+  std::vector<uint32_t> subtree_end_;  // one past the last binary node of each node's subtree
   BulkVector<Plan> plans_;
   std::vector<uint32_t> tris_, others_;  // plan(): distinct triangles and other references under each node
   std::vector<std::vector<uint32_t>> small_;
-  uint32_t blocks_ = 0;               // triangle blocks numbered so far
-  std::vector<uint32_t> block_refs_;  // kBlockLanes references per numbered block
-  mutable std::vector<uint32_t> scratch_refs_, scratch_tris_, scratch_others_;
+  std::vector<uint32_t> block_refs_;  // kBlockLanes references per triangle block, in block order
 };
 
 }  // namespace
