@@ -266,7 +266,7 @@ class Collapser {
   struct Plan {
     double cost[WIDE_WIDTH];
     int8_t choice[WIDE_WIDTH];
-    int8_t split = 0;
+    int8_t split;  // set by plan_node (no initialiser: plans_ is sized without writing it)
   };
 
   // Leaf cost of a binary subtree in blocks (triangle blocks plus other
@@ -390,6 +390,7 @@ class Collapser {
           p.cost[s - 1] = leaf_cost + (fits ? 0.0 : area * options_.node_cost);
           p.choice[s - 1] = fits ? kLeaf : kNode;
         }
+        p.split = 0;
         return;
       }
       const Plan& pl = plans_[i + 1];
