@@ -202,11 +202,29 @@ class Splitter {
                            uint64_t* duplicates);
 
  private:
+  // A bin of an object split, or the sum of a run of them.
   struct ObjectBin {
     Lane4 lo = lane4_splat(kEmptyLo), hi = lane4_splat(kEmptyHi);  // the references' box
     Lane4 centroid_lo = lane4_splat(kEmptyLo), centroid_hi = lane4_splat(kEmptyHi);
     uint32_t count = 0;
     bool splittable = false;
+
+    void add(const ObjectBin& b) {
+      lo = lane4_min(lo, b.lo);
+      hi = lane4_max(hi, b.hi);
+      centroid_lo = lane4_min(centroid_lo, b.centroid_lo);
+      centroid_hi = lane4_max(centroid_hi, b.centroid_hi);
+      count += b.count;
+      splittable = splittable || b.splittable;
+    }
+    Box box() const { return box_of(lo, hi); }
+    RefBounds bounds() const {
+      RefBounds r;
+      r.box = box();
+      r.centroids = box_of(centroid_lo, centroid_hi);
+      r.splittable = splittable;
+      return r;
+    }
   };
   // Uninitialised room for n references (Ref is trivially copyable).
   struct RefBuffer {
@@ -229,14 +247,16 @@ class Splitter {
   };
 
   int object_bin(float centroid, float lo, float scale) const;
-  void bin_objects(const Ref* refs, size_t n, const Box& cbox, const float* scale, ObjectBin* bins) const;
+  // Bins refs[0, n) on axes[0, axis_count) into `sets` sets of bins (see
+  // object_split for the layout).
+  void bin_objects(const Ref* refs, size_t n, const Box& cbox, const float* scale, const int* axes, int axis_count,
+                   int sets, ObjectBin* bins) const;
   void bin_spatial(const Ref* refs, size_t n, int nb, const float* planes, const bool* active, SpatialBin* bins) const;
 
   const Settings& s_;
   const Prims& prims_;
   std::vector<ObjectBin> object_bins_;  // per chunk, then their sum
   int object_chunks_ = 1;               // chunks of the last object_split's binning
-  int object_sets_ = 1;                 // sets of bins per chunk (see bin_objects)
   std::vector<size_t> chunk_left_;      // its best split's left count, per chunk
   RefBuffer partitioned_;
   std::vector<SpatialBin> spatial_bins_;

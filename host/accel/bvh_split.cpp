@@ -60,7 +60,8 @@ int Splitter::object_bin(float c, float lo, float scale) const {
   return k > 0.0f ? static_cast<int>(k) : 0;
 }
 
-void Splitter::bin_objects(const Ref* refs, size_t n, const Box& cbox, const float* scale, ObjectBin* bins) const {
+void Splitter::bin_objects(const Ref* refs, size_t n, const Box& cbox, const float* scale, const int* axes,
+                           int axis_count, int sets, ObjectBin* bins) const {
   // object_bin() on all three axes at once, lane by lane the same float
   // operations, so that the partition (which calls object_bin) sends every
   // reference to the side its bin is on.
@@ -68,9 +69,6 @@ void Splitter::bin_objects(const Ref* refs, size_t n, const Box& cbox, const flo
   const Lane4 base{cbox.lo.x, cbox.lo.y, cbox.lo.z, 0.0f};
   const Lane4 scales{scale[0], scale[1], scale[2], 0.0f};
   const Lane4 last = lane4_splat(static_cast<float>(nb - 1)), zero = lane4_splat(0.0f);
-  int axes[3], axis_count = 0;
-  for (int axis = 0; axis < 3; ++axis)
-    if (scale[axis] != 0.0f) axes[axis_count++] = axis;
   const size_t set_size = size_t(axis_count) * nb;
   auto add = [&](const Ref& r, ObjectBin* set) {
     const Lane4 lo = ref_lo(r), hi = ref_hi(r);
@@ -95,7 +93,7 @@ void Splitter::bin_objects(const Ref* refs, size_t n, const Box& cbox, const flo
   // of a bin waits for the previous one: two sets of bins, for even and
   // odd references, halve that chain.
   size_t i = 0;
-  if (object_sets_ == 2)
+  if (sets == 2)
     for (; i + 1 < n; i += 2) {
       add(refs[i], bins);
       add(refs[i + 1], bins + set_size);
@@ -103,77 +101,36 @@ void Splitter::bin_objects(const Ref* refs, size_t n, const Box& cbox, const flo
   for (; i < n; ++i) add(refs[i], bins);
 }
 
-namespace {
-
-// What a run of bins holds, as the RefBounds of its references.
-struct BinSum {
-  Lane4 lo = lane4_splat(kEmptyLo), hi = lane4_splat(kEmptyHi);
-  Lane4 centroid_lo = lane4_splat(kEmptyLo), centroid_hi = lane4_splat(kEmptyHi);
-  uint32_t count = 0;
-  bool splittable = false;
-
-  template <class Bin>
-  void add(const Bin& b) {
-    lo = lane4_min(lo, b.lo);
-    hi = lane4_max(hi, b.hi);
-    centroid_lo = lane4_min(centroid_lo, b.centroid_lo);
-    centroid_hi = lane4_max(centroid_hi, b.centroid_hi);
-    count += b.count;
-    splittable = splittable || b.splittable;
-  }
-  RefBounds bounds() const {
-    RefBounds r;
-    r.box = box_of(lo, hi);
-    r.centroids = box_of(centroid_lo, centroid_hi);
-    r.splittable = splittable;
-    return r;
-  }
-};
-
-}  // namespace
-
 Split Splitter::object_split(const Ref* refs, size_t n, const Box& cbox, const Workers* workers) {
   const int nb = s_.object_bins;
   float scale[3] = {0.0f, 0.0f, 0.0f};
-  bool any = false;
+  int axes[3], axis_count = 0;  // the axes binned
   const glm::vec3 e = cbox.hi - cbox.lo;
   const int widest = (e.x >= e.y && e.x >= e.z) ? 0 : (e.y >= e.z ? 1 : 2);
   for (int axis = 0; axis < 3; ++axis) {
     const float extent = cbox.hi[axis] - cbox.lo[axis];
     if (!(extent > 0.0f) || (s_.widest_axis_only && axis != widest)) continue;
     scale[axis] = nb / extent;
-    any = true;
+    axes[axis_count++] = axis;
   }
   Split best;
-  if (!any) return best;
-  int axes[3], axis_count = 0;
-  for (int axis = 0; axis < 3; ++axis)
-    if (scale[axis] != 0.0f) axes[axis_count++] = axis;
+  if (axis_count == 0) return best;
   const int chunks = workers ? workers->chunks(n) : 1;
   object_chunks_ = chunks;
-  object_sets_ = n >= 64 ? 2 : 1;
-  // Per chunk `object_sets_` sets of bins, then their sum; a set holds the
-  // bins of the axes binned, one after the other.
-  const size_t set_size = size_t(axis_count) * nb, chunk_size = set_size * object_sets_;
+  const int sets = n >= 64 ? 2 : 1;
+  // Per chunk `sets` sets of bins, then their sum; a set holds the bins of
+  // the axes binned, one after the other.
+  const size_t set_size = size_t(axis_count) * nb, chunk_size = set_size * sets;
   object_bins_.assign(chunk_size * chunks + set_size, ObjectBin{});
   auto bin_chunk = [&](int c, size_t b, size_t e) {
-    bin_objects(refs + b, e - b, cbox, scale, &object_bins_[c * chunk_size]);
+    bin_objects(refs + b, e - b, cbox, scale, axes, axis_count, sets, &object_bins_[c * chunk_size]);
   };
   if (chunks > 1)
     workers->for_chunks(n, chunks, bin_chunk);
   else
     bin_chunk(0, 0, n);
   ObjectBin* sum = &object_bins_[chunk_size * chunks];
-  for (size_t j = 0; j < chunk_size * chunks; ++j) {
-    const ObjectBin& b = object_bins_[j];
-    ObjectBin& s = sum[j % set_size];
-    s.lo = lane4_min(s.lo, b.lo);
-    s.hi = lane4_max(s.hi, b.hi);
-    s.centroid_lo = lane4_min(s.centroid_lo, b.centroid_lo);
-    s.centroid_hi = lane4_max(s.centroid_hi, b.centroid_hi);
-    s.count += b.count;
-    s.splittable = s.splittable || b.splittable;
-  }
+  for (size_t j = 0; j < chunk_size * chunks; ++j) sum[j % set_size].add(object_bins_[j]);
 
   right_cost_.resize(nb);
   right_box_.resize(nb);
@@ -183,17 +140,17 @@ Split Splitter::object_split(const Ref* refs, size_t n, const Box& cbox, const W
     const ObjectBin* bins = sum + a * nb;
     // Sweep from the right storing area * count of everything right of
     // each plane, then from the left evaluating each plane.
-    BinSum acc;
+    ObjectBin acc;
     for (int k = nb - 1; k > 0; --k) {
       acc.add(bins[k]);
-      right_box_[k] = box_of(acc.lo, acc.hi);
+      right_box_[k] = acc.box();
       right_cost_[k] = acc.count > 0 ? right_box_[k].half_area() * acc.count : -1.0;
     }
-    acc = BinSum{};
+    acc = ObjectBin{};
     for (int k = 1; k < nb; ++k) {
       acc.add(bins[k - 1]);
       if (acc.count == 0 || right_cost_[k] < 0.0) continue;
-      const double cost = box_of(acc.lo, acc.hi).half_area() * acc.count + right_cost_[k];
+      const double cost = acc.box().half_area() * acc.count + right_cost_[k];
       if (cost < best.cost) {
         best.kind = Split::kObject;
         best.cost = cost;
@@ -209,14 +166,14 @@ Split Splitter::object_split(const Ref* refs, size_t n, const Box& cbox, const W
   // The children as the partition will leave them, and each chunk's share
   // of the left side, which places its references in the partition.
   const ObjectBin* bins = sum + best_slot * nb;
-  BinSum left, right;
+  ObjectBin left, right;
   for (int k = 0; k < nb; ++k) (k < best.bin ? left : right).add(bins[k]);
   best.left = left.bounds();
   best.right = right.bounds();
   best.left_count = left.count;
   chunk_left_.assign(chunks, 0);
   for (int c = 0; c < chunks; ++c)
-    for (int set = 0; set < object_sets_; ++set)
+    for (int set = 0; set < sets; ++set)
       for (int k = 0; k < best.bin; ++k)
         chunk_left_[c] += object_bins_[c * chunk_size + set * set_size + best_slot * nb + k].count;
   return best;
