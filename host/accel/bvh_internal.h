@@ -6,11 +6,14 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <thread>
 #include <vector>
@@ -157,6 +160,27 @@ class Workers {
       pool.emplace_back([&fn, n, c, chunk_count] { fn(c, n * c / chunk_count, n * (c + 1) / chunk_count); });
     fn(0, size_t{0}, n / chunk_count);
     for (std::thread& t : pool) t.join();
+  }
+
+  // Runs fn(i) for every i in [0, count), on up to threads() threads that
+  // each take the next i as soon as they are free (for tasks of uneven
+  // size); the first exception thrown is rethrown here once all stop.
+  template <class F>
+  void for_each_dynamic(size_t count, F&& fn) const {
+    std::atomic<size_t> next{0};
+    std::exception_ptr error;
+    std::mutex error_mutex;
+    const int threads = static_cast<int>(std::max<size_t>(1, std::min<size_t>(threads_, count)));
+    for_chunks(size_t(threads), threads, [&](int, size_t, size_t) {
+      try {
+        for (size_t i; (i = next++) < count;) fn(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next = count;
+      }
+    });
+    if (error) std::rethrow_exception(error);
   }
 
  private:

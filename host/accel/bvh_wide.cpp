@@ -1,12 +1,9 @@
 #include "host/accel/bvh_wide.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <exception>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <string>
 
 #include "host/accel/bvh_internal.h"
@@ -320,10 +317,8 @@ class Collapser {
       *largest = {root + 1, right};
       ranges.emplace_back(right, end);
     }
-    std::atomic<size_t> next{0};
-    workers.for_chunks(workers.threads(), ranges.size() > 1 ? workers.threads() : 1, [&](int, size_t, size_t) {
-      for (size_t r; (r = next++) < ranges.size();)
-        for (size_t i = ranges[r].second; i-- > ranges[r].first;) plan_node(i);
+    workers.for_each_dynamic(ranges.size(), [&](size_t r) {
+      for (size_t i = ranges[r].second; i-- > ranges[r].first;) plan_node(i);
     });
     std::sort(above.rbegin(), above.rend());
     for (size_t i : above) plan_node(i);
@@ -642,20 +637,7 @@ class Collapser {
 
     std::vector<Emission> parts(todo.size());
     std::vector<uint32_t> local(todo.size()), heights(todo.size(), 1);
-    std::atomic<size_t> next{0};
-    const int threads = static_cast<int>(std::max<size_t>(1, std::min<size_t>(workers.threads(), todo.size())));
-    std::exception_ptr error;
-    std::mutex error_mutex;
-    workers.for_chunks(size_t(threads), threads, [&](int, size_t, size_t) {
-      try {
-        for (size_t i; (i = next++) < todo.size();) local[i] = emit_slot(parts[i], *todo[i], &heights[i]);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = todo.size();
-      }
-    });
-    if (error) std::rethrow_exception(error);
+    workers.for_each_dynamic(todo.size(), [&](size_t i) { local[i] = emit_slot(parts[i], *todo[i], &heights[i]); });
 
     size_t blocks = 0;
     for (const Emission& p : parts) blocks += p.blocks;
