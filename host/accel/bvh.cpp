@@ -139,7 +139,6 @@ class SubtreeBuilder {
   // Stack: std::vector<Ref>, or RefSpan where there are no spatial splits.
   template <class Stack>
   uint32_t build(Stack& stack, size_t begin, int depth, uint64_t budget, const RefBounds* known = nullptr) {
-    constexpr bool kCanGrow = std::is_same<Stack, std::vector<Ref>>::value;
     const size_t n = stack.size() - begin;
     const uint32_t id = static_cast<uint32_t>(arena_.nodes.size());
     if (jobs_ && n <= job_threshold_) {
@@ -177,15 +176,17 @@ class SubtreeBuilder {
     if (ceil_log2(n) < s_.max_depth - depth) {
       const Workers* workers = helpers();
       const Split object = splitter_.object_split(&stack[begin], n, bd.centroids, workers);
-      if (kCanGrow && s_.spatial_bins > 0 && bd.splittable && budget > 0 &&
-          (object.kind == Split::kNone ||
-           intersection(object.left.box, object.right.box).half_area() > s_.min_overlap)) {
-        const Split spatial = splitter_.spatial_split(&stack[begin], n, bd.box, budget, workers);
-        if (spatial.kind != Split::kNone && spatial.cost < object.cost) {
-          left_count = spatial_partition(stack, begin, spatial, budget, &duplicates);
-          // All on one side means nothing was clipped and the order is
-          // unchanged: the object split still applies.
-          if (left_count == stack.size() - begin) left_count = 0;
+      if constexpr (std::is_same<Stack, std::vector<Ref>>::value) {  // spatial splits may grow the stack
+        if (s_.spatial_bins > 0 && bd.splittable && budget > 0 &&
+            (object.kind == Split::kNone ||
+             intersection(object.left.box, object.right.box).half_area() > s_.min_overlap)) {
+          const Split spatial = splitter_.spatial_split(&stack[begin], n, bd.box, budget, workers);
+          if (spatial.kind != Split::kNone && spatial.cost < object.cost) {
+            left_count = splitter_.spatial_partition(stack, begin, spatial, budget, &duplicates);
+            // All on one side means nothing was clipped and the order is
+            // unchanged: the object split still applies.
+            if (left_count == stack.size() - begin) left_count = 0;
+          }
         }
       }
       if (left_count == 0 && object.kind != Split::kNone) {
@@ -211,12 +212,6 @@ class SubtreeBuilder {
   }
 
  private:
-  size_t spatial_partition(std::vector<Ref>& stack, size_t begin, const Split& split, uint64_t budget,
-                           uint64_t* duplicates) {
-    return splitter_.spatial_partition(stack, begin, split, budget, duplicates);
-  }
-  size_t spatial_partition(RefSpan&, size_t, const Split&, uint64_t, uint64_t*) { return 0; }  // never called
-
   RefBounds bounds(const Ref* refs, size_t n) const {
     auto scan = [&](size_t b, size_t e) {
       RefBounds r;
