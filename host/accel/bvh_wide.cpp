@@ -55,9 +55,10 @@ struct Slot {
 // What emitting a subtree produces: its wide nodes in depth-first order
 // (indices from 0, the subtree's root first), its leaves' triangle blocks
 // (numbered from 0; only their references, fill_blocks() writes them) and
-// other references. Subtrees of the root are emitted on all threads, each
-// into its own Emission, and joined in slot order with their indices
-// offset: the same layout as emitting them one after the other.
+// other references. Subtrees below the drafted top of the tree are emitted
+// on all threads, each into its own Emission, and joined depth first with
+// their indices offset (Collapser::emit_root): the same layout as emitting
+// the whole tree in one recursion.
 struct Emission {
   std::vector<BvhNode8> nodes;
   std::vector<uint32_t> prim_refs;
