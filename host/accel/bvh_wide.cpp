@@ -6,13 +6,16 @@
 #include <memory>
 #include <string>
 
-#include "host/accel/bvh_internal.h"
+#include "host/accel/bvh_wide_internal.h"
 #include "host/error.h"
 
 namespace caustica {
 namespace {
 
-constexpr size_t kBlockLanes = 4;
+using wide_detail::CollapsePlan;
+using wide_detail::is_triangle;
+using wide_detail::kBlockLanes;
+using wide_detail::node_box;
 constexpr uint32_t kMaxInnerNodes = WIDE_NODE_INDEX_MASK + 1;
 
 // The builder's box (finite empty sentinels, half-area for SAH ratios).
@@ -20,16 +23,7 @@ using bvh_detail::Box;
 using bvh_detail::kEmptyHi;
 using bvh_detail::kEmptyLo;
 
-Box node_box(const BvhNode& n) {
-  Box b;
-  b.lo = {n.lo_x, n.lo_y, n.lo_z};
-  b.hi = {n.hi_x, n.hi_y, n.hi_z};
-  return b;
-}
-
 uint32_t wide_leaf_count(uint32_t child) { return ((child >> WIDE_LEAF_COUNT_SHIFT) & (WIDE_LEAF_MAX_COUNT - 1u)) + 1u; }
-
-bool is_triangle(uint32_t ref) { return (ref >> PRIM_TYPE_SHIFT) == PRIM_TRIANGLE; }
 
 // Leaf references that fit one child slot: up to WIDE_LEAF_MAX_COUNT blocks
 // of triangles, or up to WIDE_LEAF_MAX_COUNT other references.
@@ -88,7 +82,7 @@ class Collapser {
     Emission scratch;  // for the root's own slots
     std::vector<Slot> slots;
     if (options_.collapse == WideBvhOptions::Collapse::Sah) {
-      plan();
+      plan_ = wide_detail::plan_collapse(bvh_, duplicates_, options_);
       slots = planned_children(scratch, 0);
     } else {
       slots = {make_slot(scratch, 0)};
@@ -253,179 +247,15 @@ class Collapser {
     return parts;
   }
 
-  // ---- Cost-driven collapse (WideBvhOptions::Collapse::Sah) ----
-  // cost[i - 1]: the least SAH cost of representing a binary subtree by at
-  // most i child slots of the wide node above it; choice[i - 1] says how:
-  // kLeaf (all its references as leaf chunks), kNode (one wide node of its
-  // own), kFewer (as with i - 1 slots) or k > 0 (k slots for the left
-  // child, i - k for the right). split: the left child's share of the
-  // eight slots when the subtree is a wide node.
-  static constexpr int8_t kFewer = 0, kLeaf = -1, kNode = -2;
-  struct Plan {
-    double cost[WIDE_WIDTH];
-    int8_t choice[WIDE_WIDTH];
-    int8_t split;  // set by plan_node (no initialiser: plans_ is sized without writing it)
-  };
-
-  // Leaf cost of a binary subtree in blocks (triangle blocks plus other
-  // references) and the child slots that leaf takes; slots 0 when the
-  // subtree cannot be one leaf slot (both kinds, or too many references).
-  // `distinct`: its triangles without spatial-split duplicates.
-  void leaf_shape(int64_t node, uint32_t distinct, uint32_t others, double* blocks, int* slots) const {
-    const uint32_t max_tris = WIDE_LEAF_MAX_COUNT * kBlockLanes;
-    if (bvh_.nodes[node].count > 0) {  // a binary leaf is always a leaf, in as many chunks as it needs
-      *blocks = double((distinct + kBlockLanes - 1) / kBlockLanes + others);
-      *slots = static_cast<int>((distinct + max_tris - 1) / max_tris +
-                                (others + WIDE_LEAF_MAX_COUNT - 1) / WIDE_LEAF_MAX_COUNT);
-      return;
-    }
-    *slots = 0;
-    if (others == 0 && distinct <= max_tris) {
-      *blocks = double((distinct + kBlockLanes - 1) / kBlockLanes);
-      *slots = 1;
-    } else if (distinct == 0 && others <= WIDE_LEAF_MAX_COUNT) {
-      *blocks = double(others);
-      *slots = 1;
-    }
-  }
-
-  // Plans every node bottom-up. Subtrees occupy contiguous index ranges in
-  // the depth-first layout and a node's plan depends on its children's
-  // only, so disjoint subtrees are planned on all threads, and then the few
-  // nodes above them, deepest first: the same plans as one backward sweep.
-  void plan() {
-    const size_t n = bvh_.nodes.size();
-    // Triangles (distinct) and other references under each node. With
-    // spatial-split duplicates, subtrees small enough to be a leaf keep
-    // their sorted triangle refs, merged from their children's, so that
-    // the distinct count costs no more than the merge.
-    tris_.assign(n, 0);
-    others_.assign(n, 0);
-    small_.assign(duplicates_ ? n : 0, {});
-    plans_.resize(n);  // every entry is written by plan_node
-    const bvh_detail::Workers workers(bvh_detail::resolve_threads(options_.threads));
-    std::vector<std::pair<size_t, size_t>> ranges{{0, n}};  // [root, end) of subtrees
-    std::vector<size_t> above;                              // nodes above them
-    constexpr size_t kRangesPerThread = 8, kMinRange = 4096;
-    while (workers.threads() > 1 && ranges.size() < kRangesPerThread * size_t(workers.threads())) {
-      const auto largest = std::max_element(ranges.begin(), ranges.end(), [](const auto& a, const auto& b) {
-        return a.second - a.first < b.second - b.first;
-      });
-      const auto [root, end] = *largest;
-      if (end - root < kMinRange || bvh_.nodes[root].count > 0) break;
-      above.push_back(root);
-      const size_t right = bvh_.nodes[root].offset;
-      *largest = {root + 1, right};
-      ranges.emplace_back(right, end);
-    }
-    workers.for_each_dynamic(ranges.size(), [&](size_t r) {
-      for (size_t i = ranges[r].second; i-- > ranges[r].first;) plan_node(i);
-    });
-    std::sort(above.rbegin(), above.rend());
-    for (size_t i : above) plan_node(i);
-    std::vector<uint32_t>().swap(tris_);
-    std::vector<uint32_t>().swap(others_);
-    std::vector<std::vector<uint32_t>>().swap(small_);
-  }
-
-  void plan_node(size_t i) {
-    const size_t max_tris = WIDE_LEAF_MAX_COUNT * kBlockLanes;
-    const bool duplicates = duplicates_;
-    std::vector<uint32_t>& tris = tris_;
-    std::vector<uint32_t>& others = others_;
-    std::vector<std::vector<uint32_t>>& small = small_;
-    {
-      const BvhNode& node = bvh_.nodes[i];
-      Plan& p = plans_[i];
-      const double area = node_box(node).half_area();
-      if (node.count > 0) {
-        for (uint32_t k = node.offset; k < node.offset + node.count; ++k) {
-          const uint32_t ref = bvh_.prim_refs[k];
-          if (!is_triangle(ref)) {
-            ++others[i];
-          } else if (duplicates) {
-            small[i].push_back(ref);
-          } else {
-            ++tris[i];
-          }
-        }
-        if (duplicates) {
-          std::sort(small[i].begin(), small[i].end());
-          small[i].erase(std::unique(small[i].begin(), small[i].end()), small[i].end());
-          tris[i] = static_cast<uint32_t>(small[i].size());
-        }
-      } else {
-        const size_t l = i + 1, r = node.offset;
-        others[i] = others[l] + others[r];
-        if (!duplicates) {
-          tris[i] = tris[l] + tris[r];
-        } else if (small[l].size() + small[r].size() <= 2 * max_tris && tris[l] <= max_tris && tris[r] <= max_tris &&
-                   tris[l] == small[l].size() && tris[r] == small[r].size()) {
-          std::vector<uint32_t>& merged = small[i];
-          merged.resize(small[l].size() + small[r].size());
-          merged.erase(std::set_union(small[l].begin(), small[l].end(), small[r].begin(), small[r].end(),
-                                      merged.begin()),
-                       merged.end());
-          tris[i] = static_cast<uint32_t>(merged.size());
-        } else {
-          tris[i] = tris[l] + tris[r];  // an upper bound, only ever compared with max_tris
-        }
-        if (duplicates) {
-          std::vector<uint32_t>().swap(small[l]);
-          std::vector<uint32_t>().swap(small[r]);
-          if (tris[i] > max_tris) std::vector<uint32_t>().swap(small[i]);
-        }
-      }
-      double blocks = 0.0;
-      int leaf_slots = 0;
-      leaf_shape(static_cast<int64_t>(i), tris[i], others[i], &blocks, &leaf_slots);
-      const double leaf_cost = area * options_.block_cost * blocks;
-      if (node.count > 0) {
-        for (int s = 1; s <= WIDE_WIDTH; ++s) {
-          const bool fits = s >= leaf_slots;
-          p.cost[s - 1] = leaf_cost + (fits ? 0.0 : area * options_.node_cost);
-          p.choice[s - 1] = fits ? kLeaf : kNode;
-        }
-        p.split = 0;
-        return;
-      }
-      const Plan& pl = plans_[i + 1];
-      const Plan& pr = plans_[node.offset];
-      double spread[WIDE_WIDTH + 1];  // spread[s]: best cost of the two children in s slots
-      int8_t spread_k[WIDE_WIDTH + 1];
-      for (int s = 2; s <= WIDE_WIDTH; ++s) {
-        spread[s] = std::numeric_limits<double>::infinity();
-        spread_k[s] = 1;
-        for (int k = 1; k < s; ++k) {
-          const double c = pl.cost[k - 1] + pr.cost[s - k - 1];
-          if (c < spread[s]) {
-            spread[s] = c;
-            spread_k[s] = static_cast<int8_t>(k);
-          }
-        }
-      }
-      p.split = spread_k[WIDE_WIDTH];
-      const double as_node = area * options_.node_cost + spread[WIDE_WIDTH];
-      const bool leaf = leaf_slots == 1 && leaf_cost <= as_node;
-      p.cost[0] = leaf ? leaf_cost : as_node;
-      p.choice[0] = leaf ? kLeaf : kNode;
-      for (int s = 2; s <= WIDE_WIDTH; ++s) {
-        const bool fewer = p.cost[s - 2] <= spread[s];
-        p.cost[s - 1] = fewer ? p.cost[s - 2] : spread[s];
-        p.choice[s - 1] = fewer ? kFewer : spread_k[s];
-      }
-    }
-  }
-
   // The child slots of `node` as a subtree given at most `slots` of them.
   void planned_slots(Emission& e, int64_t node, int slots, std::vector<Slot>& out) const {
-    const int8_t c = plans_[node].choice[slots - 1];
-    if (c == kFewer) {
+    const int8_t c = plan_.nodes[node].choice[slots - 1];
+    if (c == CollapsePlan::kFewer) {
       planned_slots(e, node, slots - 1, out);
     } else if (c > 0) {
       planned_slots(e, node + 1, c, out);
       planned_slots(e, bvh_.nodes[node].offset, slots - c, out);
-    } else if (c == kLeaf) {
+    } else if (c == CollapsePlan::kLeaf) {
       Slot leaf = leaf_slot(e, node);
       if (leaf.chunks.size() == 1) {
         out.push_back(std::move(leaf));
@@ -452,7 +282,7 @@ class Collapser {
       slots.push_back(std::move(leaf));  // emit_node groups the chunks
       return slots;
     }
-    const int k = plans_[node].split;
+    const int k = plan_.nodes[node].split;
     planned_slots(e, node + 1, k, slots);
     planned_slots(e, n.offset, WIDE_WIDTH - k, slots);
     return slots;
@@ -702,9 +532,7 @@ class Collapser {
   bool duplicates_ = false;  // some primitive is referenced twice (spatial splits)
   std::vector<uint32_t> triangles_;
   std::vector<uint32_t> subtree_end_;  // one past the last binary node of each node's subtree
-  BulkVector<Plan> plans_;
-  std::vector<uint32_t> tris_, others_;  // plan(): distinct triangles and other references under each node
-  std::vector<std::vector<uint32_t>> small_;
+  CollapsePlan plan_;
   std::vector<uint32_t> block_refs_;  // kBlockLanes references per triangle block, in block order
 };
 
