@@ -28,15 +28,19 @@ namespace {
 class ProgressReporter {
  public:
   explicit ProgressReporter(bool enabled) : enabled_(enabled), tty_(isatty(2)) {}
-  void update(size_t done, size_t total, uint64_t rays) {
+  void update(const PassProgress& p) {
     if (!enabled_) return;
     const double s = seconds();
+    const size_t total = p.pixels_total * size_t(p.passes);
+    const size_t done = p.pixels_total * size_t(p.pass) + p.pixels_done;
+    const uint64_t rays = p.stats ? p.stats->rays() : 0;
     if (s < 1.0 || (!tty_ && s - last_ < 1.0 && done < total)) return;
     last_ = s;
     const double frac = double(done) / double(total);
     const double left = frac > 0 ? s * (1.0 - frac) / frac : 0.0;
-    std::fprintf(stderr, "%s[caustica] %5.1f%% of %zu pixels, %.2f Mrays/s, %.1f s elapsed, %.1f s left%s",
-                 tty_ ? "\r" : "", 100.0 * frac, total, rays / s * 1e-6, s, left, tty_ ? "" : "\n");
+    std::fprintf(stderr, "%s[caustica] pass %d/%d, %5.1f%% of %zu pixels, %.2f Mrays/s, %.1f s elapsed, %.1f s left%s",
+                 tty_ ? "\r" : "", p.pass + 1, p.passes, 100.0 * frac, p.pixels_total, rays / s * 1e-6, s, left,
+                 tty_ ? "" : "\n");
     printed_ = true;
   }
   void finish() {
@@ -83,7 +87,7 @@ int run_render(RenderArgs& a) {
   if (a.verbose) {
     std::fprintf(stderr, "[caustica] scene %s: %zu spheres, %zu cylinders, %zu triangles, %zu lights, %zu materials (load %.1f ms)\n",
                  scene.source_path.c_str(), scene.spheres.size(), scene.cylinders.size(), scene.triangles.size(),
-                 scene.point_lights.size(), scene.materials.size(), session->load_ms);
+                 scene.light_count(), scene.materials.size(), session->load_ms);
     for (const auto& m : scene.meshes)
       std::fprintf(stderr, "[caustica] mesh %s: %zu triangles (%zu degenerate dropped), loaded in %.1f ms\n",
                    m.file.c_str(), m.triangles, m.dropped_degenerate, m.load_ms);
@@ -98,9 +102,7 @@ int run_render(RenderArgs& a) {
   }
   RenderStats stats;
   ProgressReporter progress(!a.quiet);
-  const ImageF image = session->renderer->render(&stats, [&](size_t done, size_t total) {
-    progress.update(done, total, stats.camera_rays + stats.secondary_rays + stats.shadow_rays);
-  });
+  const ImageF image = session->renderer->render(&stats, [&](const PassProgress& p) { progress.update(p); });
   progress.finish();
 
   DisplaySettings display;
@@ -114,7 +116,15 @@ int run_render(RenderArgs& a) {
                  stats.render_ms, image.width, image.height, (unsigned long long)stats.camera_rays,
                  (unsigned long long)stats.secondary_rays, (unsigned long long)stats.shadow_rays,
                  rays / (stats.render_ms * 1e3), stats.chunk_retries ? " (queue overflow: chunks split)" : "");
+    std::fprintf(stderr, "[caustica] host traffic: %llu kernel launches, %llu blocking transfers; film scale 2^%d\n",
+                 (unsigned long long)stats.launches, (unsigned long long)stats.blocking_transfers,
+                 int(std::log2(session->renderer->film().params().scale)));
   }
+  // Dropped or clamped contributions are never silent.
+  if (stats.film.total() > 0 && (a.verbose || !a.quiet))
+    std::fprintf(stderr, "[caustica] warning: film dropped %llu NaN/Inf and %llu negative contributions, clamped %llu\n",
+                 (unsigned long long)stats.film.nonfinite, (unsigned long long)stats.film.negative,
+                 (unsigned long long)stats.film.clamped);
   if (!a.quiet) std::fprintf(stderr, "[caustica] wrote %s (%dx%d) in %.2f s\n", a.output.c_str(), image.width,
                              image.height, stats.render_ms / 1e3);
   return 0;
@@ -130,7 +140,7 @@ int main(int argc, char** argv) {
   auto* render_cmd = app.add_subcommand("render", "render a scene to an image (.ppm .png .pfm .exr)");
   render_cmd->add_option("scene", render.session.scene_path, "scene JSON file")->required();
   render_cmd->add_option("-o,--output", render.output, "output image; the extension picks the format");
-  render_cmd->add_option("--mode", render.mode, "binary | phong (default: the scene's rendermode)");
+  render_cmd->add_option("--mode", render.mode, "binary | phong | path (default: the scene's rendermode)");
   render_cmd->add_option("--width", render.session.width, "image width (keeps the camera's aspect unless --height)");
   render_cmd->add_option("--height", render.session.height, "image height");
   render_cmd->add_option("--tonemap", render.tonemap, "linear | reinhard | aces");

@@ -84,11 +84,11 @@ TEST(BenchRays, DeterministicAcrossRunsAndThreadCounts) {
 TEST(BenchRays, OneSecondaryRayPerPrimaryHitOnly) {
   const Fixture& f = fixture();
   size_t hits = 0;
-  for (const HostHit& h : f.rays.primary_hits) hits += h.hit();
+  for (const Hit& h : f.rays.primary_hits) hits += is_hit(h);
   EXPECT_EQ(f.rays.diffuse.size(), hits);
   EXPECT_EQ(f.rays.shadow.size(), hits);
-  for (uint32_t source : f.rays.diffuse_source) ASSERT_TRUE(f.rays.primary_hits[source].hit());
-  for (uint32_t source : f.rays.shadow_source) ASSERT_TRUE(f.rays.primary_hits[source].hit());
+  for (uint32_t source : f.rays.diffuse_source) ASSERT_TRUE(is_hit(f.rays.primary_hits[source]));
+  for (uint32_t source : f.rays.shadow_source) ASSERT_TRUE(is_hit(f.rays.primary_hits[source]));
 }
 
 // Primary rays against generate_camera_rays.cl run with the CameraGPU that
@@ -140,12 +140,12 @@ TEST(HostTrace, ClosestEqualsBruteForce) {
   const RaySet* sets[] = {&f.rays.primary, &f.rays.diffuse};
   for (const RaySet* set : sets) {
     for (size_t i = 0; i < set->size(); i += 7) {
-      HostHit brute;
+      Hit brute;
       for (uint32_t ref : f.bvh.prim_refs) tracer.intersect_prim(ref, set->o(i), set->d(i), 0.0f, &brute);
-      const HostHit h = tracer.closest(set->o(i), set->d(i), 0.0f, set->tmax(i));
+      const Hit h = tracer.closest(set->o(i), set->d(i), 0.0f, set->tmax(i));
       ASSERT_EQ(h.prim, brute.prim) << "ray " << i;
       ASSERT_EQ(h.t, brute.t) << "ray " << i;
-      ASSERT_EQ(tracer.any(set->o(i), set->d(i), 0.0f, set->tmax(i)), brute.hit()) << "ray " << i;
+      ASSERT_EQ(tracer.any(set->o(i), set->d(i), 0.0f, set->tmax(i)), is_hit(brute)) << "ray " << i;
     }
   }
 }
@@ -172,7 +172,7 @@ TEST(HostTrace, MatchesOpenClKernels) {
   for (const RaySet* set : sets) {
     std::vector<cs_float4> hits(set->size());
     renderer.time_ray_kernel(closest, set->origin, set->dir, sizeof(cs_float4), 1, hits.data());
-    const std::vector<HostHit> ref = set == &f.rays.primary ? f.rays.primary_hits : host_closest_hits(tracer, *set);
+    const std::vector<Hit> ref = set == &f.rays.primary ? f.rays.primary_hits : host_closest_hits(tracer, *set);
     size_t differ = 0;
     for (size_t i = 0; i < set->size(); ++i) {
       uint32_t prim;

@@ -62,8 +62,8 @@ std::vector<Outcome> host_compare(const Scene& s, const Bvh& bvh, const std::vec
   const std::vector<uint32_t> all_refs = one_ref_per_primitive(s);
   std::vector<Outcome> out;
   for (const Ray& r : rays) {
-    const HostHit h = tracer.closest(r.o, r.d, r.tmin, kRayTFar);
-    HostHit brute;
+    const Hit h = tracer.closest(r.o, r.d, r.tmin, kRayTFar);
+    Hit brute;
     for (uint32_t ref : all_refs) tracer.intersect_prim(ref, r.o, r.d, r.tmin, &brute);
     out.push_back({h.t, brute.t, h.prim, brute.prim, tracer.any(r.o, r.d, r.tmin, r.tmax_any)});
   }

@@ -57,7 +57,7 @@ struct KindResult {
 };
 
 KindResult closest_kind(const char* name, const EmbreeScene& embree, const RaySet& rays,
-                        const std::vector<HostHit>& reference, int threads, int repetitions) {
+                        const std::vector<Hit>& reference, int threads, int repetitions) {
   KindResult r;
   r.name = name;
   r.rays = rays.size();
@@ -67,7 +67,7 @@ KindResult closest_kind(const char* name, const EmbreeScene& embree, const RaySe
   size_t hit = 0, same_status = 0, same_prim = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
     hit += prims[i] != PRIM_NONE;
-    same_status += (prims[i] != PRIM_NONE) == reference[i].hit();
+    same_status += (prims[i] != PRIM_NONE) == is_hit(reference[i]);
     same_prim += prims[i] == reference[i].prim;
   }
   r.hit_fraction = double(hit) / double(rays.size());
@@ -133,7 +133,7 @@ int run(const Args& a) {
   const double ray_generation_ms = ms_since(t0);
   const HostTracer tracer(scene, bvh);
   t0 = std::chrono::steady_clock::now();
-  const std::vector<HostHit> diffuse_reference = host_closest_hits(tracer, rays.diffuse);
+  const std::vector<Hit> diffuse_reference = host_closest_hits(tracer, rays.diffuse);
   const std::vector<uint8_t> shadow_reference = host_occlusion(tracer, rays.shadow);
   const double check_ms = ms_since(t0);
 

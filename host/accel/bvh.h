@@ -1,7 +1,8 @@
 // Bounding volume hierarchy over every primitive of a scene (spheres,
-// cylinders and triangles in one tree), in the flattened depth-first layout
-// the kernels traverse (BvhNode in kernels/shared/types.h,
-// kernels/lib/bvh_traverse.h).
+// cylinders and triangles in one tree), binary and flattened depth first.
+// The kernels do not traverse it: collapse_bvh (bvh_wide.h) turns it into
+// the 8-wide layout they do; the host trace (host/bench/host_trace.h) walks
+// this one.
 #pragma once
 
 #include <cstddef>
@@ -12,9 +13,19 @@
 
 namespace caustica {
 
-// Deepest leaf the builder produces: the traversal stack (BVH_STACK_SIZE in
-// bvh_traverse.h) holds at most one entry per level.
-constexpr int kBvhMaxDepth = 64;
+// Deepest leaf the builder produces: the host trace's stack holds at most
+// one entry per level (CS_BVH_STACK_SIZE, shared with the kernels).
+constexpr int kBvhMaxDepth = CS_BVH_STACK_SIZE;
+
+// A binary node, depth-first: an inner node's left child is the next node,
+// its right child is `offset`; a leaf (count > 0) owns prim refs
+// [offset, offset + count).
+struct BvhNode {
+  float lo_x, lo_y, lo_z;
+  uint32_t offset;
+  float hi_x, hi_y, hi_z;
+  uint32_t count;
+};
 
 struct BvhBuildOptions {
   enum class Quality {

@@ -14,10 +14,10 @@
 
 namespace caustica {
 
-// Stack entries the kernels keep per ray (BVH_STACK_SIZE in bvh_traverse.h).
+// Stack entries the kernels keep per ray (CS_BVH_STACK_SIZE, types.h).
 // The traversal stays within it as long as the root's height is below it;
 // collapse_bvh refuses deeper trees.
-constexpr int kWideStackSize = 64;
+constexpr int kWideStackSize = CS_BVH_STACK_SIZE;
 
 struct WideBvhOptions {
   // Subtrees holding only triangles, at most four of them, become one leaf

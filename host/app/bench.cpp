@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "host/bench/bench_rays.h"
+#include "host/bench/ray_batch.h"
 #include "host/error.h"
 
 namespace caustica {
@@ -34,30 +35,25 @@ struct KindResult {
   double mrays() const { return ms > 0.0 ? double(rays) / (ms * 1e3) : 0.0; }
 };
 
-uint32_t prim_of(const cs_float4& hit) {
-  uint32_t prim;
-  std::memcpy(&prim, &hit.w, sizeof prim);
-  return prim;
-}
-
-KindResult time_closest(WavefrontRenderer& renderer, cl::Kernel& kernel, const char* name, const RaySet& rays,
-                        const std::vector<HostHit>* known_hits, const HostTracer& tracer, int repetitions) {
+KindResult time_closest(Session& session, StageKernel& kernel, const char* name, const RaySet& rays,
+                        const std::vector<Hit>* known_hits, const HostTracer& tracer, int repetitions) {
   KindResult r;
   r.name = name;
   r.rays = rays.size();
   if (rays.size() == 0) return r;
-  std::vector<cs_float4> hits(rays.size());
-  r.ms = renderer.time_ray_kernel(kernel, rays.origin, rays.dir, sizeof(cs_float4), repetitions, hits.data());
+  std::vector<Hit> hits(rays.size());
+  r.ms = time_ray_kernel(*session.runtime, *session.device_scene, kernel, rays.origin, rays.dir, sizeof(Hit),
+                         repetitions, hits.data(), session.settings.local_size);
   const auto t0 = std::chrono::steady_clock::now();
-  std::vector<HostHit> computed;
+  std::vector<Hit> computed;
   if (!known_hits) computed = host_closest_hits(tracer, rays);
-  const std::vector<HostHit>& ref = known_hits ? *known_hits : computed;
+  const std::vector<Hit>& ref = known_hits ? *known_hits : computed;
   r.check_ms = ms_since(t0);
   size_t hit = 0, same_status = 0, same_prim = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
-    const uint32_t prim = prim_of(hits[i]);
+    const uint32_t prim = hits[i].prim;
     hit += prim != PRIM_NONE;
-    same_status += (prim != PRIM_NONE) == ref[i].hit();
+    same_status += (prim != PRIM_NONE) == is_hit(ref[i]);
     same_prim += prim == ref[i].prim;
   }
   r.hit_fraction = double(hit) / double(rays.size());
@@ -66,14 +62,15 @@ KindResult time_closest(WavefrontRenderer& renderer, cl::Kernel& kernel, const c
   return r;
 }
 
-KindResult time_shadow(WavefrontRenderer& renderer, cl::Kernel& kernel, const RaySet& rays,
-                       const HostTracer& tracer, int repetitions) {
+KindResult time_shadow(Session& session, StageKernel& kernel, const RaySet& rays, const HostTracer& tracer,
+                       int repetitions) {
   KindResult r;
   r.name = "shadow";
   r.rays = rays.size();
   if (rays.size() == 0) return r;
   std::vector<cl_uint> occluded(rays.size());
-  r.ms = renderer.time_ray_kernel(kernel, rays.origin, rays.dir, sizeof(cl_uint), repetitions, occluded.data());
+  r.ms = time_ray_kernel(*session.runtime, *session.device_scene, kernel, rays.origin, rays.dir, sizeof(cl_uint),
+                         repetitions, occluded.data(), session.settings.local_size);
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<uint8_t> ref = host_occlusion(tracer, rays);
   r.check_ms = ms_since(t0);
@@ -113,7 +110,7 @@ int run_bench(BenchArgs& a) {
   const auto session = prepare_session(a.session);
   const Scene& s = session->scene;
   const int width = session->settings.width, height = session->settings.height;
-  WavefrontRenderer& renderer = *session->renderer;
+  Renderer& renderer = *session->renderer;
 
   auto t0 = std::chrono::steady_clock::now();
   const BenchRays rays = generate_bench_rays(s, session->bvh, width, height);
@@ -123,30 +120,32 @@ int run_bench(BenchArgs& a) {
   // intersect_closest straight from the renderer's program; the any-hit
   // kernel lives in its own small program (kernels/bench/), built with the
   // same feature flags so trace_any is compiled exactly as in the renderer.
-  cl::Kernel closest(session->program.program, "intersect_closest");
+  StageKernel closest(session->program.program, "intersect_closest");
   const BuiltProgram shadow_program =
       session->runtime->build_file("bench/trace_shadow_only.cl", session->features.build_options());
-  cl::Kernel any(shadow_program.program, "trace_shadow_only");
+  StageKernel any(shadow_program.program, "trace_shadow_only");
 
   const KindResult primary =
-      time_closest(renderer, closest, "primary", rays.primary, &rays.primary_hits, tracer, a.repetitions);
-  const KindResult diffuse = time_closest(renderer, closest, "diffuse", rays.diffuse, nullptr, tracer, a.repetitions);
-  const KindResult shadow = time_shadow(renderer, any, rays.shadow, tracer, a.repetitions);
+      time_closest(*session, closest, "primary", rays.primary, &rays.primary_hits, tracer, a.repetitions);
+  const KindResult diffuse = time_closest(*session, closest, "diffuse", rays.diffuse, nullptr, tracer, a.repetitions);
+  const KindResult shadow = time_shadow(*session, any, rays.shadow, tracer, a.repetitions);
 
   // Untimed first render: with PoCL's cache off, it compiles the stage
   // kernels for their launch shapes.
   renderer.render(nullptr);
   std::vector<double> render_ms;
+  RenderStats last;
   for (int r = 0; r < a.repetitions; ++r) {
     RenderStats stats;
     renderer.render(&stats);
     render_ms.push_back(stats.render_ms);
+    last = stats;
   }
   std::sort(render_ms.begin(), render_ms.end());
   const double render_median = render_ms[render_ms.size() / 2];
 
   std::printf("scene          %s (%zu spheres, %zu cylinders, %zu triangles, %zu lights)\n", s.source_path.c_str(),
-              s.spheres.size(), s.cylinders.size(), s.triangles.size(), s.point_lights.size());
+              s.spheres.size(), s.cylinders.size(), s.triangles.size(), s.light_count());
   std::printf("device         %s\n", session->runtime->device_info().name.c_str());
   std::printf("image          %dx%d, %s\n", width, height, session->features.describe().c_str());
   std::printf("launches       one per ray kind, local size %zu, warm-up launch then median of %d\n",
@@ -166,7 +165,18 @@ int run_bench(BenchArgs& a) {
   print_kind(primary, a.repetitions);
   print_kind(diffuse, a.repetitions);
   print_kind(shadow, a.repetitions);
+  // What the render's own rays cost at the throughputs measured above
+  // (secondary rays at the diffuse rate): the render's overhead over pure
+  // traversal is shading, ray generation, film work and host round trips.
+  auto ms_at = [](uint64_t rays, const KindResult& k) { return k.mrays() > 0.0 ? double(rays) / (k.mrays() * 1e3) : 0.0; };
+  const double traversal_ms =
+      ms_at(last.camera_rays, primary) + ms_at(last.secondary_rays, diffuse) + ms_at(last.shadow_rays, shadow);
   std::printf("render         %.1f ms (median of %d after a warm-up render)\n", render_median, a.repetitions);
+  std::printf("               %llu camera + %llu secondary + %llu shadow rays; %.1f ms of traversal at the rates "
+              "above (render / traversal %.2f); %llu launches, %llu blocking transfers\n",
+              (unsigned long long)last.camera_rays, (unsigned long long)last.secondary_rays,
+              (unsigned long long)last.shadow_rays, traversal_ms, traversal_ms > 0 ? render_median / traversal_ms : 0.0,
+              (unsigned long long)last.launches, (unsigned long long)last.blocking_transfers);
   nlohmann::json j = {{"scene", s.source_path},
                       {"device", session->runtime->device_info().name},
                       {"width", width},
@@ -190,7 +200,10 @@ int run_bench(BenchArgs& a) {
                       {"diffuse_agreement", diffuse.status_agreement},
                       {"shadow_agreement", shadow.status_agreement},
                       {"ray_generation_ms", ray_generation_ms},
-                      {"render_ms", render_median}};
+                      {"render_ms", render_median},
+                      {"render_traversal_ms", traversal_ms},
+                      {"render_launches", last.launches},
+                      {"render_blocking_transfers", last.blocking_transfers}};
   std::printf("%s\n", j.dump().c_str());
   return 0;
 }

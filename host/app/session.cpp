@@ -17,7 +17,8 @@ std::optional<RenderMode> parse_render_mode(const std::string& name) {
   if (name.empty()) return std::nullopt;
   if (name == "binary") return RenderMode::Binary;
   if (name == "phong") return RenderMode::Phong;
-  throw Error("--mode " + name + ": expected binary or phong");
+  if (name == "path" || name == "pathtracer" || name == "pathtracing") return RenderMode::Path;
+  throw Error("--mode " + name + ": expected binary, phong or path");
 }
 
 BvhBuildOptions::Quality parse_bvh_quality(const std::string& name) {
@@ -51,16 +52,17 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   auto session = std::make_unique<Session>();
   auto t0 = std::chrono::steady_clock::now();
   LoadOptions load_options;
-  load_options.mode_override = options.mode;
   load_options.strict = options.strict;
   session->scene = load_scene(options.scene_path, load_options);
   session->load_ms = ms_since(t0);
   Scene& scene = session->scene;
+  session->mode = options.mode.value_or(scene.mode);
+  const std::string program_file = integrator_program_file(session->mode);  // refuses modes not built yet
 
-  session->features = analyse_scene(scene, scene.mode);
+  session->features = analyse_scene(scene, session->mode);
   session->runtime = std::make_unique<Runtime>(select_device(options.device));
   session->runtime->set_cache_enabled(options.use_kernel_cache);
-  session->program = session->runtime->build_file("render.cl", session->features.build_options());
+  session->program = session->runtime->build_file(program_file, session->features.build_options());
 
   BvhBuildOptions bvh_options;
   bvh_options.quality = options.bvh_quality;
@@ -71,8 +73,10 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
                      &session->settings.height);
   session->settings.local_size = options.local_size;
   t0 = std::chrono::steady_clock::now();
-  session->renderer = std::make_unique<WavefrontRenderer>(*session->runtime, scene, session->wide, session->features,
-                                                          session->program.program, session->settings);
+  session->device_scene =
+      std::make_unique<DeviceScene>(session->runtime->context(), scene, session->wide, session->features);
+  session->renderer = std::make_unique<Renderer>(*session->runtime, *session->device_scene, session->mode,
+                                                 session->program.program, session->settings);
   session->upload_ms = ms_since(t0);
   return session;
 }

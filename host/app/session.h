@@ -10,7 +10,8 @@
 #include "host/accel/bvh.h"
 #include "host/accel/bvh_wide.h"
 #include "host/cl/runtime.h"
-#include "host/render/wavefront.h"
+#include "host/render/device_scene.h"
+#include "host/render/renderer.h"
 #include "host/scene/features.h"
 #include "host/scene/scene.h"
 
@@ -36,20 +37,22 @@ struct SessionOptions {
 
 struct Session {
   Scene scene;
+  RenderMode mode = RenderMode::Phong;  // --mode, else the scene's rendermode: decided here, once
   SceneFeatures features;
   Bvh bvh;       // binary: the host trace of `caustica bench` (host/bench/host_trace.cpp) walks it
   WideBvh wide;  // collapsed from bvh: what the kernels traverse
   std::unique_ptr<Runtime> runtime;
   BuiltProgram program;
   RenderSettings settings;
-  std::unique_ptr<WavefrontRenderer> renderer;
+  std::unique_ptr<DeviceScene> device_scene;
+  std::unique_ptr<Renderer> renderer;
   double load_ms = 0.0;
   double upload_ms = 0.0;
 };
 
 std::unique_ptr<Session> prepare_session(const SessionOptions& options);
 
-// --mode: "" (the scene decides), "binary" or "phong"; anything else throws.
+// --mode: "" (the scene decides), "binary", "phong" or "path"; anything else throws.
 std::optional<RenderMode> parse_render_mode(const std::string& name);
 
 // --bvh: "fast", "sah" or "spatial"; anything else throws.

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "host/error.h"
+#include "kernels/shared/camera.h"
 
 namespace caustica {
 namespace {
@@ -40,21 +41,17 @@ void parallel_blocks(size_t n, int threads, const std::function<void(size_t, siz
 
 RaySet camera_rays(const CameraDesc& camera, int width, int height) {
   if (width <= 0 || height <= 0) throw Error("bench rays: image size must be positive");
-  // CameraGPU as WavefrontRenderer::camera_for_chunk fills it.
-  const CameraBasis basis = camera_basis(camera);
-  const float tan_half = std::tan(camera.fov_y_degrees * 0.5f * 3.14159265358979f / 180.0f);
-  const float aspect = float(width) / float(height);
-  const vec3 forward = basis.forward, right = basis.right * (tan_half * aspect), up = basis.up * tan_half;
+  // The renderer's camera: the same CameraGPU and the same plane point
+  // (kernels/shared/camera.h) as generate_camera_rays.
+  const CameraGPU cam = camera_for_image(camera, width, height);
   RaySet rays;
   const size_t pixels = size_t(width) * size_t(height);
   rays.origin.assign(pixels, to_float4(camera.position));
   rays.dir.resize(pixels);
   for (size_t pixel = 0; pixel < pixels; ++pixel) {
-    const float px = float(pixel % size_t(width)) + 0.5f;
-    const float py = float(pixel / size_t(width)) + 0.5f;
-    const float sx = 2.0f * px / float(width) - 1.0f;
-    const float sy = 1.0f - 2.0f * py / float(height);
-    const vec3 v = forward + sx * right + sy * up;
+    float p[3];
+    camera_pixel_centre_point(&cam, cs_uint(pixel), p);
+    const vec3 v(p[0], p[1], p[2]);
     rays.dir[pixel] = to_float4(v / std::sqrt(dot3(v, v)));
   }
   return rays;
@@ -78,8 +75,8 @@ vec3 cosine_direction(vec3 n, uint64_t seed, uint64_t index) {
   return vec3(glm::normalize(x * t1 + y * t2 + z * nd));
 }
 
-std::vector<HostHit> host_closest_hits(const HostTracer& tracer, const RaySet& rays, int threads) {
-  std::vector<HostHit> hits(rays.size());
+std::vector<Hit> host_closest_hits(const HostTracer& tracer, const RaySet& rays, int threads) {
+  std::vector<Hit> hits(rays.size());
   parallel_blocks(rays.size(), threads, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) hits[i] = tracer.closest(rays.o(i), rays.d(i), 0.0f, rays.tmax(i));
   });
@@ -103,14 +100,14 @@ BenchRays generate_bench_rays(const Scene& scene, const Bvh& bvh, int width, int
   const HostTracer tracer(scene, bvh);
   out.primary_hits = host_closest_hits(tracer, out.primary, options.threads);
   out.has_light = !scene.point_lights.empty();
-  if (out.has_light) out.light = to_vec3(scene.point_lights[0].position);
+  if (out.has_light) out.light = scene.point_lights[0].position;
   out.shadow.segments = true;
 
   // Sequential and in pixel order, so the compacted sets do not depend on
   // the thread count.
   for (size_t i = 0; i < out.primary.size(); ++i) {
-    const HostHit& hit = out.primary_hits[i];
-    if (!hit.hit()) continue;
+    const Hit& hit = out.primary_hits[i];
+    if (!is_hit(hit)) continue;
     const vec3 o = out.primary.o(i), d = out.primary.d(i);
     const HostSurfacePoint sp = tracer.surface_at(hit, o, d);
 

@@ -1,8 +1,8 @@
 // The ray sets of the traversal benchmarks, generated once on the host so
 // that `caustica bench` (OpenCL kernels) and `caustica_embree_bench` (Embree)
 // trace exactly the same rays:
-//   primary: one ray per pixel through its centre, with the arithmetic of
-//            kernels/integrator/generate_camera_rays.cl;
+//   primary: one ray per pixel through its centre, by the renderer's own
+//            camera function (kernels/shared/camera.h);
 //   diffuse: one per primary hit, cosine-distributed about the geometric
 //            normal on the side the primary ray came from;
 //   shadow:  one per primary hit, a segment toward the scene's first point
@@ -41,11 +41,11 @@ struct RaySet {
 struct BenchRays {
   int width = 0, height = 0;
   RaySet primary, diffuse, shadow;
-  std::vector<HostHit> primary_hits;      // HostTracer's closest hit of every primary ray
+  std::vector<Hit> primary_hits;      // HostTracer's closest hit of every primary ray
   std::vector<uint32_t> diffuse_source;   // primary ray each diffuse ray comes from
   std::vector<uint32_t> shadow_source;    // primary ray each shadow ray comes from
   bool has_light = false;                 // false: the scene has no point light, no shadow rays
-  glm::vec3 light{0.0f};                  // position of point_lights[0]
+  glm::vec3 light{0.0f};                  // position of the scene's first point light
 };
 
 struct BenchRayOptions {
@@ -68,7 +68,7 @@ glm::vec3 cosine_direction(glm::vec3 n, uint64_t seed, uint64_t index);
 
 // Host reference answers for a set: closest hits (any set) and occlusion
 // (over [0, tmax(i)], meant for segments).
-std::vector<HostHit> host_closest_hits(const HostTracer& tracer, const RaySet& rays, int threads = 0);
+std::vector<Hit> host_closest_hits(const HostTracer& tracer, const RaySet& rays, int threads = 0);
 std::vector<uint8_t> host_occlusion(const HostTracer& tracer, const RaySet& rays, int threads = 0);
 
 // body(begin, end) over [0, n) in blocks shared out to `threads` threads

@@ -16,7 +16,7 @@ using glm::vec3;
 constexpr float kCylPartSide = 0.0f;  // CYL_PART_* of geometry.h
 constexpr float kCylPartTop = 1.0f;
 constexpr float kCylPartBottom = 2.0f;
-constexpr int kStackSize = 64;  // BVH_STACK_SIZE
+constexpr int kStackSize = CS_BVH_STACK_SIZE;
 constexpr float kInvDirMax = 1e18f;
 constexpr float kExitSlack = 2e-6f;
 
@@ -197,7 +197,7 @@ vec3 host_spawn_point(const HostSurfacePoint& sp, vec3 n) {
   return offset + n * (sp.error_scale * 0x1.0p-17f);
 }
 
-bool HostTracer::intersect_prim(uint32_t ref, vec3 o, vec3 d, float tmin, HostHit* hit) const {
+bool HostTracer::intersect_prim(uint32_t ref, vec3 o, vec3 d, float tmin, Hit* hit) const {
   const uint32_t type = ref >> PRIM_TYPE_SHIFT;
   const uint32_t index = ref & PRIM_INDEX_MASK;
   if (type == PRIM_SPHERE) {
@@ -228,9 +228,8 @@ bool HostTracer::intersect_prim(uint32_t ref, vec3 o, vec3 d, float tmin, HostHi
   return true;
 }
 
-HostHit HostTracer::closest(vec3 o, vec3 d, float tmin, float tmax) const {
-  HostHit hit;
-  hit.t = tmax;
+Hit HostTracer::closest(vec3 o, vec3 d, float tmin, float tmax) const {
+  Hit hit = no_hit(tmax);
   const BoxRay ray = box_ray(o, d);
   uint32_t stack_node[kStackSize];
   float stack_entry[kStackSize];
@@ -285,8 +284,7 @@ bool HostTracer::any(vec3 o, vec3 d, float tmin, float tmax) const {
   float entry;
   const BvhNode* nodes = bvh_.nodes.data();
   if (bvh_empty(bvh_) || !box_hit(nodes[0], ray, tmin, tmax, &entry)) return false;
-  HostHit hit;
-  hit.t = tmax;
+  Hit hit = no_hit(tmax);
   uint32_t node = 0;
   for (;;) {
     const BvhNode& n = nodes[node];
@@ -309,12 +307,12 @@ bool HostTracer::any(vec3 o, vec3 d, float tmin, float tmax) const {
   return false;
 }
 
-HostSurfacePoint HostTracer::surface_at(const HostHit& hit, vec3 o, vec3 d) const {
+HostSurfacePoint HostTracer::surface_at(const Hit& hit, vec3 o, vec3 d) const {
   HostSurfacePoint sp;
   sp.position = o + hit.t * d;
   const uint32_t type = hit.prim >> PRIM_TYPE_SHIFT;
   const uint32_t index = hit.prim & PRIM_INDEX_MASK;
-  if (!hit.hit()) return sp;
+  if (!is_hit(hit)) return sp;
   if (type == PRIM_SPHERE) {
     const cs_float4 s = scene_.spheres[index].center_radius;
     const vec3 c = to_vec3(s);

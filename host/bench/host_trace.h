@@ -18,15 +18,9 @@ namespace caustica {
 
 constexpr float kRayTFar = 1e30f;  // RAY_T_FAR of kernels/lib/geometry.h
 
-// The kernels' Hit: u, v are barycentrics (triangles), part and axial
-// coordinate (cylinders) or 0 (spheres); prim is the encoded BVH reference.
-struct HostHit {
-  float t = kRayTFar;
-  float u = 0.0f;
-  float v = 0.0f;
-  uint32_t prim = PRIM_NONE;
-  bool hit() const { return prim != PRIM_NONE; }
-};
+// The kernels' Hit (kernels/shared/types.h) and its "no hit" value.
+inline Hit no_hit(float tmax = kRayTFar) { return Hit{tmax, 0.0f, 0.0f, PRIM_NONE}; }
+inline bool is_hit(const Hit& hit) { return hit.prim != PRIM_NONE; }
 
 // Primitive tests with the contract of intersect_primitives.h: *t holds tmax
 // on input and is lowered only for a hit with tmin < t < *t. Exposed so that
@@ -53,11 +47,11 @@ class HostTracer {
   // Both must outlive the tracer.
   HostTracer(const Scene& scene, const Bvh& bvh) : scene_(scene), bvh_(bvh) {}
 
-  HostHit closest(glm::vec3 o, glm::vec3 d, float tmin, float tmax) const;  // trace_closest
+  Hit closest(glm::vec3 o, glm::vec3 d, float tmin, float tmax) const;  // trace_closest
   bool any(glm::vec3 o, glm::vec3 d, float tmin, float tmax) const;         // trace_any
   // intersect_prim_ref: tests one encoded primitive, overwriting *hit when nearer.
-  bool intersect_prim(uint32_t ref, glm::vec3 o, glm::vec3 d, float tmin, HostHit* hit) const;
-  HostSurfacePoint surface_at(const HostHit& hit, glm::vec3 o, glm::vec3 d) const;
+  bool intersect_prim(uint32_t ref, glm::vec3 o, glm::vec3 d, float tmin, Hit* hit) const;
+  HostSurfacePoint surface_at(const Hit& hit, glm::vec3 o, glm::vec3 d) const;
 
   const Scene& scene() const { return scene_; }
 

@@ -3,6 +3,7 @@
 // asserts catch a field added on one side only, or a padding slip.
 #include <cstddef>
 
+#include "kernels/shared/records.h"
 #include "kernels/shared/types.h"
 
 static_assert(sizeof(cs_float4) == 16 && alignof(cs_float4) == 16, "float4 layout");
@@ -17,9 +18,6 @@ static_assert(sizeof(TriangleShading) == 80 && offsetof(TriangleShading, n2) == 
               "TriangleShading layout");
 static_assert(sizeof(Texture) == 64 && offsetof(Texture, kind) == 32 && offsetof(Texture, scale) == 48,
               "Texture layout");
-static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, offset) == 12 && offsetof(BvhNode, hi_x) == 16 &&
-                  offsetof(BvhNode, count) == 28,
-              "BvhNode layout");
 static_assert(sizeof(BvhNode8) == 256 && offsetof(BvhNode8, hi_x) == 32 && offsetof(BvhNode8, lo_y) == 64 &&
                   offsetof(BvhNode8, hi_z) == 160 && offsetof(BvhNode8, child) == 192 &&
                   offsetof(BvhNode8, height) == 224,
@@ -33,5 +31,14 @@ static_assert(sizeof(PointLight) == 32 && offsetof(PointLight, intensity) == 16,
 static_assert(sizeof(CameraGPU) == 80 && offsetof(CameraGPU, width) == 64 && offsetof(CameraGPU, pixel_count) == 76,
               "CameraGPU layout");
 static_assert(sizeof(ShadeParams) == 64 && offsetof(ShadeParams, ambient_light) == 16 &&
-                  offsetof(ShadeParams, mode) == 32 && offsetof(ShadeParams, min_weight) == 52,
+                  offsetof(ShadeParams, light_count) == 32 && offsetof(ShadeParams, min_weight) == 48,
               "ShadeParams layout");
+static_assert(sizeof(Hit) == 16 && offsetof(Hit, prim) == 12, "Hit layout");
+static_assert(sizeof(FilmParams) == 16 && offsetof(FilmParams, max_contribution) == 4, "FilmParams layout");
+static_assert(sizeof(FilmAccumulate) == 16 && offsetof(FilmAccumulate, inv_scale) == 12, "FilmAccumulate layout");
+static_assert(sizeof(PathRecord) == 64 && offsetof(PathRecord, throughput) == 32 && offsetof(PathRecord, pixel) == 48 &&
+                  offsetof(PathRecord, depth) == 52,
+              "PathRecord layout");
+static_assert(sizeof(ShadowRecord) == 64 && offsetof(ShadowRecord, contribution) == 32 &&
+                  offsetof(ShadowRecord, pixel) == 48,
+              "ShadowRecord layout");

@@ -229,7 +229,8 @@ BuiltProgram Runtime::build_source(const std::string& name, const std::string& t
   // CPU devices share one address space for all OpenCL memory, which lets
   // the traversal issue real prefetches (kernels/lib/bvh_traverse.h).
   const std::string options =
-      "-cl-std=CL1.2 " + std::string(info_.type == "cpu" ? "-DCAUSTICA_CPU_PREFETCH " : "") + raw_options;
+      "-cl-std=CL1.2 -cl-kernel-arg-info " + std::string(info_.type == "cpu" ? "-DCAUSTICA_CPU_PREFETCH " : "") +
+      raw_options;
   auto t0 = std::chrono::steady_clock::now();
   BuiltProgram built;
 

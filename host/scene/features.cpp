@@ -9,9 +9,10 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode) {
   f.cylinders = !scene.cylinders.empty();
   f.triangles = !scene.triangles.empty();
   if (mode == RenderMode::Binary) return f;  // binary shading needs no lights, materials or textures
-  f.triangle_shading = f.triangles && !scene.triangle_shading.empty();  // binary shading needs no lights or materials
+  f.materials = true;
+  f.triangle_shading = f.triangles && !scene.triangle_shading.empty();
 
-  f.lights = !scene.point_lights.empty();
+  f.lights = scene.light_count() > 0;
   // Only materials that some primitive actually uses count.
   std::vector<bool> used(scene.materials.size(), false);
   for (const auto& s : scene.spheres) used[s.material] = true;
@@ -43,7 +44,7 @@ std::string SceneFeatures::build_options() const {
 }
 
 std::string SceneFeatures::describe() const {
-  std::string s = mode == RenderMode::Binary ? "mode=binary" : "mode=phong";
+  std::string s = std::string("mode=") + render_mode_name(mode);
   s += " primitives={";
   std::string prims;
   if (spheres) prims += "sphere,";

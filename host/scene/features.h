@@ -16,6 +16,7 @@ struct SceneFeatures {
   bool spheres = false;
   bool cylinders = false;
   bool triangles = false;
+  bool materials = false;   // shading reads materials (not binary)
   bool lights = false;      // phong: shadow stage runs
   bool reflection = false;  // phong: mirror rays spawned
   bool refraction = false;  // phong: dielectric rays spawned

@@ -51,21 +51,17 @@ const KeyList kCameraKeys = {"type",     "width",        "height",   "position",
 // camera animation (a still of the first frame is rendered, with a warning).
 const KeyList kCameraIgnored = {"tone_mapping", "position0", "position1", "position2", "movement0", "movement1"};
 
+// The file's choice of integrator; every spelling the coursework variants
+// use for path tracing reads as Path (the renderer says whether it is built).
 RenderMode read_mode(const Reader& r, const json& top) {
   const json* v = Reader::find(top, "rendermode");
-  std::optional<RenderMode> mode;
-  if (v) {
-    const std::string name = lower(r.string(*v, "/rendermode"));
-    if (name == "binary") mode = RenderMode::Binary;
-    else if (name == "phong") mode = RenderMode::Phong;
-    else if (name != "pathtracer" && name != "pathtracing" && name != "path")
-      r.expected("/rendermode", "one of \"binary\", \"phong\"", *v);
-  }
-  if (r.options().mode_override) return *r.options().mode_override;
-  if (v && !mode)
-    r.fail("/rendermode", "path tracing (\"" + v->get<std::string>() +
-                              "\") is not supported yet; render with --mode binary|phong instead");
-  return mode.value_or(RenderMode::Phong);
+  if (!v) return RenderMode::Phong;
+  const std::string name = lower(r.string(*v, "/rendermode"));
+  if (name == "binary") return RenderMode::Binary;
+  if (name == "phong") return RenderMode::Phong;
+  if (name == "pathtracer" || name == "pathtracing" || name == "path") return RenderMode::Path;
+  r.expected("/rendermode", "one of \"binary\", \"phong\", \"pathtracer\" (or \"pathtracing\", \"path\")", *v);
+  return RenderMode::Phong;
 }
 
 CameraDesc read_camera(const Reader& r, const json& top, bool* animated) {
@@ -128,13 +124,6 @@ void read_lights(const Reader& r, const json& scene_obj, Scene& out) {
   if (!list) return;
   const std::string base = "/scene/lightsources";
   r.array(*list, base);
-  auto stand_in = [&](const glm::vec3& position, const glm::vec3& intensity) {
-    PointLight p{};
-    p.position = to_float4(position);
-    p.intensity = to_float4(intensity);
-    out.point_lights.push_back(p);
-    return static_cast<int>(out.point_lights.size() - 1);
-  };
   for (size_t i = 0; i < list->size(); ++i) {
     const std::string path = base + "/" + std::to_string(i);
     const json& l = r.object((*list)[i], path);
@@ -142,7 +131,10 @@ void read_lights(const Reader& r, const json& scene_obj, Scene& out) {
     const std::string type = lower(r.string(r.require(l, "type", path + "/type", what), path + "/type"));
     if (type == "pointlight") {
       r.check_keys(l, path, {"type", "position", "intensity"});
-      stand_in(r.read_vec3(l, "position", path, Range::Any), r.read_vec3(l, "intensity", path, Range::NonNegative));
+      PointLightDesc p;
+      p.position = r.read_vec3(l, "position", path, Range::Any);
+      p.intensity = r.read_vec3(l, "intensity", path, Range::NonNegative);
+      out.point_lights.push_back(p);
     } else if (type == "ambient") {
       r.check_keys(l, path, {"type", "intensity"});
       out.ambient_light = out.ambient_light.value_or(glm::vec3(0.0f)) + r.read_vec3(l, "intensity", path, Range::NonNegative);
@@ -153,7 +145,6 @@ void read_lights(const Reader& r, const json& scene_obj, Scene& out) {
       s.radius = r.read_number(l, "radius", path, Range::Positive);
       s.intensity = r.read_vec3(l, "intensity", path, Range::NonNegative);
       r.read_int(l, "samples", path, 1, 1 << 20, 1);
-      s.point_light = stand_in(s.center, s.intensity);
       out.sphere_lights.push_back(s);
     } else if (type == "arealight") {
       r.check_keys(l, path, {"type", "position", "intensity", "u", "v", "u_axis", "v_axis", "width", "height", "size",
@@ -202,7 +193,6 @@ void read_lights(const Reader& r, const json& scene_obj, Scene& out) {
       }
       if (!(glm::length(glm::cross(a.u, a.v)) > 0.0f))
         r.fail(path, "expected edge vectors u and v that span a rectangle, got parallel ones");
-      a.point_light = stand_in(a.center, a.intensity);
       out.area_lights.push_back(a);
     } else {
       r.expected(path + "/type", what, l["type"]);

@@ -20,14 +20,11 @@
 namespace caustica {
 
 // Ambient coefficient for materials without "ka": the official scenes have no
-// ka, yet the handout's renders show lit-grey shadows. To be calibrated
-// against the reference renders.
+// ka, yet the handout's renders show lit-grey shadows; 0.25 reproduces them
+// (README, "Conventions of the coursework format"; tests/test_official_scenes.cpp).
 inline constexpr float kDefaultAmbient = 0.25f;
 
 struct LoadOptions {
-  // Set by a CLI --mode: replaces the file's "rendermode", so that a file
-  // asking for a mode we do not support yet (path tracing) still loads.
-  std::optional<RenderMode> mode_override;
   // When set, warnings are appended here instead of being printed to stderr.
   std::vector<std::string>* warnings = nullptr;
   // An unknown key is an error instead of a warning: for checking a scene

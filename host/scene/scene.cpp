@@ -34,4 +34,30 @@ CameraBasis camera_basis(const CameraDesc& camera) {
   return CameraBasis{glm::vec3(forward), glm::vec3(right), glm::vec3(true_up)};
 }
 
+CameraGPU camera_for_image(const CameraDesc& camera, int width, int height) {
+  if (width <= 0 || height <= 0) throw Error("camera: image size must be positive");
+  const CameraBasis basis = camera_basis(camera);
+  const float tan_half = std::tan(camera.fov_y_degrees * 0.5f * 3.14159265358979f / 180.0f);
+  const float aspect = float(width) / float(height);
+  CameraGPU cam{};
+  cam.position = to_float4(camera.position);
+  cam.forward = to_float4(basis.forward);
+  cam.right = to_float4(basis.right * (tan_half * aspect));
+  cam.up = to_float4(basis.up * tan_half);
+  cam.width = cs_uint(width);
+  cam.height = cs_uint(height);
+  cam.pixel_offset = 0;
+  cam.pixel_count = cs_uint(size_t(width) * size_t(height));
+  return cam;
+}
+
+const char* render_mode_name(RenderMode mode) {
+  switch (mode) {
+    case RenderMode::Binary: return "binary";
+    case RenderMode::Phong: return "phong";
+    case RenderMode::Path: return "path";
+  }
+  return "?";
+}
+
 }  // namespace caustica

@@ -14,7 +14,9 @@
 
 namespace caustica {
 
-enum class RenderMode { Binary, Phong };
+// The integrators. A scene file names one ("rendermode"); the CLI may pick
+// another; the session decides once (host/app/session.cpp).
+enum class RenderMode { Binary, Phong, Path };
 
 struct CameraDesc {
   int width = 0;
@@ -30,32 +32,35 @@ struct CameraDesc {
   float focus_distance = 0.0f;  // the loader sets |lookAt - position| when the file gives none
 };
 
+// Lights as the file writes them; each integrator derives what it samples
+// (phong: point-light stand-ins, host/render/lights.h).
+struct PointLightDesc {
+  glm::vec3 position{0.0f};
+  glm::vec3 intensity{0.0f};
+};
+
 // A rectangular light: centre + s*u + t*v for s, t in [-1/2, 1/2], so u and v
 // are full edge vectors; it emits on the side of cross(u, v). `intensity` is
 // as written (the same scale the file uses for point lights).
 struct AreaLightDesc {
   glm::vec3 center{0.0f}, u{0.0f}, v{0.0f};
   glm::vec3 intensity{0.0f};
-  int samples = 0;       // shadow samples the file asks for; 0: not given
-  int point_light = -1;  // index of its stand-in in Scene::point_lights (phong renders that)
+  int samples = 0;  // shadow samples the file asks for; 0: not given
 };
 
 struct SphereLightDesc {
   glm::vec3 center{0.0f};
   float radius = 0.0f;
   glm::vec3 intensity{0.0f};
-  int point_light = -1;  // as for AreaLightDesc
 };
 
 struct Scene {
   std::string source_path;  // file the scene came from (for messages)
-  RenderMode mode = RenderMode::Phong;
+  RenderMode mode = RenderMode::Phong;  // the file's "rendermode" (phong when absent)
   int nbounces = 4;
   CameraDesc camera;
   glm::vec3 background{0.0f};
-  // Point lights, plus one stand-in at the centre of every area and sphere
-  // light (so that phong, which only knows point lights, still lights the scene).
-  std::vector<PointLight> point_lights;
+  std::vector<PointLightDesc> point_lights;
   std::vector<AreaLightDesc> area_lights;
   std::vector<SphereLightDesc> sphere_lights;
   // Ambient light colour from the file ("ambientlight", lights of type
@@ -80,6 +85,7 @@ struct Scene {
   std::vector<MeshInfo> meshes;
 
   size_t primitive_count() const { return spheres.size() + cylinders.size() + triangles.size(); }
+  size_t light_count() const { return point_lights.size() + area_lights.size() + sphere_lights.size(); }
 };
 
 inline cs_float4 to_float4(const glm::vec3& v, float w = 0.0f) { return cs_float4{v.x, v.y, v.z, w}; }
@@ -91,5 +97,11 @@ struct CameraBasis {
   glm::vec3 forward, right, up;
 };
 CameraBasis camera_basis(const CameraDesc& camera);
+
+// The device camera for a width x height image (kernels/shared/camera.h
+// turns it into rays); pixel_offset 0, pixel_count the whole image.
+CameraGPU camera_for_image(const CameraDesc& camera, int width, int height);
+
+const char* render_mode_name(RenderMode mode);
 
 }  // namespace caustica

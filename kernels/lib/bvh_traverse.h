@@ -28,7 +28,7 @@
 #include "lib/intersect_primitives.h"
 
 #ifndef BVH_STACK_SIZE /* tests shrink it to exercise the group entries */
-#define BVH_STACK_SIZE 64
+#define BVH_STACK_SIZE CS_BVH_STACK_SIZE
 #endif
 #define BVH_INV_DIR_MAX 1e18f
 /* Relative widening of each box's exit distance, so that rounding in the

@@ -3,8 +3,7 @@
  *
  * Rules: OpenCL C 1.2, float32 only; programs may be built with
  * -cl-fast-relaxed-math, so nothing here may produce or test for inf/NaN
- * (finite sentinels such as RAY_T_FAR instead). A Hit is "no hit" exactly
- * when prim == PRIM_NONE; prim is the encoded reference of types.h. */
+ * (finite sentinels such as RAY_T_FAR instead). */
 #ifndef CAUSTICA_LIB_GEOMETRY_H
 #define CAUSTICA_LIB_GEOMETRY_H
 
@@ -13,16 +12,7 @@
 /* Finite stand-in for "infinitely far": fast-relaxed-math may fold inf. */
 #define RAY_T_FAR 1e30f
 
-/* u, v by primitive type:
- *   triangle: barycentrics, position = (1-u-v) v0 + u v1 + v v2;
- *   cylinder: u = part (CYL_PART_*), v = signed axial coordinate of the hit;
- *   sphere:   unused (0). */
-typedef struct {
-  float t;
-  float u;
-  float v;
-  uint prim;
-} Hit;
+/* Hit (shared/types.h): t, u, v, prim; see there for u and v by primitive type. */
 
 #define CYL_PART_SIDE 0.0f
 #define CYL_PART_TOP 1.0f    /* the cap at centre + half * axis */

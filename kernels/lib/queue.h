@@ -1,31 +1,70 @@
 #line 2 "kernels/lib/queue.h"
-/* Work queues: structure-of-arrays buffers plus one atomic counter. A push
- * reserves a slot with atomic_inc and then writes it. The counter may run
- * past the capacity: the slot is then dropped and the host, which reads the
- * counter back, sees the overflow and re-renders the chunk in halves, so no
- * ray is ever lost silently. Stage kernels are launched over the count
- * padded to the work-group size and return early past the count. */
+/* Work queues: structure-of-arrays buffers plus one atomic counter, for the
+ * records of shared/records.h. A push reserves a slot with atomic_inc and
+ * then writes it. The counter may run past the capacity: the slot is then
+ * dropped and the host, which reads the counter back, sees the overflow and
+ * re-traces the chunk in halves, so no ray is ever lost silently. Stage
+ * kernels are launched over the count padded to the work-group size and
+ * return early past the count.
+ *
+ * Everything below is generated from the field lists; a stage names a queue
+ * by its prefix: PATH_QUEUE_PARAMS(next) declares next_count, next_origin,
+ * ..., and path_push(PATH_QUEUE_ARGS(next), capacity, record) pushes. */
 #ifndef CAUSTICA_LIB_QUEUE_H
 #define CAUSTICA_LIB_QUEUE_H
 
-#include "shared/types.h"
+#include "shared/records.h"
 
-/* A ray queue: origin.xyz, direction.xyz, weight.rgb with the depth in the
- * weight's w (as bits), and the film pixel the ray contributes to. */
-#define RAY_QUEUE_PARAMS(q)                                                 \
-  __global float4* restrict q##_origin, __global float4* restrict q##_dir, \
-      __global float4* restrict q##_weight, __global uint* restrict q##_pixel
-#define RAY_QUEUE_ARGS(q) q##_origin, q##_dir, q##_weight, q##_pixel
+#define QUEUE_FIELD_PARAM(q, type, name) , __global type* restrict q##_##name
+#define QUEUE_FIELD_ARG(q, type, name) , q##_##name
+#define QUEUE_FIELD_LOAD(q, type, name) record.name = q##_##name[slot];
+#define QUEUE_FIELD_STORE(q, type, name) q##_##name[slot] = record.name;
 
-/* A shadow queue: origin.xyz with tmax in w, direction, the unoccluded
- * contribution, and the film pixel. */
-#define SHADOW_QUEUE_PARAMS(q)                                              \
-  __global float4* restrict q##_origin, __global float4* restrict q##_dir, \
-      __global float4* restrict q##_contribution, __global uint* restrict q##_pixel
+#define PATH_QUEUE_PARAMS(q) volatile __global uint* q##_count PATH_RECORD_FIELDS(QUEUE_FIELD_PARAM, q)
+#define PATH_QUEUE_ARGS(q) q##_count PATH_RECORD_FIELDS(QUEUE_FIELD_ARG, q)
+#define SHADOW_QUEUE_PARAMS(q) volatile __global uint* q##_count SHADOW_RECORD_FIELDS(QUEUE_FIELD_PARAM, q)
+#define SHADOW_QUEUE_ARGS(q) q##_count SHADOW_RECORD_FIELDS(QUEUE_FIELD_ARG, q)
+
+/* What the intersection stages read of any ray queue: its count, origins and
+ * directions (the host binds those three fields of a queue by name). */
+#define RAY_VIEW_PARAMS(q)                                                           \
+  __global const uint* restrict q##_count, __global const float4* restrict q##_origin, \
+      __global const float4* restrict q##_dir
 
 inline uint queue_reserve(volatile __global uint* counter, uint capacity) {
   uint slot = atomic_inc(counter);
   return slot < capacity ? slot : 0xFFFFFFFFu;
+}
+
+inline PathRecord path_load(PATH_QUEUE_PARAMS(q), uint slot) {
+  PathRecord record;
+  PATH_RECORD_FIELDS(QUEUE_FIELD_LOAD, q)
+  return record;
+}
+
+inline void path_store(PATH_QUEUE_PARAMS(q), uint slot, PathRecord record) {
+  PATH_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
+}
+
+/* False when the queue is full (the host sees the overflow in the count). */
+inline bool path_push(PATH_QUEUE_PARAMS(q), uint capacity, PathRecord record) {
+  const uint slot = queue_reserve(q_count, capacity);
+  if (slot == 0xFFFFFFFFu) return false;
+  PATH_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
+  return true;
+}
+
+inline ShadowRecord shadow_load(SHADOW_QUEUE_PARAMS(q), uint slot) {
+  ShadowRecord record;
+  SHADOW_RECORD_FIELDS(QUEUE_FIELD_LOAD, q)
+  return record;
+}
+
+inline bool shadow_push(SHADOW_QUEUE_PARAMS(q), uint capacity, ShadowRecord record) {
+  const uint slot = queue_reserve(q_count, capacity);
+  if (slot == 0xFFFFFFFFu) return false;
+  SHADOW_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
+  return true;
 }
 
 #endif

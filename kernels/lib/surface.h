@@ -35,6 +35,14 @@
 
 #include "lib/geometry.h"
 
+/* What shading reads of the scene beyond the traversal's geometry: shapes,
+ * per-triangle shading data, materials and textures. */
+#define SCENE_SURFACE_PARAMS                                                                              \
+  __global const Sphere *restrict spheres, __global const Cylinder *restrict cylinders,                 \
+      __global const Triangle *restrict triangles, __global const TriangleShading *restrict triangle_shading, \
+      __global const Material *restrict materials, __global const Texture *restrict textures,           \
+      __global const ushort *restrict texels
+
 typedef struct {
   float3 position;
   float3 normal;         /* geometric, outward */

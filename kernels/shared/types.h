@@ -3,7 +3,8 @@
  *
  * Rules: plain C only; every struct is a multiple of 16 bytes with explicit
  * padding; vectors are 16-byte float4 (xyz used, w documented per field);
- * the host static_asserts every sizeof/offsetof (host/cl/layout_check.cpp).
+ * the host static_asserts every sizeof/offsetof (host/cl/layout_check.cpp)
+ * and tests/test_layout.cpp compares them with what the device reports.
  * Nothing here may depend on the scene: scene-dependent choices are -D flags
  * (see host/scene/features.h), kept coarse so programs stay cacheable. */
 #ifndef CAUSTICA_SHARED_TYPES_H
@@ -31,6 +32,25 @@ typedef int32_t cs_int;
 #define PRIM_TYPE_SHIFT 30u
 #define PRIM_INDEX_MASK 0x3FFFFFFFu
 #define PRIM_NONE 0xFFFFFFFFu
+
+/* Entries of the per-ray traversal stack (kernels/lib/bvh_traverse.h), and so
+ * the deepest tree the builders may produce (host/accel/bvh.h, bvh_wide.h)
+ * and the host trace's stack. Tests shrink the kernels' copy with
+ * -DBVH_STACK_SIZE=N to exercise the group entries. */
+#define CS_BVH_STACK_SIZE 64
+
+/* A closest-hit answer. u, v by primitive type:
+ *   triangle: barycentrics, position = (1-u-v) v0 + u v1 + v v2;
+ *   cylinder: u = part (CYL_PART_*), v = signed axial coordinate of the hit;
+ *   sphere:   unused (0).
+ * "No hit" exactly when prim == PRIM_NONE. One per ray-queue slot on the
+ * device (intersect_closest writes them); the host trace returns the same. */
+typedef struct {
+  float t;
+  float u;
+  float v;
+  cs_uint prim;
+} Hit; /* 16 bytes */
 
 typedef struct {
   cs_float4 center_radius; /* xyz centre, w radius */
@@ -77,16 +97,6 @@ typedef struct {
   float scale; /* checker: squares per unit of u and v */
   cs_uint pad0, pad1, pad2;
 } Texture; /* 64 bytes */
-
-/* Flattened BVH2 node, depth-first: an inner node's left child is the next
- * node, its right child is `offset`; a leaf (count > 0) owns prim refs
- * [offset, offset + count). */
-typedef struct {
-  float lo_x, lo_y, lo_z;
-  cs_uint offset;
-  float hi_x, hi_y, hi_z;
-  cs_uint count;
-} BvhNode; /* 32 bytes */
 
 /* 8-wide BVH, the layout the kernels traverse (host/accel/bvh_wide.cpp
  * collapses the BVH2 above into it; kernels/lib/bvh_traverse.h). Child
@@ -153,9 +163,7 @@ typedef struct {
   cs_float4 intensity; /* rgb, w unused */
 } PointLight; /* 32 bytes */
 
-/* Pinhole camera: a pixel centre (px + 0.5, py + 0.5) maps to
- * forward + (2 (px+0.5)/W - 1) * right + (1 - 2 (py+0.5)/H) * up, where
- * right and up are pre-scaled by tan(fov/2) * aspect and tan(fov/2). */
+/* Pinhole camera (host: camera_for_image; the ray: shared/camera.h). */
 typedef struct {
   cs_float4 position;
   cs_float4 forward; /* unit */
@@ -166,26 +174,48 @@ typedef struct {
   cs_uint pixel_count;  /* pixels in this chunk */
 } CameraGPU; /* 80 bytes */
 
-#define RENDER_MODE_BINARY 0u
-#define RENDER_MODE_PHONG 1u
-
-/* Per-launch constants of the shading stage. */
+/* Per-launch constants of the Whitted (phong) shading stage. */
 typedef struct {
   cs_float4 background;    /* rgb, w unused */
   cs_float4 ambient_light; /* rgb scale of the ambient term ka * diffuse (1 unless the scene sets it) */
-  cs_uint mode;
   cs_uint light_count;
-  cs_uint max_depth;   /* nbounces: secondary rays are spawned while depth < max_depth */
+  cs_uint max_depth; /* nbounces: secondary rays are spawned while depth < max_depth */
   cs_uint ray_capacity;
   cs_uint shadow_capacity;
   float min_weight; /* rays whose weight falls below this are not spawned */
-  cs_uint pad0, pad1;
+  cs_uint pad0, pad1, pad2;
 } ShadeParams; /* 64 bytes */
 
-/* Film contributions are accumulated as 64-bit fixed point so that the sum is
- * independent of the order in which work-items add (deterministic images on
- * any device, thread count or work-group size). */
-#define FILM_FIXED_SCALE 16777216.0f /* 2^24 */
-#define FILM_MAX_CONTRIBUTION 65536.0f
+/* The film's pass in progress: contributions are added as 64-bit fixed point
+ * (value * scale, rounded) with integer atomics, so that the sum does not
+ * depend on the order in which work-items add (the same bits on any device,
+ * thread count or work-group size). The scale is a power of two chosen per
+ * render from the scene's radiance bounds (host/render/film.cpp) so that a
+ * pass's largest possible sum fits; a contribution above max_contribution
+ * (the bound was wrong) is clamped to it and counted, NaN/Inf and negative
+ * values are dropped and counted: nothing is changed silently. */
+typedef struct {
+  float scale;            /* a power of two, at most FILM_MAX_SCALE */
+  float max_contribution; /* per film_add call */
+  cs_uint pad0, pad1;
+} FilmParams; /* 16 bytes */
+
+#define FILM_MAX_SCALE 16777216.0f /* 2^24: 6e-8 resolution in the unit range */
+
+/* Counters of film_add (one uint each, in this order). */
+#define FILM_COUNT_NONFINITE 0u /* NaN or Inf components dropped */
+#define FILM_COUNT_NEGATIVE 1u  /* negative components dropped */
+#define FILM_COUNT_CLAMPED 2u   /* components above max_contribution clamped */
+#define FILM_COUNTERS 3u
+
+/* Parameters of accumulate_film_pass: pass floats are laid out in one buffer
+ * at offsets (host/render/film.h). */
+#define FILM_PASS_ABSENT 0xFFFFFFFFu
+typedef struct {
+  cs_uint value_count; /* pixels * 3 */
+  cs_uint half_offset; /* float offset of the odd-pass sum, or FILM_PASS_ABSENT */
+  cs_uint pass_index;  /* 0-based index of the pass being added */
+  float inv_scale;     /* 1 / FilmParams.scale */
+} FilmAccumulate; /* 16 bytes */
 
 #endif /* CAUSTICA_SHARED_TYPES_H */

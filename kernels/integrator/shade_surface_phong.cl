@@ -1,10 +1,10 @@
-#line 2 "kernels/integrator/shade_surface.cl"
-/* Stage 3: shade every hit of the ray queue (binary or Whitted/Phong).
+#line 2 "kernels/integrator/shade_surface_phong.cl"
+/* Stage: shade every hit of the ray queue, Whitted style (phong mode).
  *
  * Rules: a ray carries a weight (its share of the pixel); everything this
  * stage adds to the film or to a queue is scaled by it. Light that needs a
  * visibility test goes to the shadow queue with its full unoccluded value;
- * direct terms without visibility (ambient, background, binary red) go to the
+ * direct terms without visibility (emission, ambient, background) go to the
  * film at once. Reflection and refraction rays go to the next queue while
  * depth < max_depth and their weight is not negligible. */
 
@@ -14,24 +14,13 @@
 #include "lib/surface.h"
 #include "lib/texture.h"
 
-inline void push_ray(volatile __global uint* count, uint capacity, RAY_QUEUE_PARAMS(q), float3 origin,
-                     float3 dir, float3 weight, uint depth, uint pixel) {
-  const uint slot = queue_reserve(count, capacity);
-  if (slot == 0xFFFFFFFFu) return;
-  q_origin[slot] = (float4)(origin, 0.0f);
-  q_dir[slot] = (float4)(dir, 0.0f);
-  q_weight[slot] = (float4)(weight, as_float(depth));
-  q_pixel[slot] = pixel;
-}
-
 inline float max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 
 #ifdef HAS_LIGHTS
 /* Blinn-Phong for one point light, pushed as a shadow ray. */
 inline void shade_point_light(__global const PointLight* light, __global const Material* mat, float3 diffuse_colour,
                               SurfacePoint sp, float3 n_facing, float3 view, float3 weight, uint pixel,
-                              volatile __global uint* shadow_count, uint shadow_capacity,
-                              SHADOW_QUEUE_PARAMS(shadow)) {
+                              uint shadow_capacity, SHADOW_QUEUE_PARAMS(shadow)) {
   /* The shadow ray leaves on the geometric side the light is on; the
    * shading normal only weights the light. */
   const float3 geometric = dot(sp.normal, n_facing) >= 0.0f ? sp.normal : -sp.normal;
@@ -49,49 +38,45 @@ inline void shade_point_light(__global const PointLight* light, __global const M
   const float3 specular = mat->specular.w * mat->specular.xyz * pow(n_dot_h, mat->specular_exponent);
   const float3 contribution = weight * light->intensity.xyz * (diffuse + specular);
   if (max3(contribution) <= 0.0f) return;
-  const uint slot = queue_reserve(shadow_count, shadow_capacity);
-  if (slot == 0xFFFFFFFFu) return;
-  shadow_origin[slot] = (float4)(origin, dist * (1.0f - 1e-5f));
-  shadow_dir[slot] = (float4)(l, 0.0f);
-  shadow_contribution[slot] = (float4)(contribution, 0.0f);
-  shadow_pixel[slot] = pixel;
+  ShadowRecord ray;
+  ray.origin = (float4)(origin, dist * (1.0f - 1e-5f));
+  ray.dir = (float4)(l, 0.0f);
+  ray.contribution = (float4)(contribution, 0.0f);
+  ray.pixel = pixel;
+  shadow_push(SHADOW_QUEUE_ARGS(shadow), shadow_capacity, ray);
 }
 #endif
 
-__kernel void shade_surface(__global const Sphere* restrict spheres, __global const Cylinder* restrict cylinders,
-                            __global const Triangle* restrict triangles,
-                            __global const TriangleShading* restrict triangle_shading,
-                            __global const Material* restrict materials, __global const Texture* restrict textures,
-                            __global const ushort* restrict texels,
-                            __global const PointLight* restrict lights, ShadeParams params,
-                            __global const uint* restrict ray_count, RAY_QUEUE_PARAMS(in),
-                            __global const float4* restrict hits, __global ulong* restrict film,
-                            volatile __global uint* next_count, RAY_QUEUE_PARAMS(next),
-                            volatile __global uint* shadow_count, SHADOW_QUEUE_PARAMS(shadow)) {
+/* Pushes a specular child of `parent` unless its weight is negligible. */
+inline void push_specular(PATH_QUEUE_PARAMS(next), uint capacity, float min_weight, PathRecord parent,
+                          float3 origin, float3 dir, float3 weight) {
+  if (!(max3(weight) > min_weight)) return;
+  PathRecord child;
+  child.origin = (float4)(origin, 0.0f);
+  child.dir = (float4)(dir, 0.0f);
+  child.throughput = (float4)(weight, 0.0f);
+  child.pixel = parent.pixel;
+  child.depth = parent.depth + 1u;
+  path_push(PATH_QUEUE_ARGS(next), capacity, child);
+}
+
+__kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const PointLight* restrict lights,
+                                  ShadeParams params, PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits,
+                                  FILM_PARAMS, PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)) {
   const uint i = get_global_id(0);
-  if (i >= *ray_count) return;
-  const float4 hit_bits = hits[i];
-  const float4 weight_depth = in_weight[i];
-  const float3 weight = weight_depth.xyz;
-  const uint depth = as_uint(weight_depth.w);
-  const uint pixel = in_pixel[i];
-  Hit hit;
-  hit.t = hit_bits.x;
-  hit.u = hit_bits.y;
-  hit.v = hit_bits.z;
-  hit.prim = as_uint(hit_bits.w);
+  if (i >= *in_count) return;
+  const Hit hit = hits[i];
+  const PathRecord ray = path_load(PATH_QUEUE_ARGS(in), i);
+  const float3 weight = ray.throughput.xyz;
+  const uint pixel = ray.pixel;
 
-  if (params.mode == RENDER_MODE_BINARY) {
-    if (hit.prim != PRIM_NONE) film_add(film, pixel, weight * (float3)(1.0f, 0.0f, 0.0f));
-    return;
-  }
   if (hit.prim == PRIM_NONE) {
-    film_add(film, pixel, weight * params.background.xyz);
+    film_add(FILM_ARGS, pixel, weight * params.background.xyz);
     return;
   }
 
-  const float3 d = in_dir[i].xyz;
-  const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, in_origin[i].xyz, d);
+  const float3 d = ray.dir.xyz;
+  const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, ray.origin.xyz, d);
   __global const Material* mat = &materials[sp.material];
   const bool front = dot(sp.normal, d) < 0.0f;
   const float3 n = front ? sp.normal : -sp.normal;                  /* geometric, faces the ray */
@@ -101,7 +86,7 @@ __kernel void shade_surface(__global const Sphere* restrict spheres, __global co
   /* An image or checker texture replaces the diffuse colour. */
   if (mat->texture >= 0) diffuse_colour = texture_lookup(textures, (__global const half*)texels, mat->texture, sp.uv);
 #endif
-  film_add(film, pixel, weight * mat->emission.xyz);
+  film_add(FILM_ARGS, pixel, weight * mat->emission.xyz);
 
   /* Split the ray's weight between the local Phong term and the specular
    * children: mirror by reflectivity; dielectric by Fresnel. */
@@ -135,19 +120,17 @@ __kernel void shade_surface(__global const Sphere* restrict spheres, __global co
 
   if (local_share > 0.0f) {
     const float3 local_weight = weight * local_share;
-    film_add(film, pixel, local_weight * mat->ka * params.ambient_light.xyz * diffuse_colour);
+    film_add(FILM_ARGS, pixel, local_weight * mat->ka * params.ambient_light.xyz * diffuse_colour);
 #ifdef HAS_LIGHTS
     for (uint l = 0; l < params.light_count; ++l)
-      shade_point_light(&lights[l], mat, diffuse_colour, sp, ns, -d, local_weight, pixel, shadow_count,
-                        params.shadow_capacity, shadow_origin, shadow_dir, shadow_contribution, shadow_pixel);
+      shade_point_light(&lights[l], mat, diffuse_colour, sp, ns, -d, local_weight, pixel, params.shadow_capacity,
+                        SHADOW_QUEUE_ARGS(shadow));
 #endif
   }
 
-  if (depth >= params.max_depth) return;
-  if (max3(reflect_weight) > params.min_weight)
-    push_ray(next_count, params.ray_capacity, RAY_QUEUE_ARGS(next), spawn_point(sp, n),
-             reflect_dir(d, n_spec), reflect_weight, depth + 1, pixel);
-  if (max3(refract_weight) > params.min_weight)
-    push_ray(next_count, params.ray_capacity, RAY_QUEUE_ARGS(next), spawn_point(sp, -n),
-             refract_dir(d, n_spec, eta, cos_i, cos_t), refract_weight, depth + 1, pixel);
+  if (ray.depth >= params.max_depth) return;
+  push_specular(PATH_QUEUE_ARGS(next), params.ray_capacity, params.min_weight, ray, spawn_point(sp, n),
+                reflect_dir(d, n_spec), reflect_weight);
+  push_specular(PATH_QUEUE_ARGS(next), params.ray_capacity, params.min_weight, ray, spawn_point(sp, -n),
+                refract_dir(d, n_spec, eta, cos_i, cos_t), refract_weight);
 }

@@ -1,0 +1,51 @@
+// The scene on the device: geometry, the wide BVH, shading data (triangle
+// vertex data, materials, textures), uploaded once and shared by every
+// integrator, every pass and the benchmark. Lights are not here: each
+// integrator uploads the lights in the form it samples (Whitted's point
+// lights are stand-ins derived from the scene's lights, host/render/lights.h).
+// Data the feature set leaves out is not uploaded (a one-element dummy:
+// OpenCL forbids zero-sized buffers).
+#pragma once
+
+#include <CL/opencl.hpp>
+
+#include <vector>
+
+#include "host/accel/bvh_wide.h"
+#include "host/render/kernel_args.h"
+#include "host/scene/features.h"
+#include "host/scene/scene.h"
+
+namespace caustica {
+
+class DeviceScene {
+ public:
+  DeviceScene(cl::Context& context, const Scene& scene, const WideBvh& bvh, const SceneFeatures& features);
+
+  // SCENE_GEOMETRY_PARAMS (kernels/lib/geometry.h), in order.
+  KernelArgs& bind_geometry(KernelArgs& args) const;
+  // SCENE_SURFACE_PARAMS (kernels/lib/surface.h), in order.
+  KernelArgs& bind_surfaces(KernelArgs& args) const;
+
+  const Scene& scene() const { return scene_; }
+  const SceneFeatures& features() const { return features_; }
+  size_t uploaded_bytes() const { return uploaded_bytes_; }
+
+ private:
+  const Scene& scene_;
+  SceneFeatures features_;
+  size_t uploaded_bytes_ = 0;
+  cl::Buffer nodes_, triangle_blocks_, prim_refs_, spheres_, cylinders_, triangles_;
+  cl::Buffer triangle_shading_, materials_, textures_, texels_;
+};
+
+// A read-only buffer holding `data` (one dummy element when it is empty).
+template <typename T, typename Allocator>
+cl::Buffer upload_buffer(cl::Context& context, const std::vector<T, Allocator>& data, size_t* bytes_total = nullptr) {
+  const size_t bytes = std::max<size_t>(1, data.size()) * sizeof(T);
+  if (bytes_total) *bytes_total += bytes;
+  if (data.empty()) return cl::Buffer(context, CL_MEM_READ_ONLY, bytes);
+  return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<T*>(data.data()));
+}
+
+}  // namespace caustica

@@ -1,0 +1,84 @@
+// The film: a pass in progress and the accumulated passes.
+//
+// Rules: stages add to the pass in progress (64-bit fixed point with integer
+// atomics, kernels/lib/film.h), whose scale is chosen here per render from
+// the scene's radiance bound, so any contribution the scene can produce fits
+// and the image keeps the full HDR range. A finished pass is added, as
+// floats, to the accumulated passes on the device (accumulate_film_pass.cl):
+// the combined sum, and, when asked for, the sum of the odd passes (the
+// independent half an error estimate compares against). Every step is
+// deterministic. Nothing is cleared unless asked: a chunk that is traced
+// again after a queue overflow clears only its range of the pass in
+// progress, never a finished pass. NaN/Inf, negative and clamped
+// contributions are counted (FILM_COUNT_*) and reported, never hidden.
+#pragma once
+
+#include <CL/opencl.hpp>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "host/image/image.h"
+#include "kernels/shared/types.h"
+
+namespace caustica {
+
+class Runtime;
+struct StageKernel;
+class KernelArgs;
+
+struct FilmOptions {
+  int width = 0, height = 0;
+  bool half_buffer = false;  // keep the odd-pass sum (error estimation)
+  // Largest sum one pixel can receive in one pass (radiance_bound()); picks
+  // the fixed-point scale.
+  float pass_bound = 1.0f;
+};
+
+struct FilmCounts {
+  uint64_t nonfinite = 0, negative = 0, clamped = 0;
+  uint64_t total() const { return nonfinite + negative + clamped; }
+};
+
+class Film {
+ public:
+  Film(Runtime& runtime, const cl::Program& program, const FilmOptions& options);
+  ~Film();
+
+  int width() const { return options_.width; }
+  int height() const { return options_.height; }
+  size_t pixel_count() const { return size_t(options_.width) * size_t(options_.height); }
+  const FilmParams& params() const { return params_; }
+  int passes() const { return passes_; }  // accumulated so far: the sample index of the next pass
+
+  // FILM_PARAMS of kernels/lib/film.h: the pass in progress, for stages.
+  KernelArgs& bind(KernelArgs& args) const;
+
+  void clear();  // everything: accumulated passes, the pass in progress, counters
+  void clear_pass_range(size_t first_pixel, size_t pixel_count);  // of the pass in progress only
+  void accumulate_pass();                                           // adds the pass in progress; clears it
+
+  ImageF mean() const;       // combined sum / passes
+  ImageF half_mean() const;  // odd-pass sum / their count (needs half_buffer and >= 2 passes)
+  FilmCounts counts() const;
+
+ private:
+  ImageF read_pass(size_t offset, int passes) const;
+
+  Runtime& runtime_;
+  FilmOptions options_;
+  FilmParams params_{};
+  int passes_ = 0;
+  cl::Buffer pass_, accumulated_, counters_;
+  std::unique_ptr<StageKernel> accumulate_;
+  size_t half_offset_ = FILM_PASS_ABSENT;
+};
+
+// Fixed-point parameters for a pass whose per-pixel sum is at most
+// pass_bound: the largest power-of-two scale up to FILM_MAX_SCALE with
+// pass_bound * scale <= 2^56, so that a pass cannot overflow 64 bits even
+// if the bound was wrong (contributions are clamped at 2^56 / scale).
+FilmParams film_params_for_bound(float pass_bound);
+
+}  // namespace caustica

@@ -1,0 +1,52 @@
+#include "host/render/integrator.h"
+
+#include "host/cl/runtime.h"
+#include "host/error.h"
+#include "host/render/integrator_binary.h"
+#include "host/render/integrator_phong.h"
+#include "host/render/kernel_args.h"
+
+namespace caustica {
+
+void StageLauncher::launch(StageKernel& stage, size_t count, RenderStats* stats) {
+  if (count == 0) return;
+  runtime_.queue().enqueueNDRangeKernel(stage.kernel, cl::NullRange, cl::NDRange(round_up(count, local_size_)),
+                                        cl::NDRange(local_size_));
+  if (stats) ++stats->launches;
+}
+
+uint32_t StageLauncher::read_count(const cl::Buffer& counter, RenderStats* stats) {
+  cl_uint value = 0;
+  runtime_.queue().enqueueReadBuffer(counter, CL_TRUE, 0, sizeof value, &value);
+  if (stats) ++stats->blocking_transfers;
+  return value;
+}
+
+void StageLauncher::write_count(const cl::Buffer& counter, uint32_t value, RenderStats* stats) {
+  const cl_uint v = value;
+  runtime_.queue().enqueueWriteBuffer(counter, CL_TRUE, 0, sizeof v, &v);
+  if (stats) ++stats->blocking_transfers;
+}
+
+std::string integrator_program_file(RenderMode mode) {
+  switch (mode) {
+    case RenderMode::Binary: return "integrator_binary.cl";
+    case RenderMode::Phong: return "integrator_phong.cl";
+    case RenderMode::Path: break;
+  }
+  throw Error("path tracing (rendermode \"pathtracer\" / --mode path) is not available yet; "
+              "render with --mode binary or --mode phong");
+}
+
+std::unique_ptr<Integrator> make_integrator(RenderMode mode, Runtime& runtime, const DeviceScene& scene,
+                                            const cl::Program& program, const RenderSettings& settings) {
+  switch (mode) {
+    case RenderMode::Binary: return std::make_unique<BinaryIntegrator>(runtime, scene, program, settings);
+    case RenderMode::Phong: return std::make_unique<PhongIntegrator>(runtime, scene, program, settings);
+    case RenderMode::Path: break;
+  }
+  integrator_program_file(mode);  // throws the message for modes not built yet
+  throw Error("no integrator for this mode");
+}
+
+}  // namespace caustica

@@ -1,0 +1,89 @@
+// An integrator: one render mode, owning its stages, queues and lights.
+//
+// Rules: an integrator traces one sample of a chunk of pixels into the
+// film's pass in progress and nothing else; the pass driver
+// (host/render/pass_driver.h) decides chunks, retries, passes and when to
+// stop, and the film keeps what finished passes added. An integrator builds
+// from its own program (kernels/integrator_<mode>.cl: only its stages, one
+// program per integrator and feature set). A new mode is a new
+// integrator_<mode>.{cpp,cl} pair plus one line in make_integrator.
+#pragma once
+
+#include <CL/opencl.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "host/render/film.h"
+#include "host/scene/scene.h"
+
+namespace caustica {
+
+class DeviceScene;
+class Runtime;
+struct StageKernel;
+
+struct RenderSettings {
+  int width = 0;  // image size (already resolved from the camera and CLI)
+  int height = 0;
+  size_t local_size = 64;         // work-group size of every stage launch
+  size_t chunk_pixels = 1 << 19;  // pixels per wavefront; bounds queue memory
+  float min_weight = 1e-4f;       // phong: secondary rays below this weight are not traced
+  // Phong: ray queue capacity = factor x chunk. 2 holds any single wave;
+  // deeper Fresnel trees overflow and their chunk is traced again in halves.
+  float queue_capacity_factor = 2.0f;
+  int passes = 1;            // samples per pixel (one pass each)
+  bool half_buffer = false;  // film keeps the odd-pass sum
+};
+
+struct RenderStats {
+  double render_ms = 0.0;
+  int passes = 0;
+  uint64_t camera_rays = 0;
+  uint64_t secondary_rays = 0;
+  uint64_t shadow_rays = 0;
+  int chunk_retries = 0;  // chunks traced again in halves after a queue overflow
+  // Host traffic: kernel launches and blocking reads/writes (queue counts).
+  uint64_t launches = 0;
+  uint64_t blocking_transfers = 0;
+  FilmCounts film;  // contributions dropped or clamped
+  uint64_t rays() const { return camera_rays + secondary_rays + shadow_rays; }
+};
+
+// Kernel launches and queue-count transfers, counted into RenderStats.
+class StageLauncher {
+ public:
+  StageLauncher(Runtime& runtime, size_t local_size) : runtime_(runtime), local_size_(local_size) {}
+  void launch(StageKernel& stage, size_t count, RenderStats* stats);
+  uint32_t read_count(const cl::Buffer& counter, RenderStats* stats);
+  void write_count(const cl::Buffer& counter, uint32_t value, RenderStats* stats);
+  Runtime& runtime() { return runtime_; }
+
+ private:
+  Runtime& runtime_;
+  size_t local_size_;
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  virtual const char* name() const = 0;
+  // Pixels per chunk its queues are sized for.
+  virtual size_t chunk_pixels() const = 0;
+  // Largest sum one pixel can receive in one pass (sets the film's scale).
+  virtual float pass_bound() const = 0;
+  // One sample for pixels [first_pixel, first_pixel + pixel_count) into the
+  // film's pass in progress. False when a queue overflowed: the driver then
+  // clears that range of the pass and traces it again in halves.
+  virtual bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) = 0;
+};
+
+// The kernel program of a mode ("integrator_phong.cl"); throws
+// caustica::Error for a mode that is not built yet.
+std::string integrator_program_file(RenderMode mode);
+
+std::unique_ptr<Integrator> make_integrator(RenderMode mode, Runtime& runtime, const DeviceScene& scene,
+                                            const cl::Program& program, const RenderSettings& settings);
+
+}  // namespace caustica

@@ -1,0 +1,39 @@
+#include "host/render/integrator_binary.h"
+
+#include <algorithm>
+
+#include "host/cl/runtime.h"
+
+namespace caustica {
+
+BinaryIntegrator::BinaryIntegrator(Runtime& runtime, const DeviceScene& scene, const cl::Program& program,
+                                   const RenderSettings& settings)
+    : launcher_(runtime, settings.local_size), scene_(scene), settings_(settings) {
+  chunk_ = std::min(size_t(settings.width) * size_t(settings.height), settings.chunk_pixels);
+  rays_ = DeviceQueue(runtime.context(), path_record_layout(), chunk_);
+  hits_ = cl::Buffer(runtime.context(), CL_MEM_READ_WRITE, chunk_ * sizeof(Hit));
+  generate_ = StageKernel(program, "generate_camera_rays");
+  intersect_ = StageKernel(program, "intersect_closest");
+  shade_ = StageKernel(program, "shade_surface_binary");
+}
+
+bool BinaryIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) {
+  CameraGPU camera = camera_for_image(scene_.scene().camera, settings_.width, settings_.height);
+  camera.pixel_offset = cl_uint(first_pixel);
+  camera.pixel_count = cl_uint(pixel_count);
+  KernelArgs(generate_).arg("camera", camera).queue("out", rays_).finish();
+  launcher_.launch(generate_, pixel_count, stats);
+  launcher_.write_count(rays_.count(), cl_uint(pixel_count), stats);
+  if (stats) stats->camera_rays += pixel_count;
+
+  KernelArgs intersect(intersect_);
+  scene_.bind_geometry(intersect).ray_view("rays", rays_).arg("hits", hits_).finish();
+  launcher_.launch(intersect_, pixel_count, stats);
+
+  KernelArgs shade(shade_);
+  film.bind(shade.queue("in", rays_).arg("hits", hits_)).finish();
+  launcher_.launch(shade_, pixel_count, stats);
+  return true;
+}
+
+}  // namespace caustica

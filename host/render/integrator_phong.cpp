@@ -1,0 +1,137 @@
+#include "host/render/integrator_phong.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "host/cl/runtime.h"
+#include "host/render/lights.h"
+
+namespace caustica {
+namespace {
+
+float max3(const cs_float4& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+// IEEE half bits to float, for the texel bound (finite, non-negative texels).
+float half_to_float(uint16_t h) {
+  const int exponent = (h >> 10) & 0x1F, mantissa = h & 0x3FF;
+  if (exponent == 0x1F) return 65504.0f;  // Inf/NaN do not occur in loaded textures; bound them anyway
+  if (exponent == 0) return std::ldexp(float(mantissa), -24);
+  return std::ldexp(1.0f + float(mantissa) / 1024.0f, exponent - 15);
+}
+
+}  // namespace
+
+float phong_pass_bound(const Scene& scene, const std::vector<PointLight>& lights, int max_depth) {
+  // Texels of non-negative halves order like their bit patterns.
+  float texel_max = 0.0f;
+  for (size_t i = 0; i < scene.texels.size(); i += 4)
+    for (size_t c = 0; c < 3 && i + c < scene.texels.size(); ++c)
+      if (!(scene.texels[i + c] & 0x8000)) texel_max = std::max(texel_max, half_to_float(scene.texels[i + c]));
+  for (const Texture& t : scene.textures)
+    if (t.kind == TEXTURE_CHECKER) texel_max = std::max(texel_max, std::max(max3(t.color1), max3(t.color2)));
+  float emission = 0.0f, local = 0.0f, ambient = 0.0f;
+  const glm::vec3 ambient_light = scene.ambient_light.value_or(glm::vec3(1.0f));
+  const float ambient_scale = std::max(ambient_light.x, std::max(ambient_light.y, ambient_light.z));
+  float light_sum = 0.0f;
+  for (const PointLight& l : lights) light_sum += max3(l.intensity);
+  for (const Material& m : scene.materials) {
+    const float diffuse = std::max(max3(m.diffuse), m.texture >= 0 ? texel_max : 0.0f);
+    emission = std::max(emission, max3(m.emission));
+    ambient = std::max(ambient, std::abs(m.ka) * ambient_scale * diffuse);
+    local = std::max(local, std::abs(m.diffuse.w) * diffuse + std::abs(m.specular.w) * max3(m.specular));
+  }
+  const float background = std::max(scene.background.x, std::max(scene.background.y, scene.background.z));
+  const float per_ray = emission + std::max(background, ambient + light_sum * local);
+  return std::max(1.0f, per_ray * float(std::max(0, max_depth) + 1));
+}
+
+PhongIntegrator::PhongIntegrator(Runtime& runtime, const DeviceScene& scene, const cl::Program& program,
+                                 const RenderSettings& settings)
+    : launcher_(runtime, settings.local_size), scene_(scene), features_(scene.features()), settings_(settings) {
+  auto& ctx = runtime.context();
+  const std::vector<PointLight> lights = whitted_point_lights(scene.scene());
+  lights_ = upload_buffer(ctx, lights);
+  light_count_ = features_.lights ? lights.size() : 0;
+  const int max_depth = features_.secondary_rays() ? std::max(0, scene.scene().nbounces) : 0;
+  pass_bound_ = phong_pass_bound(scene.scene(), lights, max_depth);
+
+  const size_t pixels = size_t(settings.width) * size_t(settings.height);
+  // Queue memory grows with the chunk and the number of lights; keep the
+  // shadow queue within ~2^21 entries.
+  chunk_ = std::min(pixels, settings.chunk_pixels);
+  if (light_count_ > 0) chunk_ = std::min(chunk_, std::max<size_t>(4096, (size_t(1) << 21) / light_count_));
+  // A wave can at most double (one reflection + one refraction child per ray).
+  ray_capacity_ = features_.secondary_rays()
+                      ? std::max(chunk_, size_t(double(chunk_) * settings.queue_capacity_factor))
+                      : chunk_;
+  shadow_capacity_ = std::max<size_t>(1, ray_capacity_ * light_count_);
+  hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, ray_capacity_ * sizeof(Hit));
+  rays_[0] = DeviceQueue(ctx, path_record_layout(), ray_capacity_);
+  // Unused without secondary rays (a one-slot stand-in keeps the binding uniform).
+  rays_[1] = DeviceQueue(ctx, path_record_layout(), features_.secondary_rays() ? ray_capacity_ : 1);
+  shadow_ = DeviceQueue(ctx, shadow_record_layout(), light_count_ > 0 ? shadow_capacity_ : 1);
+
+  generate_ = StageKernel(program, "generate_camera_rays");
+  intersect_ = StageKernel(program, "intersect_closest");
+  shade_ = StageKernel(program, "shade_surface_phong");
+  shadow_stage_ = StageKernel(program, "intersect_shadow");
+}
+
+ShadeParams PhongIntegrator::shade_params() const {
+  const Scene& scene = scene_.scene();
+  ShadeParams params{};
+  params.background = to_float4(scene.background);
+  params.ambient_light = to_float4(scene.ambient_light.value_or(glm::vec3(1.0f)));
+  params.light_count = cl_uint(light_count_);
+  params.max_depth = features_.secondary_rays() ? cl_uint(std::max(0, scene.nbounces)) : 0;
+  params.ray_capacity = cl_uint(ray_capacity_);
+  params.shadow_capacity = cl_uint(shadow_capacity_);
+  params.min_weight = settings_.min_weight;
+  return params;
+}
+
+bool PhongIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) {
+  CameraGPU camera = camera_for_image(scene_.scene().camera, settings_.width, settings_.height);
+  camera.pixel_offset = cl_uint(first_pixel);
+  camera.pixel_count = cl_uint(pixel_count);
+  DeviceQueue* current = &rays_[0];
+  DeviceQueue* next = &rays_[1];
+  KernelArgs(generate_).arg("camera", camera).queue("out", *current).finish();
+  launcher_.launch(generate_, pixel_count, stats);
+  launcher_.write_count(current->count(), cl_uint(pixel_count), stats);
+  if (stats) stats->camera_rays += pixel_count;
+
+  const ShadeParams params = shade_params();
+  uint32_t ray_count = uint32_t(pixel_count);
+  for (cl_uint depth = 0; ray_count > 0; ++depth) {
+    KernelArgs intersect(intersect_);
+    scene_.bind_geometry(intersect).ray_view("rays", *current).arg("hits", hits_).finish();
+    launcher_.launch(intersect_, ray_count, stats);
+
+    const bool spawns = depth < params.max_depth;
+    if (spawns) launcher_.write_count(next->count(), 0, stats);
+    if (light_count_ > 0) launcher_.write_count(shadow_.count(), 0, stats);
+    KernelArgs shade(shade_);
+    scene_.bind_surfaces(shade).arg("lights", lights_).arg("params", params).queue("in", *current).arg("hits", hits_);
+    film.bind(shade).queue("next", *next).queue("shadow", shadow_).finish();
+    launcher_.launch(shade_, ray_count, stats);
+
+    if (light_count_ > 0) {
+      const uint32_t shadow_count = launcher_.read_count(shadow_.count(), stats);
+      if (shadow_count > shadow_capacity_) return false;
+      KernelArgs shadow(shadow_stage_);
+      film.bind(scene_.bind_geometry(shadow).queue("shadow", shadow_)).finish();
+      launcher_.launch(shadow_stage_, shadow_count, stats);
+      if (stats) stats->shadow_rays += shadow_count;
+    }
+    if (!spawns) break;
+    ray_count = launcher_.read_count(next->count(), stats);
+    if (ray_count > ray_capacity_) return false;
+    if (stats) stats->secondary_rays += ray_count;
+    std::swap(current, next);
+  }
+  return true;
+}
+
+}  // namespace caustica

@@ -1,0 +1,73 @@
+#include "host/render/kernel_args.h"
+
+#include "host/error.h"
+
+namespace caustica {
+
+#define CAUSTICA_RECORD_FIELD(q, type, name) RecordField{#name, sizeof(type)},
+
+const RecordLayout& path_record_layout() {
+  static const RecordLayout layout{"path", {PATH_RECORD_FIELDS(CAUSTICA_RECORD_FIELD, _)}};
+  return layout;
+}
+
+const RecordLayout& shadow_record_layout() {
+  static const RecordLayout layout{"shadow", {SHADOW_RECORD_FIELDS(CAUSTICA_RECORD_FIELD, _)}};
+  return layout;
+}
+
+#undef CAUSTICA_RECORD_FIELD
+
+DeviceQueue::DeviceQueue(cl::Context& context, const RecordLayout& layout, size_t capacity)
+    : layout_(&layout), capacity_(capacity) {
+  const size_t slots = std::max<size_t>(1, capacity);
+  count_ = cl::Buffer(context, CL_MEM_READ_WRITE, sizeof(cl_uint));
+  for (const RecordField& f : layout.fields) fields_.emplace_back(context, CL_MEM_READ_WRITE, slots * f.bytes);
+}
+
+const cl::Buffer& DeviceQueue::field(const std::string& name) const {
+  if (!layout_) throw Error("queue used before it was allocated");
+  for (size_t i = 0; i < layout_->fields.size(); ++i)
+    if (name == layout_->fields[i].name) return fields_[i];
+  throw Error(std::string(layout_->name) + " record has no field \"" + name + "\"");
+}
+
+KernelArgs& KernelArgs::queue(const std::string& prefix, const DeviceQueue& q) {
+  arg(prefix + "_count", q.count());
+  for (size_t i = 0; i < q.fields().size(); ++i) arg(prefix + "_" + q.layout().fields[i].name, q.fields()[i]);
+  return *this;
+}
+
+KernelArgs& KernelArgs::ray_view(const std::string& prefix, const DeviceQueue& q) {
+  return arg(prefix + "_count", q.count()).arg(prefix + "_origin", q.field("origin")).arg(prefix + "_dir", q.field("dir"));
+}
+
+std::vector<std::string> kernel_arg_names(const cl::Kernel& kernel) {
+  const cl_uint count = kernel.getInfo<CL_KERNEL_NUM_ARGS>();
+  std::vector<std::string> names;
+  for (cl_uint i = 0; i < count; ++i) {
+    size_t size = 0;
+    if (clGetKernelArgInfo(kernel(), i, CL_KERNEL_ARG_NAME, 0, nullptr, &size) != CL_SUCCESS || size == 0) return {};
+    std::string name(size, '\0');
+    if (clGetKernelArgInfo(kernel(), i, CL_KERNEL_ARG_NAME, size, name.data(), nullptr) != CL_SUCCESS) return {};
+    name.resize(name.find('\0') == std::string::npos ? name.size() : name.find('\0'));
+    names.push_back(name);
+  }
+  return names;
+}
+
+void KernelArgs::finish() {
+  if (stage_.binding_checked) return;
+  const cl_uint declared = stage_.kernel.getInfo<CL_KERNEL_NUM_ARGS>();
+  if (declared != names_.size())
+    throw Error("kernel " + stage_.name + " declares " + std::to_string(declared) + " arguments, the host binds " +
+                std::to_string(names_.size()));
+  const std::vector<std::string> names = kernel_arg_names(stage_.kernel);
+  for (size_t i = 0; i < names.size(); ++i)
+    if (names[i] != names_[i])
+      throw Error("kernel " + stage_.name + " argument " + std::to_string(i) + " is \"" + names[i] +
+                  "\", the host binds \"" + names_[i] + "\" there");
+  stage_.binding_checked = true;
+}
+
+}  // namespace caustica

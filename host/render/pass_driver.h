@@ -1,0 +1,45 @@
+// The pass driver: runs an integrator over the image, pass after pass.
+//
+// Rules: a pass is one sample of every pixel, traced chunk by chunk (the
+// integrator's chunk size bounds queue memory). A chunk whose queues
+// overflowed is cleared from the pass in progress, and only from it, then
+// traced again in halves, so a finished pass is never lost or counted twice.
+// After each pass the film accumulates it; progress is reported after every
+// chunk; the driver stops after the requested passes (later: a time limit
+// or a target error).
+#pragma once
+
+#include <functional>
+
+#include "host/render/film.h"
+#include "host/render/integrator.h"
+
+namespace caustica {
+
+struct PassProgress {
+  int pass = 0;  // 0-based pass in progress
+  int passes = 0;
+  size_t pixels_done = 0;  // of this pass
+  size_t pixels_total = 0;
+  const RenderStats* stats = nullptr;
+};
+using ProgressCallback = std::function<void(const PassProgress&)>;
+
+struct StopConditions {
+  int passes = 1;
+};
+
+class PassDriver {
+ public:
+  PassDriver(Integrator& integrator, Film& film) : integrator_(integrator), film_(film) {}
+  // Adds passes to the film (it is not cleared here).
+  void run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress = {});
+
+ private:
+  void trace_chunk(size_t first_pixel, size_t pixel_count, RenderStats* stats);
+
+  Integrator& integrator_;
+  Film& film_;
+};
+
+}  // namespace caustica

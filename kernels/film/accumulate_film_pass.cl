@@ -1,0 +1,21 @@
+#line 2 "kernels/film/accumulate_film_pass.cl"
+/* Film stage: a finished pass (fixed point, lib/film.h) becomes floats added
+ * to the accumulated passes, and the pass buffer is cleared for the next.
+ * One work-item per channel value, each adding on its own in pass order, so
+ * the accumulated film is deterministic as well. Layout of `passes` (floats):
+ * the combined sum of every pass at 0; with FilmAccumulate.half_offset !=
+ * FILM_PASS_ABSENT, the sum of the odd passes there (the independent half
+ * that error estimation compares against). */
+
+#include "shared/types.h"
+
+__kernel void accumulate_film_pass(__global ulong* restrict film, __global float* restrict passes,
+                                   FilmAccumulate params) {
+  const uint i = get_global_id(0);
+  if (i >= params.value_count) return;
+  /* Rounds once, like the exact value / scale would: scale is a power of two. */
+  const float value = convert_float(film[i]) * params.inv_scale;
+  passes[i] += value;
+  if (params.half_offset != FILM_PASS_ABSENT && (params.pass_index & 1u)) passes[params.half_offset + i] += value;
+  film[i] = 0;
+}
