@@ -12,7 +12,9 @@
 #include <memory>
 
 #include "host/bench/bench_rays.h"
-#include "host/render/wavefront.h"
+#include "host/bench/ray_batch.h"
+#include "host/render/device_scene.h"
+#include "host/render/kernel_args.h"
 #include "host/scene/features.h"
 #include "host/scene/generate.h"
 #include "host/scene/load_scene.h"
@@ -91,40 +93,23 @@ TEST(BenchRays, OneSecondaryRayPerPrimaryHitOnly) {
   for (uint32_t source : f.rays.shadow_source) ASSERT_TRUE(is_hit(f.rays.primary_hits[source]));
 }
 
-// Primary rays against generate_camera_rays.cl run with the CameraGPU that
-// WavefrontRenderer::camera_for_chunk builds: the same pixel-centre rays up to
-// the rounding of a contracted multiply-add on the device.
+// Primary rays against generate_camera_rays.cl: both call the one camera
+// function (kernels/shared/camera.h) on the same CameraGPU; only the final
+// normalisation differs (OpenCL's normalize against v / |v|).
 TEST(BenchRays, PrimaryRaysAreTheRenderersCameraRays) {
   const Fixture& f = fixture();
   Runtime& rt = test::runtime();
   const BuiltProgram render =
-      rt.build_file("render.cl", analyse_scene(f.scene, f.scene.mode).build_options());
-  const CameraBasis basis = camera_basis(f.scene.camera);
-  const float tan_half = std::tan(f.scene.camera.fov_y_degrees * 0.5f * 3.14159265358979f / 180.0f);
-  CameraGPU cam{};
-  cam.position = to_float4(f.scene.camera.position);
-  cam.forward = to_float4(basis.forward);
-  cam.right = to_float4(basis.right * (tan_half * float(kWidth) / float(kHeight)));
-  cam.up = to_float4(basis.up * tan_half);
-  cam.width = kWidth;
-  cam.height = kHeight;
-  cam.pixel_offset = 0;
-  cam.pixel_count = kWidth * kHeight;
+      rt.build_file("integrator_phong.cl", analyse_scene(f.scene, RenderMode::Phong).build_options());
+  const CameraGPU cam = camera_for_image(f.scene.camera, kWidth, kHeight);
   const size_t n = f.rays.primary.size();
-  cl::Buffer origin(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cs_float4));
-  cl::Buffer dir(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cs_float4));
-  cl::Buffer weight(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cs_float4));
-  cl::Buffer pixel(rt.context(), CL_MEM_READ_WRITE, n * sizeof(cl_uint));
-  cl::Kernel generate(render.program, "generate_camera_rays");
-  generate.setArg(0, cam);
-  generate.setArg(1, origin);
-  generate.setArg(2, dir);
-  generate.setArg(3, weight);
-  generate.setArg(4, pixel);
-  rt.queue().enqueueNDRangeKernel(generate, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
+  const DeviceQueue rays(rt.context(), path_record_layout(), n);
+  StageKernel generate(render.program, "generate_camera_rays");
+  KernelArgs(generate).arg("camera", cam).queue("out", rays).finish();
+  rt.queue().enqueueNDRangeKernel(generate.kernel, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
   std::vector<cs_float4> o(n), d(n);
-  rt.queue().enqueueReadBuffer(origin, CL_TRUE, 0, n * sizeof(cs_float4), o.data());
-  rt.queue().enqueueReadBuffer(dir, CL_TRUE, 0, n * sizeof(cs_float4), d.data());
+  rt.queue().enqueueReadBuffer(rays.field("origin"), CL_TRUE, 0, n * sizeof(cs_float4), o.data());
+  rt.queue().enqueueReadBuffer(rays.field("dir"), CL_TRUE, 0, n * sizeof(cs_float4), d.data());
   for (size_t i = 0; i < n; ++i) {
     ASSERT_EQ(to_vec3(o[i]), f.rays.primary.o(i)) << "pixel " << i;
     const vec3 delta = to_vec3(d[i]) - f.rays.primary.d(i);
@@ -140,7 +125,7 @@ TEST(HostTrace, ClosestEqualsBruteForce) {
   const RaySet* sets[] = {&f.rays.primary, &f.rays.diffuse};
   for (const RaySet* set : sets) {
     for (size_t i = 0; i < set->size(); i += 7) {
-      Hit brute;
+      Hit brute = no_hit();
       for (uint32_t ref : f.bvh.prim_refs) tracer.intersect_prim(ref, set->o(i), set->d(i), 0.0f, &brute);
       const Hit h = tracer.closest(set->o(i), set->d(i), 0.0f, set->tmax(i));
       ASSERT_EQ(h.prim, brute.prim) << "ray " << i;
@@ -156,27 +141,23 @@ TEST(HostTrace, ClosestEqualsBruteForce) {
 TEST(HostTrace, MatchesOpenClKernels) {
   const Fixture& f = fixture();
   Runtime& rt = test::runtime();
-  const SceneFeatures features = analyse_scene(f.scene, f.scene.mode);
-  const BuiltProgram render = rt.build_file("render.cl", features.build_options());
+  const SceneFeatures features = analyse_scene(f.scene, RenderMode::Phong);
+  const BuiltProgram render = rt.build_file("integrator_phong.cl", features.build_options());
   const BuiltProgram bench = rt.build_file("bench/trace_shadow_only.cl", features.build_options());
-  RenderSettings settings;
-  settings.width = kWidth;
-  settings.height = kHeight;
   const WideBvh wide = collapse_bvh(f.bvh, f.scene);
-  WavefrontRenderer renderer(rt, f.scene, wide, features, render.program, settings);
-  cl::Kernel closest(render.program, "intersect_closest");
-  cl::Kernel any(bench.program, "trace_shadow_only");
+  const DeviceScene device_scene(rt.context(), f.scene, wide, features);
+  StageKernel closest(render.program, "intersect_closest");
+  StageKernel any(bench.program, "trace_shadow_only");
   const HostTracer tracer(f.scene, f.bvh);
 
   const RaySet* sets[] = {&f.rays.primary, &f.rays.diffuse};
   for (const RaySet* set : sets) {
-    std::vector<cs_float4> hits(set->size());
-    renderer.time_ray_kernel(closest, set->origin, set->dir, sizeof(cs_float4), 1, hits.data());
+    std::vector<Hit> hits(set->size());
+    time_ray_kernel(rt, device_scene, closest, set->origin, set->dir, sizeof(Hit), 1, hits.data());
     const std::vector<Hit> ref = set == &f.rays.primary ? f.rays.primary_hits : host_closest_hits(tracer, *set);
     size_t differ = 0;
     for (size_t i = 0; i < set->size(); ++i) {
-      uint32_t prim;
-      std::memcpy(&prim, &hits[i].w, sizeof prim);
+      const uint32_t prim = hits[i].prim;
       if (prim != ref[i].prim) {
         ++differ;
         continue;
@@ -184,15 +165,16 @@ TEST(HostTrace, MatchesOpenClKernels) {
       if (prim == PRIM_NONE) continue;
       // t, then u and v (barycentrics; cylinder part and axial coordinate),
       // which the ray generator turns into secondary origins.
-      ASSERT_NEAR(hits[i].x, ref[i].t, 1e-5f * std::max(1.0f, ref[i].t)) << "ray " << i;
-      ASSERT_NEAR(hits[i].y, ref[i].u, 1e-4f * std::max(1.0f, std::fabs(ref[i].u))) << "ray " << i;
-      ASSERT_NEAR(hits[i].z, ref[i].v, 1e-4f * std::max(1.0f, std::fabs(ref[i].v))) << "ray " << i;
+      ASSERT_NEAR(hits[i].t, ref[i].t, 1e-5f * std::max(1.0f, ref[i].t)) << "ray " << i;
+      ASSERT_NEAR(hits[i].u, ref[i].u, 1e-4f * std::max(1.0f, std::fabs(ref[i].u))) << "ray " << i;
+      ASSERT_NEAR(hits[i].v, ref[i].v, 1e-4f * std::max(1.0f, std::fabs(ref[i].v))) << "ray " << i;
     }
     EXPECT_LE(differ, set->size() / 10000) << differ << " of " << set->size() << " rays hit another primitive";
   }
 
   std::vector<cl_uint> occluded(f.rays.shadow.size());
-  renderer.time_ray_kernel(any, f.rays.shadow.origin, f.rays.shadow.dir, sizeof(cl_uint), 1, occluded.data());
+  time_ray_kernel(rt, device_scene, any, f.rays.shadow.origin, f.rays.shadow.dir, sizeof(cl_uint), 1,
+                  occluded.data());
   const std::vector<uint8_t> ref = host_occlusion(tracer, f.rays.shadow);
   size_t differ = 0, blocked = 0;
   for (size_t i = 0; i < ref.size(); ++i) {
@@ -254,7 +236,7 @@ TEST(BenchRays, CosineDirectionForAnyNormal) {
 
 TEST(BenchRays, ShadowRaysAimAtTheFirstLightAndStopShort) {
   const Fixture& f = fixture();
-  ASSERT_EQ(f.rays.light, to_vec3(f.scene.point_lights[0].position));
+  ASSERT_EQ(f.rays.light, f.scene.point_lights[0].position);
   const HostTracer tracer(f.scene, f.bvh);
   ASSERT_TRUE(f.rays.shadow.segments);
   for (size_t k = 0; k < f.rays.shadow.size(); ++k) {

@@ -12,6 +12,7 @@
 
 #include "host/error.h"
 #include "host/scene/load_scene.h"
+#include "host/render/lights.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -82,7 +83,6 @@ TEST(CommunityCorpus, EveryFileLoadsOrFailsCleanly) {
   std::printf("%s | outcome\n", pad("community scene", 72).c_str());
   for (const auto& [name, path] : files) {
     LoadOptions options;
-    options.mode_override = RenderMode::Phong;
     std::vector<std::string> warnings;
     options.warnings = &warnings;
     std::string outcome;
@@ -93,7 +93,7 @@ TEST(CommunityCorpus, EveryFileLoadsOrFailsCleanly) {
       loaded = true;
       outcome = "loads: " + std::to_string(scene.primitive_count()) + " shapes (" + std::to_string(scene.spheres.size()) +
                 " spheres, " + std::to_string(scene.cylinders.size()) + " cylinders), " +
-                std::to_string(scene.triangles.size()) + " tris, " + std::to_string(scene.point_lights.size()) +
+                std::to_string(scene.triangles.size()) + " tris, " + std::to_string(scene.light_count()) +
                 " lights, " + std::to_string(scene.textures.size()) + " textures, " + std::to_string(warnings.size()) +
                 " warnings";
     } catch (const Error& e) {
@@ -113,7 +113,6 @@ TEST(CommunityCorpus, EveryFileLoadsOrFailsCleanly) {
     const Expected& want = it->second;
     EXPECT_EQ(loaded, want.loads) << name << ": " << outcome;
     if (loaded && want.loads) {
-      EXPECT_EQ(scene.mode, RenderMode::Phong) << name;
       EXPECT_EQ(scene.spheres.size(), want.spheres) << name;
       EXPECT_EQ(scene.cylinders.size(), want.cylinders) << name;
       if (want.triangles > 0 || scene.meshes.empty())
@@ -135,7 +134,6 @@ TEST(CommunityCorpus, VariantsLandInTheCanonicalFields) {
   const std::string dir = shared + "/scenes-coursework/community/";
   if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << "no community scenes";
   LoadOptions options;
-  options.mode_override = RenderMode::Phong;
   std::vector<std::string> warnings;
   options.warnings = &warnings;
 
@@ -145,7 +143,8 @@ TEST(CommunityCorpus, VariantsLandInTheCanonicalFields) {
   EXPECT_FLOAT_EQ(s.camera.focus_distance, 1.25f);
   ASSERT_EQ(s.sphere_lights.size(), 1u);
   EXPECT_FLOAT_EQ(s.sphere_lights[0].radius, 0.1f);
-  ASSERT_EQ(s.point_lights.size(), 1u);  // its phong stand-in
+  EXPECT_TRUE(s.point_lights.empty());
+  ASSERT_EQ(whitted_point_lights(s).size(), 1u);  // its phong stand-in
   EXPECT_FALSE(s.triangle_shading.empty());
 
   // Top-level use_dof / aperture / focus_distance; emissive rectangle; box.

@@ -8,6 +8,7 @@
 
 #include "host/error.h"
 #include "host/scene/load_scene.h"
+#include "host/render/lights.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -86,14 +87,13 @@ const json kSphere = {{"type", "sphere"}, {"center", {0, 0, 3}}, {"radius", 0.5}
 
 // ---------------------------------------------------------------- render mode and camera
 
-TEST(FormatVariants, PathTracingModesLoadWithAnOverride) {
+// The loader records the file's choice; whether the mode is built is the
+// renderer's business (tests/test_render_core.cpp).
+TEST(FormatVariants, PathTracingModesLoadAsPath) {
   for (const char* name : {"pathtracer", "pathtracing", "path", "PathTracer"}) {
     json j = with_shape(base_scene(), kSphere);
     j["rendermode"] = name;
-    EXPECT_TRUE(Contains(error_of(j), {"x.json: /rendermode: path tracing", "--mode"})) << name;
-    LoadOptions options;
-    options.mode_override = RenderMode::Phong;
-    EXPECT_EQ(parse_scene(j, "x.json", ".", options).mode, RenderMode::Phong) << name;
+    EXPECT_EQ(parse_scene(j, "x.json", ".").mode, RenderMode::Path) << name;
   }
   json j = base_scene();
   j["rendermode"] = "Phong";
@@ -176,10 +176,11 @@ TEST(FormatVariants, AreaLightEdgeSpellingsAgree) {
     expect_vec3(a.v, glm::vec3(0, 0, 0.25));
     expect_vec3(a.intensity, glm::vec3(1));
     // Phong renders it as a point light at its centre.
-    ASSERT_EQ(s->point_lights.size(), 1u);
-    EXPECT_EQ(a.point_light, 0);
-    expect_vec3(s->point_lights[0].position, glm::vec3(0, 2, 0));
-    expect_vec3(s->point_lights[0].intensity, glm::vec3(1));
+    EXPECT_TRUE(s->point_lights.empty());  // kept as an area light, not turned into a point light
+    const std::vector<PointLight> stand_ins = whitted_point_lights(*s);
+    ASSERT_EQ(stand_ins.size(), 1u);
+    expect_vec3(stand_ins[0].position, glm::vec3(0, 2, 0));
+    expect_vec3(stand_ins[0].intensity, glm::vec3(1));
   }
   EXPECT_EQ(uv.area_lights[0].samples, 16);
   EXPECT_EQ(axis.area_lights[0].samples, 0);
@@ -212,9 +213,10 @@ TEST(FormatVariants, SphereAndAmbientLights) {
   EXPECT_TRUE(l.warnings.empty());
   ASSERT_EQ(l.scene.sphere_lights.size(), 1u);
   EXPECT_FLOAT_EQ(l.scene.sphere_lights[0].radius, 0.25f);
-  ASSERT_EQ(l.scene.point_lights.size(), 2u);  // the point light and the sphere light's stand-in
-  EXPECT_EQ(l.scene.sphere_lights[0].point_light, 1);
-  expect_vec3(l.scene.point_lights[1].position, glm::vec3(1, 1, 1));
+  ASSERT_EQ(l.scene.point_lights.size(), 1u);
+  const std::vector<PointLight> stand_ins = whitted_point_lights(l.scene);
+  ASSERT_EQ(stand_ins.size(), 2u);  // phong: the point light and the sphere light's stand-in
+  expect_vec3(stand_ins[1].position, glm::vec3(1, 1, 1));
   ASSERT_TRUE(l.scene.ambient_light.has_value());
   expect_vec3(*l.scene.ambient_light, glm::vec3(0.3f, 0.4f, 0.5f));  // both forms add
   EXPECT_FALSE(parse(with_shape(base_scene(), kSphere)).scene.ambient_light.has_value());

@@ -11,6 +11,7 @@
 #include <numeric>
 
 #include "host/app/session.h"
+#include "host/render/renderer.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -89,7 +90,7 @@ TEST(WorkQueue, OverflowIsCountedButNeverWrittenPastCapacity) {
 // A scene whose Fresnel splits more than double the queue (glass spheres
 // seen through glass) forces chunk retries when the capacity equals the
 // chunk; the result must equal a render with ample capacity, bit for bit.
-TEST(WavefrontRenderer, QueueOverflowRetriesGiveTheSameImage) {
+TEST(PassDriver, QueueOverflowRetriesGiveTheSameImage) {
   const std::string scene = test::temp_dir() + "/glass.json";
   {
     std::ofstream out(scene);
@@ -113,7 +114,7 @@ TEST(WavefrontRenderer, QueueOverflowRetriesGiveTheSameImage) {
     auto s = prepare_session(o);
     RenderSettings settings = s->settings;
     settings.queue_capacity_factor = capacity_factor;
-    WavefrontRenderer r(*s->runtime, s->scene, s->wide, s->features, s->program.program, settings);
+    Renderer r(*s->runtime, *s->device_scene, s->mode, s->program.program, settings);
     return r.render(stats);
   };
   RenderStats tight, ample;

@@ -116,7 +116,7 @@ TEST(CommandLine, BadInputsGiveClearErrorsAndExitCode1) {
   EXPECT_NE(r.output.find("no-such-device"), std::string::npos) << r.output;
   r = run("render " + test::source_dir() + "/scenes/scene.json --mode sketch -o " + dir + "/x.png");
   EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.output.find("binary or phong"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("binary, phong or path"), std::string::npos) << r.output;
   r = run("render " + test::source_dir() + "/scenes/scene.json --tonemap filmic -o " + dir + "/x.png");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("reinhard"), std::string::npos) << r.output;

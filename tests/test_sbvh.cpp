@@ -63,7 +63,7 @@ std::vector<Outcome> host_compare(const Scene& s, const Bvh& bvh, const std::vec
   std::vector<Outcome> out;
   for (const Ray& r : rays) {
     const Hit h = tracer.closest(r.o, r.d, r.tmin, kRayTFar);
-    Hit brute;
+    Hit brute = no_hit();
     for (uint32_t ref : all_refs) tracer.intersect_prim(ref, r.o, r.d, r.tmin, &brute);
     out.push_back({h.t, brute.t, h.prim, brute.prim, tracer.any(r.o, r.d, r.tmin, r.tmax_any)});
   }

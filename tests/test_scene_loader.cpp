@@ -11,6 +11,7 @@
 #include "host/error.h"
 #include "host/scene/generate.h"
 #include "host/scene/load_scene.h"
+#include "host/render/lights.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -121,7 +122,7 @@ void expect_official_scenes(const std::string& dir) {
   const Scene p = load_scene(dir + "simple_phong.json");
   EXPECT_EQ(p.mode, RenderMode::Phong);
   ASSERT_EQ(p.point_lights.size(), 1u);
-  EXPECT_EQ(to_vec3(p.point_lights[0].intensity), glm::vec3(0.75f));
+  EXPECT_EQ(p.point_lights[0].intensity, glm::vec3(0.75f));
   EXPECT_EQ(p.spheres.size(), 1u);
   EXPECT_EQ(p.cylinders.size(), 1u);
   EXPECT_EQ(p.triangles.size(), 2u);
@@ -148,7 +149,6 @@ TEST(SceneLoader, CommunityScenesLoadOrFailCleanly) {
   const auto dir = std::filesystem::path(shared) / "scenes-coursework" / "community";
   if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << "no community scenes";
   LoadOptions options;
-  options.mode_override = RenderMode::Phong;
   std::vector<std::string> warnings;
   options.warnings = &warnings;
   int loaded = 0;
@@ -338,7 +338,7 @@ TEST(SceneErrors, UnknownTypesListTheSupportedOnes) {
                        {"/scene/shapes/2/type: expected", "\"sphere\"", "\"cylinder\"", "\"triangle\"", "\"mesh\"",
                         "got \"torus\""}));
   EXPECT_TRUE(Contains(parse_error_of(with(valid_scene(), "/rendermode", "raytrace")),
-                       {"/rendermode: expected one of \"binary\", \"phong\", got \"raytrace\""}));
+                       {"/rendermode: expected one of \"binary\", \"phong\", \"pathtracer\"", "got \"raytrace\""}));
   EXPECT_TRUE(Contains(parse_error_of(with(valid_scene(), "/scene/lightsources/0/type", "spotlight")),
                        {"/scene/lightsources/0/type: expected", "\"pointlight\"", "\"arealight\"", "got \"spotlight\""}));
 }
@@ -347,13 +347,8 @@ TEST(SceneModes, DefaultsPathTracingAndOverride) {
   EXPECT_EQ(parse_scene(without(valid_scene(), "/rendermode"), "x.json", ".").mode, RenderMode::Phong);
   EXPECT_EQ(parse_scene(without(valid_scene(), "/nbounces"), "x.json", ".").nbounces, 4);
   EXPECT_EQ(parse_scene(with(valid_scene(), "/rendermode", "binary"), "x.json", ".").mode, RenderMode::Binary);
-  for (const char* name : {"pathtracer", "pathtracing", "path"}) {
-    const json j = with(valid_scene(), "/rendermode", name);
-    EXPECT_TRUE(Contains(parse_error_of(j), {"x.json: /rendermode: path tracing", "not supported yet", "--mode"}));
-    LoadOptions options;
-    options.mode_override = RenderMode::Binary;
-    EXPECT_EQ(parse_scene(j, "x.json", ".", options).mode, RenderMode::Binary);
-  }
+  for (const char* name : {"pathtracer", "pathtracing", "path"})
+    EXPECT_EQ(parse_scene(with(valid_scene(), "/rendermode", name), "x.json", ".").mode, RenderMode::Path);
 }
 
 // A lens camera type without an aperture, and an area light without a size,
@@ -368,8 +363,9 @@ TEST(SceneWarnings, DroppedTrianglesVariantCamerasAndAreaLights) {
   const Scene s = parse_scene(j, "x.json", ".", options);
   EXPECT_EQ(s.triangles.size(), 0u);
   EXPECT_EQ(s.spheres.size(), 2u);
-  EXPECT_EQ(s.point_lights.size(), 1u);  // the area light's stand-in
+  EXPECT_EQ(s.point_lights.size(), 0u);
   EXPECT_EQ(s.area_lights.size(), 1u);
+  EXPECT_EQ(whitted_point_lights(s).size(), 1u);  // phong's stand-in
   ASSERT_EQ(warnings.size(), 3u);
   EXPECT_TRUE(Contains(warnings[0], {"x.json: /camera/type: warning", "finiteAperture", "pinhole"}));
   EXPECT_TRUE(Contains(warnings[1], {"x.json: /scene/lightsources/0: warning", "area light"}));
@@ -448,7 +444,7 @@ TEST(Table1Generator, CountsPerTypeAndLoads) {
     EXPECT_EQ(s.mode, RenderMode::Phong);
     EXPECT_EQ(s.camera.width, 1200);
     EXPECT_EQ(s.camera.height, 800);
-    EXPECT_GE(s.point_lights.size(), 1u);
+    EXPECT_GE(s.light_count(), 1u);
     EXPECT_LE(s.materials.size(), 17u);  // palette x {matte, mirror} + ground, deduplicated
     bool any_mirror = false;
     for (const Material& m : s.materials) any_mirror |= (m.flags & MATERIAL_REFLECTIVE) != 0;

@@ -147,7 +147,7 @@ int run(const Args& a) {
 
   std::printf("scene          %s (%zu spheres, %zu cylinders, %zu triangles, %zu lights; loaded in %.0f ms)\n",
               scene.source_path.c_str(), scene.spheres.size(), scene.cylinders.size(), scene.triangles.size(),
-              scene.point_lights.size(), load_ms);
+              scene.light_count(), load_ms);
   std::printf("tracer         Embree %s, rtcIntersect1/rtcOccluded1 on %d threads, build quality %s%s\n",
               RTC_VERSION_STRING, a.threads, a.build.c_str(),
               scene.spheres.empty() && scene.cylinders.empty() ? "" : ", spheres/cylinders as user geometry");

@@ -19,12 +19,15 @@ double time_ray_kernel(Runtime& runtime, const DeviceScene& scene, StageKernel& 
   auto& queue = runtime.queue();
   try {
     const std::vector<cl_uint> count{cl_uint(n)};
+    // Held here: a kernel argument does not keep its buffer alive.
+    const cl::Buffer count_buffer = upload_buffer(ctx, count), origin_buffer = upload_buffer(ctx, origin),
+                     dir_buffer = upload_buffer(ctx, dir);
     cl::Buffer result_buffer(ctx, CL_MEM_WRITE_ONLY, n * std::max<size_t>(1, result_bytes));
     KernelArgs args(kernel);
     scene.bind_geometry(args)
-        .arg("rays_count", upload_buffer(ctx, count))
-        .arg("rays_origin", upload_buffer(ctx, origin))
-        .arg("rays_dir", upload_buffer(ctx, dir))
+        .arg("rays_count", count_buffer)
+        .arg("rays_origin", origin_buffer)
+        .arg("rays_dir", dir_buffer)
         .arg(kernel.name == "intersect_closest" ? "hits" : "occluded", result_buffer)
         .finish();
     const cl::NDRange global(round_up(n, local_size)), local(local_size);
