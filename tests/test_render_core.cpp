@@ -1,0 +1,421 @@
+// The render core: record layouts agree between host and device, kernel
+// arguments are bound under the kernel's own names, the film keeps the HDR
+// range and counts what it drops, passes accumulate deterministically and
+// survive queue-overflow retries, one shade_surface_phong step on a
+// hand-built hit, and the mode is a render-time choice.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <numeric>
+#include <random>
+
+#include "host/app/session.h"
+#include "host/bench/host_trace.h"
+#include "host/error.h"
+#include "host/render/device_scene.h"
+#include "host/render/film.h"
+#include "host/render/kernel_args.h"
+#include "host/render/lights.h"
+#include "host/render/renderer.h"
+#include "host/scene/load_scene.h"
+#include "kernels/shared/records.h"
+#include "tests/support/test_support.h"
+
+namespace caustica {
+namespace {
+
+// ------------------------------------------------------------------ layout
+
+// Every size and offset the two sides must agree on, written once: the host
+// evaluates the list here, and the same text, stringified, is the body of a
+// kernel that evaluates it on the device.
+#define LAYOUT_EXPRESSIONS(X)                                                                              \
+  X(sizeof(Hit)) X(__builtin_offsetof(Hit, u)) X(__builtin_offsetof(Hit, prim))                            \
+  X(sizeof(PathRecord)) X(__builtin_offsetof(PathRecord, dir)) X(__builtin_offsetof(PathRecord, throughput)) \
+  X(__builtin_offsetof(PathRecord, pixel)) X(__builtin_offsetof(PathRecord, depth))                        \
+  X(sizeof(ShadowRecord)) X(__builtin_offsetof(ShadowRecord, dir))                                          \
+  X(__builtin_offsetof(ShadowRecord, contribution)) X(__builtin_offsetof(ShadowRecord, pixel))              \
+  X(sizeof(FilmParams)) X(__builtin_offsetof(FilmParams, max_contribution))                                 \
+  X(sizeof(FilmAccumulate)) X(__builtin_offsetof(FilmAccumulate, pass_index))                               \
+  X(__builtin_offsetof(FilmAccumulate, inv_scale))                                                          \
+  X(sizeof(ShadeParams)) X(__builtin_offsetof(ShadeParams, light_count))                                    \
+  X(__builtin_offsetof(ShadeParams, min_weight))                                                            \
+  X(sizeof(CameraGPU)) X(__builtin_offsetof(CameraGPU, width)) X(__builtin_offsetof(CameraGPU, pixel_count)) \
+  X(sizeof(Material)) X(__builtin_offsetof(Material, specular_exponent))                                   \
+  X(__builtin_offsetof(Material, texture)) X(sizeof(PointLight)) X(sizeof(Sphere)) X(sizeof(Cylinder))    \
+  X(sizeof(Triangle)) X(sizeof(TriangleShading)) X(__builtin_offsetof(TriangleShading, u2))               \
+  X(sizeof(Texture)) X(__builtin_offsetof(Texture, scale)) X(sizeof(BvhNode8))                             \
+  X(__builtin_offsetof(BvhNode8, child)) X(__builtin_offsetof(BvhNode8, height)) X(sizeof(TriangleBlock4)) \
+  X(__builtin_offsetof(TriangleBlock4, ref))
+
+#define CAUSTICA_STR(...) #__VA_ARGS__
+#define CAUSTICA_XSTR(...) CAUSTICA_STR(__VA_ARGS__)
+#define HOST_VALUE(e) uint32_t(e),
+#define DEVICE_VALUE(e) out[n++] = (uint)(e);
+
+TEST(RecordLayout, DeviceAgreesWithHost) {
+  const std::vector<uint32_t> host = {LAYOUT_EXPRESSIONS(HOST_VALUE)};
+  const std::string source = std::string("#include \"shared/records.h\"\n") +
+                             "__kernel void layout(__global uint* out) { uint n = 0; " +
+                             CAUSTICA_XSTR(LAYOUT_EXPRESSIONS(DEVICE_VALUE)) + " }\n";
+  Runtime& rt = test::runtime();
+  const BuiltProgram built = rt.build_source("layout.cl", source, "");
+  cl::Kernel kernel(built.program, "layout");
+  cl::Buffer out(rt.context(), CL_MEM_WRITE_ONLY, host.size() * sizeof(cl_uint));
+  kernel.setArg(0, out);
+  rt.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(1), cl::NDRange(1));
+  std::vector<uint32_t> device(host.size());
+  rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, device.size() * sizeof(cl_uint), device.data());
+  const char* names[] = {LAYOUT_EXPRESSIONS(CAUSTICA_STR)};
+  for (size_t i = 0; i < host.size(); ++i) EXPECT_EQ(device[i], host[i]) << names[i];
+  // The SoA queues allocate one element of each field's type per slot.
+  size_t path_bytes = 0;
+  for (const RecordField& f : path_record_layout().fields) path_bytes += f.bytes;
+  EXPECT_EQ(path_bytes, 2 * sizeof(cs_float4) + sizeof(cs_float4) + 2 * sizeof(cs_uint));
+  EXPECT_EQ(path_record_layout().fields.size(), 5u);
+  EXPECT_EQ(shadow_record_layout().fields.size(), 4u);
+}
+
+// ------------------------------------------------------------------ binding
+
+TEST(KernelArgs, BindingIsCheckedAgainstTheKernelsNames) {
+  Runtime& rt = test::runtime();
+  const BuiltProgram built = rt.build_file("integrator_binary.cl", " -DHAS_SPHERES");
+  const DeviceQueue rays(rt.context(), path_record_layout(), 16);
+  const CameraGPU camera{};
+  {
+    StageKernel generate(built.program, "generate_camera_rays");
+    KernelArgs(generate).arg("camera", camera).queue("out", rays).finish();  // as the integrators bind it
+    EXPECT_TRUE(generate.binding_checked);
+  }
+  if (kernel_arg_names(StageKernel(built.program, "generate_camera_rays").kernel).empty())
+    GTEST_SKIP() << "this device does not report kernel argument names";
+  StageKernel wrong_prefix(built.program, "generate_camera_rays");
+  try {
+    KernelArgs(wrong_prefix).arg("camera", camera).queue("in", rays).finish();
+    ADD_FAILURE() << "a binding under other names was accepted";
+  } catch (const Error& e) {
+    EXPECT_TRUE(test::Contains(e.what(), {"generate_camera_rays", "argument 1", "\"out_count\"", "\"in_count\""}));
+  }
+  StageKernel too_few(built.program, "generate_camera_rays");
+  try {
+    KernelArgs(too_few).arg("camera", camera).finish();
+    ADD_FAILURE() << "a binding with too few arguments was accepted";
+  } catch (const Error& e) {
+    EXPECT_TRUE(test::Contains(e.what(), {"generate_camera_rays", "declares 7 arguments", "binds 1"}));
+  }
+}
+
+// ------------------------------------------------------------------ film
+
+// film_add from a list of contributions, plus the pass accumulation, in one
+// program: the Film class drives it as the integrators do.
+const char* kFilmKernel = R"CL(
+#include "lib/film.h"
+#include "film/accumulate_film_pass.cl"
+__kernel void add_contributions(FILM_PARAMS, __global const float4* restrict values,
+                                __global const uint* restrict pixels, uint count) {
+  const uint i = get_global_id(0);
+  if (i >= count) return;
+  film_add(FILM_ARGS, pixels[i], values[i].xyz);
+}
+)CL";
+
+struct FilmRig {
+  Runtime& rt = test::runtime();
+  BuiltProgram built = rt.build_source("film_test.cl", kFilmKernel, "");
+  Film film;
+  StageKernel add{built.program, "add_contributions"};
+
+  explicit FilmRig(const FilmOptions& options) : film(rt, built.program, options) {}
+
+  void add_pass(const std::vector<cs_float4>& values, const std::vector<uint32_t>& pixels, size_t local = 64) {
+    const cl::Buffer v = upload_buffer(rt.context(), values), p = upload_buffer(rt.context(), pixels);
+    KernelArgs args(add);
+    film.bind(args).arg("values", v).arg("pixels", p).arg("count", cl_uint(values.size())).finish();
+    rt.queue().enqueueNDRangeKernel(add.kernel, cl::NullRange, cl::NDRange(round_up(values.size(), local)),
+                                    cl::NDRange(local));
+    rt.queue().finish();
+  }
+};
+
+FilmOptions film_options(int width, int height, float bound = 1.0f, bool half = false) {
+  FilmOptions o;
+  o.width = width;
+  o.height = height;
+  o.pass_bound = bound;
+  o.half_buffer = half;
+  return o;
+}
+
+TEST(Film, NonFiniteAndNegativeAreCountedAndDroppedHugeValuesClamped) {
+  FilmRig rig(film_options(4, 1));
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const float max = rig.film.params().max_contribution;
+  rig.add_pass({{nan, 0.5f, 0, 0}, {inf, -inf, 0.25f, 0}, {-1.0f, -0.0f, 2.0f, 0}, {3.0f * max, 1.0f, 0, 0}},
+               {0, 1, 2, 3});
+  rig.film.accumulate_pass();
+  const FilmCounts c = rig.film.counts();
+  EXPECT_EQ(c.nonfinite, 3u);
+  EXPECT_EQ(c.negative, 1u);  // -0 is zero, not negative
+  EXPECT_EQ(c.clamped, 1u);
+  const ImageF img = rig.film.mean();
+  const float want[12] = {0, 0.5f, 0, 0, 0, 0.25f, 0, 0, 2.0f, max, 1.0f, 0};
+  for (int i = 0; i < 12; ++i) EXPECT_EQ(img.rgb[i], want[i]) << "value " << i;
+}
+
+TEST(Film, ScaleKeepsTheHdrRangeOfTheBound) {
+  // A 1e10 background must come back as 1e10, not as a clamp (the old film
+  // stopped at 65536); the scale drops just enough bits to fit the bound.
+  const FilmParams p = film_params_for_bound(2e10f);
+  EXPECT_LE(double(p.scale) * 2e10, std::ldexp(1.0, 56));
+  EXPECT_GT(double(p.scale) * 2e10, std::ldexp(1.0, 55));
+  EXPECT_GE(p.max_contribution, 2e10f);
+  EXPECT_EQ(film_params_for_bound(1.0f).scale, FILM_MAX_SCALE);
+  FilmRig rig(film_options(2, 1, 2e10f));
+  rig.add_pass({{1e10f, 1e-3f, 1.0f, 0}, {12345.678f, 0.1f, 1e9f, 0}}, {0, 1});
+  rig.film.accumulate_pass();
+  const ImageF img = rig.film.mean();
+  EXPECT_EQ(rig.film.counts().total(), 0u);
+  const float want[6] = {1e10f, 1e-3f, 1.0f, 12345.678f, 0.1f, 1e9f};
+  const double resolution = 1.0 / rig.film.params().scale;
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(img.rgb[i], want[i], std::max(resolution, 1e-7 * want[i])) << i;
+}
+
+TEST(Film, AccumulationIsOrderIndependentAndPassesAverage) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> value(0.0f, 3.0f);
+  std::vector<cs_float4> values(20000);
+  std::vector<uint32_t> pixels(values.size());
+  for (size_t i = 0; i < values.size(); ++i) {
+    values[i] = cs_float4{value(rng), value(rng), value(rng), 0};
+    pixels[i] = uint32_t(rng() % 12);
+  }
+  std::vector<size_t> order(values.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::shuffle(order.begin(), order.end(), rng);
+  std::vector<cs_float4> shuffled_values;
+  std::vector<uint32_t> shuffled_pixels;
+  for (size_t i : order) shuffled_values.push_back(values[i]), shuffled_pixels.push_back(pixels[i]);
+
+  ImageF first;
+  for (size_t local : {1, 8, 64}) {
+    for (int shuffled = 0; shuffled < 2; ++shuffled) {
+      FilmRig rig(film_options(4, 3, 1e4f, true));
+      for (int pass = 0; pass < 3; ++pass)
+        rig.add_pass(shuffled ? shuffled_values : values, shuffled ? shuffled_pixels : pixels, local),
+            rig.film.accumulate_pass();
+      const ImageF mean = rig.film.mean();
+      EXPECT_EQ(rig.film.passes(), 3);
+      // Three equal passes: their mean, and the one odd pass alone, equal one pass's sum.
+      const ImageF half = rig.film.half_mean();
+      for (size_t i = 0; i < mean.rgb.size(); ++i) EXPECT_NEAR(mean.rgb[i], half.rgb[i], 1e-6f * half.rgb[i]);
+      if (first.rgb.empty()) {
+        first = mean;
+        continue;
+      }
+      EXPECT_EQ(0, std::memcmp(first.rgb.data(), mean.rgb.data(), first.rgb.size() * sizeof(float)))
+          << "local size " << local << (shuffled ? ", shuffled" : "");
+    }
+  }
+  // Against the exact sums in double.
+  std::vector<double> exact(36, 0.0);
+  for (size_t i = 0; i < values.size(); ++i) {
+    exact[3 * pixels[i] + 0] += values[i].x;
+    exact[3 * pixels[i] + 1] += values[i].y;
+    exact[3 * pixels[i] + 2] += values[i].z;
+  }
+  for (size_t i = 0; i < exact.size(); ++i) EXPECT_NEAR(first.rgb[i], exact[i], 1e-5 * exact[i]) << i;
+}
+
+TEST(Film, ClearingAPassRangeKeepsFinishedPasses) {
+  FilmRig rig(film_options(4, 1));
+  rig.add_pass({{1, 1, 1, 0}, {1, 1, 1, 0}, {1, 1, 1, 0}, {1, 1, 1, 0}}, {0, 1, 2, 3});
+  rig.film.accumulate_pass();
+  rig.add_pass({{1, 1, 1, 0}, {1, 1, 1, 0}, {1, 1, 1, 0}, {1, 1, 1, 0}}, {0, 1, 2, 3});
+  rig.film.clear_pass_range(1, 2);  // pixels 1 and 2 of the pass in progress
+  rig.film.accumulate_pass();
+  const ImageF img = rig.film.mean();  // (1 + 1) / 2 and (1 + 0) / 2
+  EXPECT_EQ(img.rgb[0], 1.0f);
+  EXPECT_EQ(img.rgb[3], 0.5f);
+  EXPECT_EQ(img.rgb[6], 0.5f);
+  EXPECT_EQ(img.rgb[9], 1.0f);
+}
+
+// ------------------------------------------------------------------ one shade step
+
+// A sphere of radius 1 at the origin, hit from above at (0, 1, 0); a point
+// light straight above; a mirror share of 0.25. One shade_surface_phong step
+// must add the ambient term to the film, push exactly one shadow ray
+// carrying the Blinn-Phong value, and one mirror child with weight 0.25.
+TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
+  const nlohmann::json j = R"({"nbounces": 2, "rendermode": "phong",
+    "camera": {"type": "pinhole", "width": 4, "height": 4, "position": [0, 3, -3], "lookAt": [0, 0, 0],
+               "upVector": [0, 1, 0], "fov": 40, "exposure": 0},
+    "scene": {"backgroundcolor": [0.1, 0.2, 0.3],
+      "lightsources": [{"type": "pointlight", "position": [0, 5, 0], "intensity": [2, 2, 2]}],
+      "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1.0,
+        "material": {"kd": 0.8, "ks": 0.5, "specularexponent": 10, "diffusecolor": [0.5, 0.25, 1.0],
+                     "specularcolor": [1, 1, 1], "isreflective": true, "reflectivity": 0.25}}]}})"_json;
+  const Scene scene = parse_scene(j, "step.json", ".");
+  const SceneFeatures features = analyse_scene(scene, RenderMode::Phong);
+  ASSERT_TRUE(features.lights && features.reflection);
+  Runtime& rt = test::runtime();
+  auto& ctx = rt.context();
+  const BuiltProgram built = rt.build_file("integrator_phong.cl", features.build_options());
+  const WideBvh no_bvh;  // shading does not traverse
+  const DeviceScene device_scene(ctx, scene, no_bvh, features);
+  FilmRig rig(film_options(2, 1));  // only for its film; the stage is bound below
+
+  // Two rays: one hitting the top of the sphere straight down, one missing.
+  PathRecord rays[2] = {};
+  rays[0].origin = cs_float4{0, 3, 0, 0};
+  rays[0].dir = cs_float4{0, -1, 0, 0};
+  rays[0].throughput = cs_float4{1, 1, 1, 0};
+  rays[0].pixel = 0;
+  rays[1].origin = cs_float4{5, 3, 0, 0};
+  rays[1].dir = cs_float4{0, 0, 1, 0};
+  rays[1].throughput = cs_float4{0.5f, 0.5f, 0.5f, 0};
+  rays[1].pixel = 1;
+  const std::vector<Hit> hits = {Hit{2.0f, 0.0f, 0.0f, (PRIM_SPHERE << PRIM_TYPE_SHIFT) | 0u}, no_hit()};
+  DeviceQueue in(ctx, path_record_layout(), 2), next(ctx, path_record_layout(), 4), shadow(ctx, shadow_record_layout(), 4);
+  auto& q = rt.queue();
+  const cl_uint two = 2, zero = 0;
+  q.enqueueWriteBuffer(in.count(), CL_TRUE, 0, 4, &two);
+  q.enqueueWriteBuffer(next.count(), CL_TRUE, 0, 4, &zero);
+  q.enqueueWriteBuffer(shadow.count(), CL_TRUE, 0, 4, &zero);
+  const cs_float4 origins[2] = {rays[0].origin, rays[1].origin}, dirs[2] = {rays[0].dir, rays[1].dir},
+                  weights[2] = {rays[0].throughput, rays[1].throughput};
+  const cl_uint pixel_ids[2] = {0, 1}, depths[2] = {0, 0};
+  q.enqueueWriteBuffer(in.field("origin"), CL_TRUE, 0, sizeof origins, origins);
+  q.enqueueWriteBuffer(in.field("dir"), CL_TRUE, 0, sizeof dirs, dirs);
+  q.enqueueWriteBuffer(in.field("throughput"), CL_TRUE, 0, sizeof weights, weights);
+  q.enqueueWriteBuffer(in.field("pixel"), CL_TRUE, 0, sizeof pixel_ids, pixel_ids);
+  q.enqueueWriteBuffer(in.field("depth"), CL_TRUE, 0, sizeof depths, depths);
+  const cl::Buffer hit_buffer = upload_buffer(ctx, hits);
+  const std::vector<PointLight> lights = whitted_point_lights(scene);
+  const cl::Buffer light_buffer = upload_buffer(ctx, lights);
+
+  ShadeParams params{};
+  params.background = to_float4(scene.background);
+  params.ambient_light = cs_float4{1, 1, 1, 0};
+  params.light_count = 1;
+  params.max_depth = 2;
+  params.ray_capacity = 4;
+  params.shadow_capacity = 4;
+  params.min_weight = 1e-4f;
+  StageKernel shade(built.program, "shade_surface_phong");
+  KernelArgs args(shade);
+  device_scene.bind_surfaces(args).arg("lights", light_buffer).arg("params", params).queue("in", in).arg("hits", hit_buffer);
+  rig.film.bind(args).queue("next", next).queue("shadow", shadow).finish();
+  q.enqueueNDRangeKernel(shade.kernel, cl::NullRange, cl::NDRange(64), cl::NDRange(64));
+  rig.film.accumulate_pass();
+  q.finish();
+
+  const Material& m = scene.materials[0];
+  const float local = 1.0f - 0.25f;
+  // Film: pixel 0 the ambient term (ka x diffuse colour, the local share of
+  // the weight), pixel 1 the background times its weight.
+  const ImageF film = rig.film.mean();
+  for (int c = 0; c < 3; ++c) {
+    const float diffuse = (&m.diffuse.x)[c];
+    EXPECT_NEAR(film.rgb[c], local * m.ka * diffuse, 1e-6f) << c;
+    EXPECT_NEAR(film.rgb[3 + c], 0.5f * (&scene.background.x)[c], 1e-6f) << c;
+  }
+  cl_uint shadow_count = 0, next_count = 0;
+  q.enqueueReadBuffer(shadow.count(), CL_TRUE, 0, 4, &shadow_count);
+  q.enqueueReadBuffer(next.count(), CL_TRUE, 0, 4, &next_count);
+  ASSERT_EQ(shadow_count, 1u);
+  ASSERT_EQ(next_count, 1u);
+  cs_float4 s_origin, s_dir, s_contribution, n_origin, n_dir, n_weight;
+  cl_uint s_pixel, n_pixel, n_depth;
+  q.enqueueReadBuffer(shadow.field("origin"), CL_TRUE, 0, 16, &s_origin);
+  q.enqueueReadBuffer(shadow.field("dir"), CL_TRUE, 0, 16, &s_dir);
+  q.enqueueReadBuffer(shadow.field("contribution"), CL_TRUE, 0, 16, &s_contribution);
+  q.enqueueReadBuffer(shadow.field("pixel"), CL_TRUE, 0, 4, &s_pixel);
+  q.enqueueReadBuffer(next.field("origin"), CL_TRUE, 0, 16, &n_origin);
+  q.enqueueReadBuffer(next.field("dir"), CL_TRUE, 0, 16, &n_dir);
+  q.enqueueReadBuffer(next.field("throughput"), CL_TRUE, 0, 16, &n_weight);
+  q.enqueueReadBuffer(next.field("pixel"), CL_TRUE, 0, 4, &n_pixel);
+  q.enqueueReadBuffer(next.field("depth"), CL_TRUE, 0, 4, &n_depth);
+
+  // Shadow ray: leaves just above (0, 1, 0) toward the light, ends short of it;
+  // n.l = n.h = 1, so Blinn-Phong gives I (kd diffuse + ks specular) x local.
+  EXPECT_NEAR(s_origin.y, 1.0f, 1e-4f);
+  EXPECT_GT(s_origin.y, 1.0f);
+  EXPECT_NEAR(s_origin.w, 4.0f, 1e-3f);
+  EXPECT_LT(s_origin.w, 4.0f);
+  EXPECT_EQ(to_vec3(s_dir), glm::vec3(0, 1, 0));
+  EXPECT_EQ(s_pixel, 0u);
+  for (int c = 0; c < 3; ++c) {
+    const float want = local * 2.0f * (m.diffuse.w * (&m.diffuse.x)[c] + m.specular.w * (&m.specular.x)[c]);
+    EXPECT_NEAR((&s_contribution.x)[c], want, 1e-5f) << c;
+  }
+  // Mirror child: straight back up, weight 0.25, depth 1, same pixel.
+  EXPECT_GT(n_origin.y, 1.0f);
+  EXPECT_NEAR(n_origin.y, 1.0f, 1e-4f);
+  EXPECT_NEAR(glm::length(to_vec3(n_dir) - glm::vec3(0, 1, 0)), 0.0f, 1e-6f);
+  EXPECT_EQ(to_vec3(n_weight), glm::vec3(0.25f));
+  EXPECT_EQ(n_pixel, 0u);
+  EXPECT_EQ(n_depth, 1u);
+}
+
+// ------------------------------------------------------------------ render-level
+
+std::string write_scene(const std::string& name, const std::string& text) {
+  const std::string path = test::temp_dir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(RenderCore, PathModeLoadsButIsRefusedUntilItIsBuilt) {
+  const std::string scene = write_scene("path.json", R"({"rendermode": "pathtracer",
+    "camera": {"type": "pinhole", "width": 8, "height": 8, "position": [0, 0, -3], "lookAt": [0, 0, 0],
+               "upVector": [0, 1, 0], "fov": 40},
+    "scene": {"shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1}]}})");
+  SessionOptions o;
+  o.scene_path = scene;
+  o.device = "cpu";
+  try {
+    prepare_session(o);
+    ADD_FAILURE() << "path mode rendered before it exists";
+  } catch (const Error& e) {
+    EXPECT_TRUE(test::Contains(e.what(), {"path tracing", "not available yet", "--mode binary"}));
+  }
+  o.mode = RenderMode::Binary;  // the CLI's choice wins over the file's
+  const auto session = prepare_session(o);
+  EXPECT_EQ(session->mode, RenderMode::Binary);
+  EXPECT_EQ(session->scene.mode, RenderMode::Path);
+  RenderStats stats;
+  const ImageF img = session->renderer->render(&stats);
+  EXPECT_EQ(img.at(4, 4)[0], 1.0f);  // the sphere fills the centre: red
+}
+
+TEST(RenderCore, HdrBackgroundKeepsItsValue) {
+  const std::string scene = write_scene("hdr.json", R"({"rendermode": "phong",
+    "camera": {"type": "pinhole", "width": 8, "height": 6, "position": [0, 0, -3], "lookAt": [0, 0, 0],
+               "upVector": [0, 1, 0], "fov": 40},
+    "scene": {"backgroundcolor": [1e10, 0.002, 5], "shapes": []}})");
+  SessionOptions o;
+  o.scene_path = scene;
+  o.device = "cpu";
+  const auto session = prepare_session(o);
+  RenderStats stats;
+  const ImageF img = session->renderer->render(&stats);
+  EXPECT_EQ(stats.film.total(), 0u);
+  for (size_t i = 0; i < img.pixel_count(); ++i) {
+    EXPECT_EQ(img.rgb[3 * i], 1e10f);
+    EXPECT_NEAR(img.rgb[3 * i + 1], 0.002f, 1e-6f);
+    EXPECT_EQ(img.rgb[3 * i + 2], 5.0f);
+  }
+}
+
+}  // namespace
+}  // namespace caustica
