@@ -106,6 +106,7 @@ int run_bench(BenchArgs& a) {
   // own binary cache (~/.cache/pocl), which would otherwise turn a "cold"
   // build into a 50 ms cache hit. An explicit POCL_KERNEL_CACHE wins.
   a.session.use_kernel_cache = false;
+  a.session.profile_stages = true;
   setenv("POCL_KERNEL_CACHE", "0", /*overwrite=*/0);
   const auto session = prepare_session(a.session);
   const Scene& s = session->scene;
@@ -177,6 +178,16 @@ int run_bench(BenchArgs& a) {
               (unsigned long long)last.camera_rays, (unsigned long long)last.secondary_rays,
               (unsigned long long)last.shadow_rays, traversal_ms, traversal_ms > 0 ? render_median / traversal_ms : 0.0,
               (unsigned long long)last.launches, (unsigned long long)last.blocking_transfers);
+  double device_ms = 0.0;
+  std::string stages;
+  for (const auto& [name, ms] : last.stage_ms) {
+    device_ms += ms;
+    char part[96];
+    std::snprintf(part, sizeof part, "%s%s %.1f", stages.empty() ? "" : ", ", name.c_str(), ms);
+    stages += part;
+  }
+  std::printf("               device time per stage (ms): %s; host and transfers %.1f ms\n", stages.c_str(),
+              render_median - device_ms);
   nlohmann::json j = {{"scene", s.source_path},
                       {"device", session->runtime->device_info().name},
                       {"width", width},
@@ -203,7 +214,8 @@ int run_bench(BenchArgs& a) {
                       {"render_ms", render_median},
                       {"render_traversal_ms", traversal_ms},
                       {"render_launches", last.launches},
-                      {"render_blocking_transfers", last.blocking_transfers}};
+                      {"render_blocking_transfers", last.blocking_transfers},
+                      {"render_stage_ms", last.stage_ms}};
   std::printf("%s\n", j.dump().c_str());
   return 0;
 }

@@ -60,7 +60,7 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   const std::string program_file = integrator_program_file(session->mode);  // refuses modes not built yet
 
   session->features = analyse_scene(scene, session->mode);
-  session->runtime = std::make_unique<Runtime>(select_device(options.device));
+  session->runtime = std::make_unique<Runtime>(select_device(options.device), options.profile_stages);
   session->runtime->set_cache_enabled(options.use_kernel_cache);
   session->program = session->runtime->build_file(program_file, session->features.build_options());
 

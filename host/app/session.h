@@ -31,6 +31,7 @@ struct SessionOptions {
   bool use_kernel_cache = true;
   bool strict = false;  // unknown scene keys are errors instead of warnings
   size_t local_size = 64;  // work-group size of the stage launches
+  bool profile_stages = false;  // device time per stage kernel in RenderStats::stage_ms (bench)
   // --bvh: spatial splits (SBVH) by default; "fast" for huge scenes.
   BvhBuildOptions::Quality bvh_quality = BvhBuildOptions::Quality::Spatial;
 };

@@ -201,10 +201,10 @@ DeviceInfo select_device(const std::string& requested) {
   throw Error("--device " + spec + ": no device name or platform contains \"" + spec + "\"; " + listing());
 }
 
-Runtime::Runtime(const DeviceInfo& device) : info_(device) {
+Runtime::Runtime(const DeviceInfo& device, bool profiling) : info_(device), profiling_(profiling) {
   try {
     context_ = cl::Context(info_.device);
-    queue_ = cl::CommandQueue(context_, info_.device);
+    queue_ = cl::CommandQueue(context_, info_.device, profiling ? CL_QUEUE_PROFILING_ENABLE : 0);
   } catch (const cl::Error& e) {
     throw Error("cannot create an OpenCL context on " + info_.name + ": " + e.what() + " (" + cl_error_name(e.err()) + ")");
   }

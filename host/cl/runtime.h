@@ -45,7 +45,10 @@ std::string expand_kernel_source(const std::string& root_name, const std::string
 
 class Runtime {
  public:
-  explicit Runtime(const DeviceInfo& device);
+  // profiling: the queue records kernel start/end times (caustica bench's
+  // stage breakdown); off for renders, where it would only cost.
+  explicit Runtime(const DeviceInfo& device, bool profiling = false);
+  bool profiling() const { return profiling_; }
 
   const DeviceInfo& device_info() const { return info_; }
   cl::Context& context() { return context_; }
@@ -66,6 +69,7 @@ class Runtime {
   cl::Context context_;
   cl::CommandQueue queue_;
   bool cache_enabled_ = true;
+  bool profiling_ = false;
 };
 
 // Rounds n up to a multiple of the local size (PoCL picks local size 1 for

@@ -27,6 +27,8 @@ namespace caustica {
 class Runtime;
 struct StageKernel;
 class KernelArgs;
+class StageLauncher;
+struct RenderStats;
 
 struct FilmOptions {
   int width = 0, height = 0;
@@ -57,7 +59,9 @@ class Film {
 
   void clear();  // everything: accumulated passes, the pass in progress, counters
   void clear_pass_range(size_t first_pixel, size_t pixel_count);  // of the pass in progress only
-  void accumulate_pass();                                           // adds the pass in progress; clears it
+  // Adds the pass in progress to the accumulated passes and clears it
+  // (through `launcher` when given, so that it is counted and profiled).
+  void accumulate_pass(StageLauncher* launcher = nullptr, RenderStats* stats = nullptr);
 
   ImageF mean() const;       // combined sum / passes
   ImageF half_mean() const;  // odd-pass sum / their count (needs half_buffer and >= 2 passes)

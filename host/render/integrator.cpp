@@ -10,9 +10,23 @@ namespace caustica {
 
 void StageLauncher::launch(StageKernel& stage, size_t count, RenderStats* stats) {
   if (count == 0) return;
+  cl::Event event;
   runtime_.queue().enqueueNDRangeKernel(stage.kernel, cl::NullRange, cl::NDRange(round_up(count, local_size_)),
-                                        cl::NDRange(local_size_));
+                                        cl::NDRange(local_size_), nullptr,
+                                        runtime_.profiling() ? &event : nullptr);
+  if (runtime_.profiling()) events_.emplace_back(stage.name, event);
   if (stats) ++stats->launches;
+}
+
+void StageLauncher::collect(RenderStats* stats) {
+  if (events_.empty()) return;
+  runtime_.queue().finish();
+  for (auto& [name, event] : events_) {
+    const cl_ulong start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
+    const cl_ulong end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+    if (stats) stats->stage_ms[name] += double(end - start) * 1e-6;
+  }
+  events_.clear();
 }
 
 uint32_t StageLauncher::read_count(const cl::Buffer& counter, RenderStats* stats) {
@@ -38,11 +52,11 @@ std::string integrator_program_file(RenderMode mode) {
               "render with --mode binary or --mode phong");
 }
 
-std::unique_ptr<Integrator> make_integrator(RenderMode mode, Runtime& runtime, const DeviceScene& scene,
+std::unique_ptr<Integrator> make_integrator(RenderMode mode, StageLauncher& launcher, const DeviceScene& scene,
                                             const cl::Program& program, const RenderSettings& settings) {
   switch (mode) {
-    case RenderMode::Binary: return std::make_unique<BinaryIntegrator>(runtime, scene, program, settings);
-    case RenderMode::Phong: return std::make_unique<PhongIntegrator>(runtime, scene, program, settings);
+    case RenderMode::Binary: return std::make_unique<BinaryIntegrator>(launcher, scene, program, settings);
+    case RenderMode::Phong: return std::make_unique<PhongIntegrator>(launcher, scene, program, settings);
     case RenderMode::Path: break;
   }
   integrator_program_file(mode);  // throws the message for modes not built yet

@@ -12,8 +12,11 @@
 #include <CL/opencl.hpp>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "host/render/film.h"
 #include "host/scene/scene.h"
@@ -48,21 +51,31 @@ struct RenderStats {
   uint64_t launches = 0;
   uint64_t blocking_transfers = 0;
   FilmCounts film;  // contributions dropped or clamped
+  // Device time per stage kernel, ms (only on a profiling runtime).
+  std::map<std::string, double> stage_ms;
   uint64_t rays() const { return camera_rays + secondary_rays + shadow_rays; }
 };
 
-// Kernel launches and queue-count transfers, counted into RenderStats.
+// Every stage launch and queue-count transfer of a render goes through one
+// launcher, which counts them into RenderStats and, on a profiling runtime,
+// keeps each launch's event to sum device time per stage (collect).
 class StageLauncher {
  public:
   StageLauncher(Runtime& runtime, size_t local_size) : runtime_(runtime), local_size_(local_size) {}
+  // `count` work-items, padded to the local size (PoCL picks local size 1
+  // for awkward global sizes); nothing for 0.
   void launch(StageKernel& stage, size_t count, RenderStats* stats);
   uint32_t read_count(const cl::Buffer& counter, RenderStats* stats);
   void write_count(const cl::Buffer& counter, uint32_t value, RenderStats* stats);
+  // Adds the device time of the launches since the last collect to
+  // stats->stage_ms (waits for them).
+  void collect(RenderStats* stats);
   Runtime& runtime() { return runtime_; }
 
  private:
   Runtime& runtime_;
   size_t local_size_;
+  std::vector<std::pair<std::string, cl::Event>> events_;
 };
 
 class Integrator {
@@ -83,7 +96,7 @@ class Integrator {
 // caustica::Error for a mode that is not built yet.
 std::string integrator_program_file(RenderMode mode);
 
-std::unique_ptr<Integrator> make_integrator(RenderMode mode, Runtime& runtime, const DeviceScene& scene,
+std::unique_ptr<Integrator> make_integrator(RenderMode mode, StageLauncher& launcher, const DeviceScene& scene,
                                             const cl::Program& program, const RenderSettings& settings);
 
 }  // namespace caustica

@@ -6,9 +6,10 @@
 
 namespace caustica {
 
-BinaryIntegrator::BinaryIntegrator(Runtime& runtime, const DeviceScene& scene, const cl::Program& program,
+BinaryIntegrator::BinaryIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                                    const RenderSettings& settings)
-    : launcher_(runtime, settings.local_size), scene_(scene), settings_(settings) {
+    : launcher_(launcher), scene_(scene), settings_(settings) {
+  Runtime& runtime = launcher.runtime();
   chunk_ = std::min(size_t(settings.width) * size_t(settings.height), settings.chunk_pixels);
   rays_ = DeviceQueue(runtime.context(), path_record_layout(), chunk_);
   hits_ = cl::Buffer(runtime.context(), CL_MEM_READ_WRITE, chunk_ * sizeof(Hit));

@@ -10,7 +10,7 @@ namespace caustica {
 
 class BinaryIntegrator final : public Integrator {
  public:
-  BinaryIntegrator(Runtime& runtime, const DeviceScene& scene, const cl::Program& program,
+  BinaryIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                    const RenderSettings& settings);
   const char* name() const override { return "binary"; }
   size_t chunk_pixels() const override { return chunk_; }
@@ -18,7 +18,7 @@ class BinaryIntegrator final : public Integrator {
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
 
  private:
-  StageLauncher launcher_;
+  StageLauncher& launcher_;
   const DeviceScene& scene_;
   RenderSettings settings_;
   size_t chunk_ = 0;

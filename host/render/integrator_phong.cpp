@@ -46,10 +46,10 @@ float phong_pass_bound(const Scene& scene, const std::vector<PointLight>& lights
   return std::max(1.0f, per_ray * float(std::max(0, max_depth) + 1));
 }
 
-PhongIntegrator::PhongIntegrator(Runtime& runtime, const DeviceScene& scene, const cl::Program& program,
+PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                                  const RenderSettings& settings)
-    : launcher_(runtime, settings.local_size), scene_(scene), features_(scene.features()), settings_(settings) {
-  auto& ctx = runtime.context();
+    : launcher_(launcher), scene_(scene), features_(scene.features()), settings_(settings) {
+  auto& ctx = launcher.runtime().context();
   const std::vector<PointLight> lights = whitted_point_lights(scene.scene());
   lights_ = upload_buffer(ctx, lights);
   light_count_ = features_.lights ? lights.size() : 0;

@@ -17,7 +17,7 @@ namespace caustica {
 
 class PhongIntegrator final : public Integrator {
  public:
-  PhongIntegrator(Runtime& runtime, const DeviceScene& scene, const cl::Program& program,
+  PhongIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                   const RenderSettings& settings);
   const char* name() const override { return "phong"; }
   size_t chunk_pixels() const override { return chunk_; }
@@ -27,7 +27,7 @@ class PhongIntegrator final : public Integrator {
  private:
   ShadeParams shade_params() const;
 
-  StageLauncher launcher_;
+  StageLauncher& launcher_;
   const DeviceScene& scene_;
   const SceneFeatures& features_;
   RenderSettings settings_;

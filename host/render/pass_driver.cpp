@@ -24,7 +24,7 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
       trace_chunk(first, std::min(chunk, pixels - first), stats);
       if (progress) progress(PassProgress{pass, stop.passes, std::min(pixels, first + chunk), pixels, stats});
     }
-    film_.accumulate_pass();
+    film_.accumulate_pass(&launcher_, stats);
     if (stats) ++stats->passes;
   }
 }

@@ -31,7 +31,8 @@ struct StopConditions {
 
 class PassDriver {
  public:
-  PassDriver(Integrator& integrator, Film& film) : integrator_(integrator), film_(film) {}
+  PassDriver(Integrator& integrator, Film& film, StageLauncher& launcher)
+      : integrator_(integrator), film_(film), launcher_(launcher) {}
   // Adds passes to the film (it is not cleared here).
   void run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress = {});
 
@@ -40,6 +41,7 @@ class PassDriver {
 
   Integrator& integrator_;
   Film& film_;
+  StageLauncher& launcher_;
 };
 
 }  // namespace caustica

@@ -9,11 +9,11 @@ namespace caustica {
 
 Renderer::Renderer(Runtime& runtime, const DeviceScene& scene, RenderMode mode, const cl::Program& program,
                    const RenderSettings& settings)
-    : runtime_(runtime), settings_(settings) {
+    : runtime_(runtime), settings_(settings), launcher_(runtime, settings.local_size) {
   if (settings.width <= 0 || settings.height <= 0) throw Error("render: image size must be positive");
   if (settings.passes <= 0) throw Error("render: the number of passes must be positive");
   try {
-    integrator_ = make_integrator(mode, runtime, scene, program, settings);
+    integrator_ = make_integrator(mode, launcher_, scene, program, settings);
     FilmOptions film;
     film.width = settings.width;
     film.height = settings.height;
@@ -32,8 +32,9 @@ ImageF Renderer::render(RenderStats* stats, const ProgressCallback& progress) {
     film_->clear();
     StopConditions stop;
     stop.passes = settings_.passes;
-    PassDriver(*integrator_, *film_).run(stop, stats, progress);
+    PassDriver(*integrator_, *film_, launcher_).run(stop, stats, progress);
     ImageF image = film_->mean();
+    launcher_.collect(stats);
     if (stats) {
       stats->film = film_->counts();
       stats->render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -27,6 +27,7 @@ class Renderer {
  private:
   Runtime& runtime_;
   RenderSettings settings_;
+  StageLauncher launcher_;
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<Film> film_;
 };
