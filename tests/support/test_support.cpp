@@ -2,10 +2,60 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <memory>
+#include <mutex>
+#include <set>
 #include <unistd.h>
 
 namespace caustica::test {
+
+namespace {
+
+// Removes the directories temp_dir() created during a test when that test
+// ends (and those created outside any test when the program ends), unless the
+// test failed and CAUSTICA_KEEP_TEST_FILES is set.
+class TempDirCleaner : public ::testing::EmptyTestEventListener {
+ public:
+  // True when `dir` is new to this test (so it may hold a previous run's files).
+  bool add(const std::filesystem::path& dir) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return dirs_.insert(dir).second;
+  }
+  void OnTestEnd(const ::testing::TestInfo& info) override { clean(info.result()->Failed()); }
+  void OnTestProgramEnd(const ::testing::UnitTest& unit) override { clean(unit.Failed()); }
+
+ private:
+  void clean(bool failed) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const bool keep = failed && std::getenv("CAUSTICA_KEEP_TEST_FILES") != nullptr;
+    for (const auto& dir : dirs_) {
+      if (keep) {
+        std::cerr << "CAUSTICA_KEEP_TEST_FILES: kept " << dir.string() << "\n";
+        continue;
+      }
+      std::error_code ec;
+      std::filesystem::remove_all(dir, ec);
+      if (ec) std::cerr << "could not remove " << dir.string() << ": " << ec.message() << "\n";
+    }
+    dirs_.clear();
+  }
+
+  std::mutex mutex_;
+  std::set<std::filesystem::path> dirs_;
+};
+
+// Registered with gtest once, on first use; gtest owns and deletes it.
+TempDirCleaner& temp_dir_cleaner() {
+  static TempDirCleaner* cleaner = [] {
+    auto* c = new TempDirCleaner;
+    ::testing::UnitTest::GetInstance()->listeners().Append(c);
+    return c;
+  }();
+  return *cleaner;
+}
+
+}  // namespace
 
 Runtime& runtime() {
   static std::unique_ptr<Runtime> rt = [] {
@@ -36,6 +86,8 @@ std::string temp_dir() {
   for (auto& c : name)
     if (c == '/') c = '_';
   auto dir = std::filesystem::temp_directory_path() / ("caustica_test_" + std::to_string(::getpid()) + "_" + name);
+  std::error_code ec;
+  if (temp_dir_cleaner().add(dir)) std::filesystem::remove_all(dir, ec);  // left by an earlier run with this pid
   std::filesystem::create_directories(dir);
   return dir.string();
 }

@@ -17,7 +17,14 @@ std::string source_dir();
 // "<repo>/../shared" or $CAUSTICA_SHARED_DIR; empty when it does not exist.
 std::string shared_dir();
 std::string binary_path();  // the caustica executable
-// A fresh temporary directory for this test.
+// A fresh temporary directory for this test,
+// <tmp>/caustica_test_<pid>_<suite>_<test>: the same path on every call within
+// one test, emptied on the first. It is removed with everything in it when the
+// test ends (a listener that temp_dir() registers with gtest on first use),
+// except when the test failed and the environment variable
+// CAUSTICA_KEEP_TEST_FILES is set, to look at what it wrote. Called outside a
+// test (no current test), the directory is <tmp>/caustica_test_<pid>_caustica
+// and is removed when the program ends. Tests write files only under it.
 std::string temp_dir();
 
 // Passes when `text` contains every one of `parts`; prints the text otherwise.
