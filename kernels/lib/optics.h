@@ -12,15 +12,21 @@ inline float3 reflect_dir(float3 d, float3 n) { return d - 2.0f * dot(d, n) * n;
  * internal reflection and the cosine of the transmitted angle in *cos_t. */
 inline float fresnel_dielectric(float cos_i, float eta, float* cos_t) {
   cos_i = clamp(cos_i, 0.0f, 1.0f);
-  const float sin2_t = eta * eta * fmax(0.0f, 1.0f - cos_i * cos_i);
-  if (sin2_t >= 1.0f) {
+  /* cos^2 t = 1 - eta^2 (1 - cos^2 i), summed as (1 - eta^2) + (eta cos_i)^2:
+   * for eta = 1 that is exactly 0 + cos_i^2, so matched media give
+   * cos_t == cos_i and no reflection even at grazing incidence (1 - (1 - c^2)
+   * loses c^2 below float resolution and reported total reflection there).
+   * The sum can round a hair above 1 (eta != 1, cos_i near 1): clamped. */
+  const float a = eta * cos_i;
+  const float cos2_t = (1.0f - eta * eta) + a * a;
+  if (cos2_t <= 0.0f) {
     *cos_t = 0.0f;
     return 1.0f;
   }
-  const float ct = sqrt(1.0f - sin2_t);
+  const float ct = sqrt(fmin(cos2_t, 1.0f));
   *cos_t = ct;
   /* r_s and r_p in the form that stays finite at normal and grazing incidence */
-  const float rs = (eta * cos_i - ct) / (eta * cos_i + ct);
+  const float rs = (a - ct) / (a + ct);
   const float rp = (cos_i - eta * ct) / (cos_i + eta * ct);
   return clamp(0.5f * (rs * rs + rp * rp), 0.0f, 1.0f);
 }
