@@ -252,9 +252,10 @@ TEST(Film, ClearingAPassRangeKeepsFinishedPasses) {
 // ------------------------------------------------------------------ one shade step
 
 // A sphere of radius 1 at the origin, hit from above at (0, 1, 0); a point
-// light straight above; a mirror share of 0.25. One shade_surface_phong step
-// must add the ambient term to the film, push exactly one shadow ray
-// carrying the Blinn-Phong value, and one mirror child with weight 0.25.
+// light straight above; a mirror share of 0.25; a second ray that misses.
+// One shade_surface_phong step must add the ambient term and the weighted
+// background to the film, fill the hit's shadow slot with the Blinn-Phong
+// value and leave the miss's empty, and push one mirror child of weight 0.25.
 TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
   const nlohmann::json j = R"({"nbounces": 2, "rendermode": "phong",
     "camera": {"type": "pinhole", "width": 4, "height": 4, "position": [0, 3, -3], "lookAt": [0, 0, 0],
@@ -285,7 +286,7 @@ TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
   rays[1].throughput = cs_float4{0.5f, 0.5f, 0.5f, 0};
   rays[1].pixel = 1;
   const std::vector<Hit> hits = {Hit{2.0f, 0.0f, 0.0f, (PRIM_SPHERE << PRIM_TYPE_SHIFT) | 0u}, no_hit()};
-  DeviceQueue in(ctx, path_record_layout(), 2), next(ctx, path_record_layout(), 4), shadow(ctx, shadow_record_layout(), 4);
+  DeviceQueue in(ctx, path_record_layout(), 2), next(ctx, path_record_layout(), 4), shadow(ctx, shadow_record_layout(), 2);
   auto& q = rt.queue();
   const cl_uint two = 2, zero = 0;
   q.enqueueWriteBuffer(in.count(), CL_TRUE, 0, 4, &two);
@@ -309,7 +310,6 @@ TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
   params.light_count = 1;
   params.max_depth = 2;
   params.ray_capacity = 4;
-  params.shadow_capacity = 4;
   params.min_weight = 1e-4f;
   StageKernel shade(built.program, "shade_surface_phong");
   KernelArgs args(shade);
@@ -329,11 +329,13 @@ TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
     EXPECT_NEAR(film.rgb[c], local * m.ka * diffuse, 1e-6f) << c;
     EXPECT_NEAR(film.rgb[3 + c], 0.5f * (&scene.background.x)[c], 1e-6f) << c;
   }
-  cl_uint shadow_count = 0, next_count = 0;
-  q.enqueueReadBuffer(shadow.count(), CL_TRUE, 0, 4, &shadow_count);
+  cl_uint next_count = 0, empty_slot_pixel = 0;
   q.enqueueReadBuffer(next.count(), CL_TRUE, 0, 4, &next_count);
-  ASSERT_EQ(shadow_count, 1u);
   ASSERT_EQ(next_count, 1u);
+  // Shadow slots are addressed (ray i, light l at i * lights + l): the hit
+  // fills slot 0, the miss leaves slot 1 marked empty.
+  q.enqueueReadBuffer(shadow.field("pixel"), CL_TRUE, 4, 4, &empty_slot_pixel);
+  EXPECT_EQ(empty_slot_pixel, 0xFFFFFFFFu);
   cs_float4 s_origin, s_dir, s_contribution, n_origin, n_dir, n_weight;
   cl_uint s_pixel, n_pixel, n_depth;
   q.enqueueReadBuffer(shadow.field("origin"), CL_TRUE, 0, 16, &s_origin);

@@ -31,7 +31,7 @@ static_assert(sizeof(PointLight) == 32 && offsetof(PointLight, intensity) == 16,
 static_assert(sizeof(CameraGPU) == 80 && offsetof(CameraGPU, width) == 64 && offsetof(CameraGPU, pixel_count) == 76,
               "CameraGPU layout");
 static_assert(sizeof(ShadeParams) == 64 && offsetof(ShadeParams, ambient_light) == 16 &&
-                  offsetof(ShadeParams, light_count) == 32 && offsetof(ShadeParams, min_weight) == 48,
+                  offsetof(ShadeParams, light_count) == 32 && offsetof(ShadeParams, min_weight) == 44,
               "ShadeParams layout");
 static_assert(sizeof(Hit) == 16 && offsetof(Hit, prim) == 12, "Hit layout");
 static_assert(sizeof(FilmParams) == 16 && offsetof(FilmParams, max_contribution) == 4, "FilmParams layout");

@@ -45,7 +45,8 @@ struct RenderStats {
   int passes = 0;
   uint64_t camera_rays = 0;
   uint64_t secondary_rays = 0;
-  uint64_t shadow_rays = 0;
+  uint64_t shadow_rays = 0;   // traced (slots holding a ray; needs a profiling or counting pass)
+  uint64_t shadow_slots = 0;  // addressed shadow slots, traced or empty
   int chunk_retries = 0;  // chunks traced again in halves after a queue overflow
   // Host traffic: kernel launches and blocking reads/writes (queue counts).
   uint64_t launches = 0;

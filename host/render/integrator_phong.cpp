@@ -67,6 +67,7 @@ PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& sce
                       : chunk_;
   shadow_capacity_ = std::max<size_t>(1, ray_capacity_ * light_count_);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, ray_capacity_ * sizeof(Hit));
+  shadow_traced_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
   rays_[0] = DeviceQueue(ctx, path_record_layout(), ray_capacity_);
   // Unused without secondary rays (a one-slot stand-in keeps the binding uniform).
   rays_[1] = DeviceQueue(ctx, path_record_layout(), features_.secondary_rays() ? ray_capacity_ : 1);
@@ -86,7 +87,6 @@ ShadeParams PhongIntegrator::shade_params() const {
   params.light_count = cl_uint(light_count_);
   params.max_depth = features_.secondary_rays() ? cl_uint(std::max(0, scene.nbounces)) : 0;
   params.ray_capacity = cl_uint(ray_capacity_);
-  params.shadow_capacity = cl_uint(shadow_capacity_);
   params.min_weight = settings_.min_weight;
   return params;
 }
@@ -103,6 +103,7 @@ bool PhongIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_c
   if (stats) stats->camera_rays += pixel_count;
 
   const ShadeParams params = shade_params();
+  if (light_count_ > 0) launcher_.write_count(shadow_traced_, 0, stats);
   uint32_t ray_count = uint32_t(pixel_count);
   for (cl_uint depth = 0; ray_count > 0; ++depth) {
     KernelArgs intersect(intersect_);
@@ -111,26 +112,27 @@ bool PhongIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_c
 
     const bool spawns = depth < params.max_depth;
     if (spawns) launcher_.write_count(next->count(), 0, stats);
-    if (light_count_ > 0) launcher_.write_count(shadow_.count(), 0, stats);
+    // Ray i's shadow rays occupy slots [i L, (i + 1) L): the count is known.
+    const uint32_t shadow_count = uint32_t(ray_count * light_count_);
+    if (light_count_ > 0) launcher_.write_count(shadow_.count(), shadow_count, stats);
     KernelArgs shade(shade_);
     scene_.bind_surfaces(shade).arg("lights", lights_).arg("params", params).queue("in", *current).arg("hits", hits_);
     film.bind(shade).queue("next", *next).queue("shadow", shadow_).finish();
     launcher_.launch(shade_, ray_count, stats);
 
     if (light_count_ > 0) {
-      const uint32_t shadow_count = launcher_.read_count(shadow_.count(), stats);
-      if (shadow_count > shadow_capacity_) return false;
       KernelArgs shadow(shadow_stage_);
-      film.bind(scene_.bind_geometry(shadow).queue("shadow", shadow_)).finish();
+      film.bind(scene_.bind_geometry(shadow).queue("shadow", shadow_)).arg("traced", shadow_traced_).finish();
       launcher_.launch(shadow_stage_, shadow_count, stats);
-      if (stats) stats->shadow_rays += shadow_count;
+      if (stats) stats->shadow_slots += shadow_count;
     }
-    if (!spawns) break;
+    if (!spawns) break;  // the chunk's traced shadow rays are read below
     ray_count = launcher_.read_count(next->count(), stats);
     if (ray_count > ray_capacity_) return false;
     if (stats) stats->secondary_rays += ray_count;
     std::swap(current, next);
   }
+  if (light_count_ > 0 && stats) stats->shadow_rays += launcher_.read_count(shadow_traced_, stats);
   return true;
 }
 

@@ -34,7 +34,7 @@ class PhongIntegrator final : public Integrator {
   size_t light_count_ = 0;
   size_t chunk_ = 0, ray_capacity_ = 0, shadow_capacity_ = 0;
   float pass_bound_ = 1.0f;
-  cl::Buffer lights_, hits_;
+  cl::Buffer lights_, hits_, shadow_traced_;
   DeviceQueue rays_[2], shadow_;
   StageKernel generate_, intersect_, shade_, shadow_stage_;
 };

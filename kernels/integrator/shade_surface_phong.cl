@@ -3,7 +3,8 @@
  *
  * Rules: a ray carries a weight (its share of the pixel); everything this
  * stage adds to the film or to a queue is scaled by it. Light that needs a
- * visibility test goes to the shadow queue with its full unoccluded value;
+ * visibility test goes to the shadow queue with its full unoccluded value,
+ * ray i's ray toward light l in slot i * light_count + l (queue.h);
  * direct terms without visibility (emission, ambient, background) go to the
  * film at once. Reflection and refraction rays go to the next queue while
  * depth < max_depth and their weight is not negligible. */
@@ -20,7 +21,7 @@ inline float max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 /* Blinn-Phong for one point light, pushed as a shadow ray. */
 inline void shade_point_light(__global const PointLight* light, __global const Material* mat, float3 diffuse_colour,
                               SurfacePoint sp, float3 n_facing, float3 view, float3 weight, uint pixel,
-                              uint shadow_capacity, SHADOW_QUEUE_PARAMS(shadow)) {
+                              uint slot, SHADOW_QUEUE_PARAMS(shadow)) {
   /* The shadow ray leaves on the geometric side the light is on; the
    * shading normal only weights the light. */
   const float3 geometric = dot(sp.normal, n_facing) >= 0.0f ? sp.normal : -sp.normal;
@@ -43,7 +44,7 @@ inline void shade_point_light(__global const PointLight* light, __global const M
   ray.dir = (float4)(l, 0.0f);
   ray.contribution = (float4)(contribution, 0.0f);
   ray.pixel = pixel;
-  shadow_push(SHADOW_QUEUE_ARGS(shadow), shadow_capacity, ray);
+  shadow_store(SHADOW_QUEUE_ARGS(shadow), slot, ray);
 }
 #endif
 
@@ -65,6 +66,10 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const PointLigh
                                   FILM_PARAMS, PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)) {
   const uint i = get_global_id(0);
   if (i >= *in_count) return;
+#ifdef HAS_LIGHTS
+  /* This ray's shadow slots: empty unless a light below fills its own. */
+  for (uint l = 0; l < params.light_count; ++l) shadow_mark_empty(SHADOW_QUEUE_ARGS(shadow), i * params.light_count + l);
+#endif
   const Hit hit = hits[i];
   const PathRecord ray = path_load(PATH_QUEUE_ARGS(in), i);
   const float3 weight = ray.throughput.xyz;
@@ -123,7 +128,7 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const PointLigh
     film_add(FILM_ARGS, pixel, local_weight * mat->ka * params.ambient_light.xyz * diffuse_colour);
 #ifdef HAS_LIGHTS
     for (uint l = 0; l < params.light_count; ++l)
-      shade_point_light(&lights[l], mat, diffuse_colour, sp, ns, -d, local_weight, pixel, params.shadow_capacity,
+      shade_point_light(&lights[l], mat, diffuse_colour, sp, ns, -d, local_weight, pixel, i * params.light_count + l,
                         SHADOW_QUEUE_ARGS(shadow));
 #endif
   }

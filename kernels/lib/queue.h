@@ -1,7 +1,7 @@
 #line 2 "kernels/lib/queue.h"
 /* Work queues: structure-of-arrays buffers plus one atomic counter, for the
  * records of shared/records.h. A push reserves a slot with atomic_inc and
- * then writes it. The counter may run past the capacity: the slot is then
+ * then writes it (shadow queues are addressed instead, see below). The counter may run past the capacity: the slot is then
  * dropped and the host, which reads the counter back, sees the overflow and
  * re-traces the chunk in halves, so no ray is ever lost silently. Stage
  * kernels are launched over the count padded to the work-group size and
@@ -54,17 +54,23 @@ inline bool path_push(PATH_QUEUE_PARAMS(q), uint capacity, PathRecord record) {
   return true;
 }
 
+/* Shadow queues are addressed rather than pushed: the shade stage owns the
+ * slots of its ray (for Whitted, slot = ray * light_count + light) and
+ * writes a record or marks the slot empty, so no counter is contended and
+ * the host knows the count without reading it back. */
+#define SHADOW_SLOT_EMPTY 0xFFFFFFFFu
+
+inline void shadow_store(SHADOW_QUEUE_PARAMS(q), uint slot, ShadowRecord record) {
+  SHADOW_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
+}
+
+inline void shadow_mark_empty(SHADOW_QUEUE_PARAMS(q), uint slot) { q_pixel[slot] = SHADOW_SLOT_EMPTY; }
+
 inline ShadowRecord shadow_load(SHADOW_QUEUE_PARAMS(q), uint slot) {
   ShadowRecord record;
   SHADOW_RECORD_FIELDS(QUEUE_FIELD_LOAD, q)
   return record;
 }
 
-inline bool shadow_push(SHADOW_QUEUE_PARAMS(q), uint capacity, ShadowRecord record) {
-  const uint slot = queue_reserve(q_count, capacity);
-  if (slot == 0xFFFFFFFFu) return false;
-  SHADOW_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
-  return true;
-}
 
 #endif

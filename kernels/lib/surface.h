@@ -105,7 +105,9 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
     sp.position = s.xyz + s.w * sp.normal;
     sp.material = spheres[index].material;
     sp.error_scale = max_abs3(s.xyz) + s.w;
+#ifdef HAS_TEXTURES
     sp.uv = (float2)(angle_unit(sp.normal.z, sp.normal.x), acos(clamp(-sp.normal.y, -1.0f, 1.0f)) * M_1_PI_F);
+#endif
   }
 #endif
 #ifdef HAS_CYLINDERS

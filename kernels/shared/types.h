@@ -180,10 +180,9 @@ typedef struct {
   cs_float4 ambient_light; /* rgb scale of the ambient term ka * diffuse (1 unless the scene sets it) */
   cs_uint light_count;
   cs_uint max_depth; /* nbounces: secondary rays are spawned while depth < max_depth */
-  cs_uint ray_capacity;
-  cs_uint shadow_capacity;
-  float min_weight; /* rays whose weight falls below this are not spawned */
-  cs_uint pad0, pad1, pad2;
+  cs_uint ray_capacity; /* of the next-wave queue */
+  float min_weight;     /* rays whose weight falls below this are not spawned */
+  cs_uint pad0, pad1, pad2, pad3;
 } ShadeParams; /* 64 bytes */
 
 /* The film's pass in progress: contributions are added as 64-bit fixed point
