@@ -103,7 +103,8 @@ class Textures : public ::testing::TestWithParam<const char*> {
   }
 
   std::vector<Surface> surface(const Scene& s, const std::vector<Query>& queries, bool with_shading) {
-    std::string options = "-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES";
+    // Texture coordinates of spheres and cylinders exist only with textures.
+    std::string options = "-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES -DHAS_TEXTURES";
     if (with_shading) options += " -DHAS_TRIANGLE_SHADING";
     cl::Kernel k(program("test_textures_surface.cl", kSurfaceKernel, options), "surface");
     std::vector<cs_float4> hits, origins, dirs;

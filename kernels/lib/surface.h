@@ -13,7 +13,9 @@
  * cylinders are re-projected onto their surface. Only the primitive types
  * enabled by HAS_SPHERES / HAS_CYLINDERS / HAS_TRIANGLES are compiled.
  *
- * Texture coordinates (u, v), v growing upward in the image (texture.h):
+ * Texture coordinates (u, v), v growing upward in the image (texture.h),
+ * computed for spheres and cylinders only with HAS_TEXTURES (their atan2 and
+ * acos cost more than the rest of the shading; without textures uv = 0):
  *   sphere: n = unit outward normal; u = atan2(n.z, n.x) / 2pi wrapped into
  *     [0, 1) (u = 0 toward +x, 0.25 toward +z: seen from outside with +y up,
  *     u grows to the right); v = acos(-n.y) / pi, 0 at the south pole (-y),
@@ -118,16 +120,20 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
     float3 rel = (o - cr.xyz) + hit.t * d;
     float z = clamp(dot(rel, axis), -half_length, half_length);
     float3 radial = rel - dot(rel, axis) * axis;
+#ifdef HAS_TEXTURES
     float3 t1, t2;
     cylinder_uv_frame(axis, &t1, &t2);
+#endif
     if (hit.u == CYL_PART_SIDE) {
       float len = length(radial);
       /* A hit exactly on the axis cannot be on the side; any normal
        * perpendicular to the axis is as good as another there. */
       sp.normal = len > 0.0f ? radial / len : normalize(cross(axis, (float3)(axis.y, axis.z, axis.x)));
       sp.position = cr.xyz + z * axis + cr.w * sp.normal;
+#ifdef HAS_TEXTURES
       sp.uv = (float2)(angle_unit(dot(sp.normal, t2), dot(sp.normal, t1)),
                        half_length > 0.0f ? (z + half_length) / (2.0f * half_length) : 0.5f);
+#endif
     } else {
       float sgn = hit.u == CYL_PART_TOP ? 1.0f : -1.0f;
       sp.normal = sgn * axis;
@@ -135,8 +141,10 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
       float len = length(radial);
       if (len > cr.w) radial *= cr.w / len;
       sp.position = cr.xyz + (sgn * half_length) * axis + radial;
+#ifdef HAS_TEXTURES
       float scale = cr.w > 0.0f ? 0.5f / cr.w : 0.0f;
       sp.uv = (float2)(0.5f + dot(radial, t1) * scale, 0.5f + dot(radial, t2) * scale);
+#endif
     }
     sp.material = cylinders[index].material;
     sp.error_scale = max_abs3(cr.xyz) + cr.w + half_length;
