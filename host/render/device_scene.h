@@ -9,6 +9,9 @@
 
 #include <CL/opencl.hpp>
 
+#include <initializer_list>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "host/accel/bvh_wide.h"
@@ -32,11 +35,12 @@ class DeviceScene {
   size_t uploaded_bytes() const { return uploaded_bytes_; }
 
  private:
+  KernelArgs& bind(KernelArgs& args, std::initializer_list<const char*> names) const;
+
   const Scene& scene_;
   SceneFeatures features_;
   size_t uploaded_bytes_ = 0;
-  cl::Buffer nodes_, triangle_blocks_, prim_refs_, spheres_, cylinders_, triangles_;
-  cl::Buffer triangle_shading_, materials_, textures_, texels_;
+  std::vector<std::pair<std::string, cl::Buffer>> buffers_;
 };
 
 // A read-only buffer holding `data` (one dummy element when it is empty).
