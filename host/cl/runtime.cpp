@@ -228,9 +228,13 @@ BuiltProgram Runtime::build_source(const std::string& name, const std::string& t
   const std::string source = expand_kernel_source(name, text);
   // CPU devices share one address space for all OpenCL memory, which lets
   // the traversal issue real prefetches (kernels/lib/bvh_traverse.h).
-  const std::string options =
-      "-cl-std=CL1.2 -cl-kernel-arg-info " + std::string(info_.type == "cpu" ? "-DCAUSTICA_CPU_PREFETCH " : "") +
-      raw_options;
+  // CAUSTICA_EXTRA_KERNEL_OPTIONS: appended to every build (a developer knob;
+  // e.g. -cl-opt-disable for oclgrind, whose LLVM cannot run every intrinsic
+  // an optimising clang emits).
+  const char* extra = std::getenv("CAUSTICA_EXTRA_KERNEL_OPTIONS");
+  const std::string options = "-cl-std=CL1.2 -cl-kernel-arg-info " +
+                              std::string(info_.type == "cpu" ? "-DCAUSTICA_CPU_PREFETCH " : "") + raw_options +
+                              (extra ? std::string(" ") + extra : std::string());
   auto t0 = std::chrono::steady_clock::now();
   BuiltProgram built;
 
