@@ -30,7 +30,7 @@ TEST(CommunityCorpus, EveryLoadableSceneRendersInPhong) {
     o.scene_path = f.string();
     o.mode = RenderMode::Phong;
     o.width = 48;
-    o.device = "cpu";
+    o.device = test::device_spec();
     std::unique_ptr<Session> session;
     try {
       session = prepare_session(o);

@@ -48,8 +48,7 @@ ImageF render(const std::string& scene, RenderMode mode, int width, int height, 
   o.mode = mode;
   o.width = width;
   o.height = height;
-  o.device = "cpu";
-  if (const char* env = std::getenv("CAUSTICA_TEST_DEVICE")) o.device = env;
+  o.device = test::device_spec();
   o.local_size = local_size;
   auto session = prepare_session(o);
   RenderStats stats;
@@ -148,8 +147,7 @@ TEST(OfficialSceneInvariants, FilmDropsAndClampsNothing) {
     SessionOptions o;
     o.scene_path = test::source_dir() + "/scenes/" + s;
     o.width = 200;
-    o.device = "cpu";
-    if (const char* env = std::getenv("CAUSTICA_TEST_DEVICE")) o.device = env;
+    o.device = test::device_spec();
     auto session = prepare_session(o);
     RenderStats stats;
     session->renderer->render(&stats);

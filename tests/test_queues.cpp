@@ -110,7 +110,7 @@ TEST(PassDriver, QueueOverflowRetriesGiveTheSameImage) {
   }
   SessionOptions o;
   o.scene_path = scene;
-  o.device = "cpu";
+  o.device = test::device_spec();
   auto render = [&](float capacity_factor, RenderStats* stats) {
     auto s = prepare_session(o);
     RenderSettings settings = s->settings;

@@ -384,7 +384,7 @@ TEST(RenderCore, PathModeLoadsButIsRefusedUntilItIsBuilt) {
     "scene": {"shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1}]}})");
   SessionOptions o;
   o.scene_path = scene;
-  o.device = "cpu";
+  o.device = test::device_spec();
   try {
     prepare_session(o);
     ADD_FAILURE() << "path mode rendered before it exists";
@@ -407,7 +407,7 @@ TEST(RenderCore, HdrBackgroundKeepsItsValue) {
     "scene": {"backgroundcolor": [1e10, 0.002, 5], "shapes": []}})");
   SessionOptions o;
   o.scene_path = scene;
-  o.device = "cpu";
+  o.device = test::device_spec();
   const auto session = prepare_session(o);
   RenderStats stats;
   const ImageF img = session->renderer->render(&stats);

@@ -56,10 +56,12 @@ struct WideBvh {
   double collapse_ms = 0.0;
 };
 
-// Greedy collapse: each wide node starts from one binary node's two children
-// and repeatedly opens the child with the largest surface area until it has
-// eight or only leaves are left. Leaves keep the binary leaves' boxes
-// (clipped to their triangles), so the spatial-split boxes of a builder that
+// Collapses the binary tree by the rule of options.collapse: by default the
+// cost-driven dynamic program (Sah above: per binary subtree the cheapest of
+// one leaf of up to eight blocks, one wide node, or a split over up to eight
+// of the parent's slots); Greedy opens the child with the largest surface
+// area until a node has eight. Leaves keep the binary leaves' boxes (clipped
+// to their triangles), so the spatial-split boxes of a builder that
 // duplicates references stay as tight as built. Throws Error when the result
 // exceeds the kernels' limits (node count, stack height).
 WideBvh collapse_bvh(const Bvh& bvh, const Scene& scene, const WideBvhOptions& options = {});

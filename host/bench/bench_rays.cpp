@@ -111,7 +111,7 @@ BenchRays generate_bench_rays(const Scene& scene, const Bvh& bvh, int width, int
     const vec3 o = out.primary.o(i), d = out.primary.d(i);
     const HostSurfacePoint sp = tracer.surface_at(hit, o, d);
 
-    // As shade_surface.cl: the geometric normal turned toward the ray.
+    // As shade_surface_phong.cl: the geometric normal turned toward the ray.
     const vec3 facing = dot3(sp.normal, d) < 0.0f ? sp.normal : -sp.normal;
     out.diffuse.origin.push_back(to_float4(host_spawn_point(sp, facing)));
     out.diffuse.dir.push_back(to_float4(cosine_direction(facing, options.seed, i)));

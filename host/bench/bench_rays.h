@@ -53,7 +53,7 @@ struct BenchRayOptions {
   int threads = 0;  // host threads for the primary trace; 0: all hardware threads
 };
 
-// Shadow segments end this fraction short of the light, as in shade_surface.cl.
+// Shadow segments end this fraction short of the light, as in shade_surface_phong.cl.
 constexpr float kShadowEndFraction = 1e-5f;
 
 // Throws caustica::Error for a non-positive image size.

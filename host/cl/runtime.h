@@ -54,7 +54,7 @@ class Runtime {
   cl::Context& context() { return context_; }
   cl::CommandQueue& queue() { return queue_; }
 
-  // Builds an embedded kernel file (e.g. "render.cl") with the given -D
+  // Builds an embedded kernel file (e.g. "integrator_phong.cl") with the given -D
   // options. Throws caustica::Error with the build log on failure.
   BuiltProgram build_file(const std::string& path, const std::string& options);
   // Builds source text that may #include embedded files (used by tests).

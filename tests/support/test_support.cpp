@@ -57,11 +57,13 @@ TempDirCleaner& temp_dir_cleaner() {
 
 }  // namespace
 
+std::string device_spec() {
+  const char* env = std::getenv("CAUSTICA_TEST_DEVICE");
+  return env ? env : "cpu";
+}
+
 Runtime& runtime() {
-  static std::unique_ptr<Runtime> rt = [] {
-    const char* env = std::getenv("CAUSTICA_TEST_DEVICE");
-    return std::make_unique<Runtime>(select_device(env ? env : "cpu"));
-  }();
+  static std::unique_ptr<Runtime> rt = std::make_unique<Runtime>(select_device(device_spec()));
   return *rt;
 }
 

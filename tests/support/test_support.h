@@ -13,6 +13,10 @@
 namespace caustica::test {
 
 Runtime& runtime();
+// The device spec of runtime(): $CAUSTICA_TEST_DEVICE, else "cpu"; renders
+// through a Session use it too, so the whole suite can run on one device
+// (another OpenCL platform, or oclgrind's simulator).
+std::string device_spec();
 std::string source_dir();
 // "<repo>/../shared" or $CAUSTICA_SHARED_DIR; empty when it does not exist.
 std::string shared_dir();
