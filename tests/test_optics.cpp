@@ -137,18 +137,23 @@ class Optics : public ::testing::TestWithParam<const char*> {
     return p;
   }
 
-  std::vector<FresnelOut> fresnel(const std::vector<FresnelIn>& in) {
-    const size_t n = in.size();
-    cl::Buffer input = upload(in);
-    cl::Buffer out(runtime().context(), CL_MEM_WRITE_ONLY, std::max<size_t>(n, 1) * sizeof(FresnelOut));
-    cl::Kernel k(program(), "fresnel");
-    k.setArg(0, input);
-    k.setArg(1, static_cast<cl_uint>(n));
-    k.setArg(2, out);
+  // Runs `kernel(inputs..., n, out)` over n items and returns out.
+  template <typename Out>
+  std::vector<Out> run(const char* kernel, const std::vector<cl::Buffer>& inputs, size_t n) {
+    cl::Buffer out(runtime().context(), CL_MEM_WRITE_ONLY, std::max<size_t>(n, 1) * sizeof(Out));
+    cl::Kernel k(program(), kernel);
+    cl_uint arg = 0;
+    for (const cl::Buffer& b : inputs) k.setArg(arg++, b);
+    k.setArg(arg++, static_cast<cl_uint>(n));
+    k.setArg(arg, out);
     runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
-    std::vector<FresnelOut> result(n);
-    runtime().queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(FresnelOut), result.data());
+    std::vector<Out> result(n);
+    runtime().queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(Out), result.data());
     return result;
+  }
+
+  std::vector<FresnelOut> fresnel(const std::vector<FresnelIn>& in) {
+    return run<FresnelOut>("fresnel", {upload(in)}, in.size());
   }
 
   std::vector<Refracted> refract(const std::vector<Sample>& samples) {
@@ -158,16 +163,7 @@ class Optics : public ::testing::TestWithParam<const char*> {
       d_eta.push_back({{float(s.d.x), float(s.d.y), float(s.d.z), s.eta}});
       normal.push_back({{float(s.n.x), float(s.n.y), float(s.n.z), 0.0f}});
     }
-    cl::Buffer a = upload(d_eta), b = upload(normal);
-    cl::Buffer out(runtime().context(), CL_MEM_WRITE_ONLY, std::max<size_t>(n, 1) * sizeof(cl_float4));
-    cl::Kernel k(program(), "refract");
-    k.setArg(0, a);
-    k.setArg(1, b);
-    k.setArg(2, static_cast<cl_uint>(n));
-    k.setArg(3, out);
-    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
-    std::vector<cl_float4> o(n);
-    runtime().queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(cl_float4), o.data());
+    const std::vector<cl_float4> o = run<cl_float4>("refract", {upload(d_eta), upload(normal)}, n);
     std::vector<Refracted> result(n);
     for (size_t i = 0; i < n; ++i) result[i] = {dvec3(o[i].s[0], o[i].s[1], o[i].s[2]), o[i].s[3]};
     return result;

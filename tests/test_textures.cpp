@@ -26,8 +26,6 @@ using glm::vec3;
 using test::runtime;
 
 const float kPi = 3.14159265358979f;
-// Hit.u of a cylinder hit (CYL_PART_* of kernels/lib/geometry.h, kernel-only).
-const float CYL_PART_SIDE = 0.0f, CYL_PART_TOP = 1.0f, CYL_PART_BOTTOM = 2.0f;
 
 const char* kSurfaceKernel = R"CLC(
 #include "lib/surface.h"

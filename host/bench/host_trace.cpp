@@ -13,12 +13,12 @@ namespace {
 
 using glm::vec3;
 
-constexpr float kCylPartSide = 0.0f;  // CYL_PART_* of geometry.h
-constexpr float kCylPartTop = 1.0f;
-constexpr float kCylPartBottom = 2.0f;
+constexpr float kCylPartSide = CYL_PART_SIDE;
+constexpr float kCylPartTop = CYL_PART_TOP;
+constexpr float kCylPartBottom = CYL_PART_BOTTOM;
 constexpr int kStackSize = CS_BVH_STACK_SIZE;
-constexpr float kInvDirMax = 1e18f;
-constexpr float kExitSlack = 2e-6f;
+constexpr float kInvDirMax = BVH_INV_DIR_MAX;
+constexpr float kExitSlack = BVH_EXIT_SLACK;
 
 // OpenCL's dot is written out so that the summation order is the kernels'.
 float dot3(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }

@@ -16,7 +16,7 @@
 
 namespace caustica {
 
-constexpr float kRayTFar = 1e30f;  // RAY_T_FAR of kernels/lib/geometry.h
+constexpr float kRayTFar = RAY_T_FAR;
 
 // The kernels' Hit (kernels/shared/types.h) and its "no hit" value.
 inline Hit no_hit(float tmax = kRayTFar) { return Hit{tmax, 0.0f, 0.0f, PRIM_NONE}; }

@@ -15,7 +15,6 @@
 
 #include <CL/opencl.hpp>
 
-#include <array>
 #include <cstdint>
 #include <memory>
 

@@ -2,8 +2,6 @@
 
 #include "host/cl/runtime.h"
 #include "host/error.h"
-#include "host/render/integrator_binary.h"
-#include "host/render/integrator_phong.h"
 #include "host/render/kernel_args.h"
 
 namespace caustica {
@@ -55,8 +53,8 @@ std::string integrator_program_file(RenderMode mode) {
 std::unique_ptr<Integrator> make_integrator(RenderMode mode, StageLauncher& launcher, const DeviceScene& scene,
                                             const cl::Program& program, const RenderSettings& settings) {
   switch (mode) {
-    case RenderMode::Binary: return std::make_unique<BinaryIntegrator>(launcher, scene, program, settings);
-    case RenderMode::Phong: return std::make_unique<PhongIntegrator>(launcher, scene, program, settings);
+    case RenderMode::Binary: return make_binary_integrator(launcher, scene, program, settings);
+    case RenderMode::Phong: return make_phong_integrator(launcher, scene, program, settings);
     case RenderMode::Path: break;
   }
   integrator_program_file(mode);  // throws the message for modes not built yet

@@ -6,7 +6,8 @@
 // stop, and the film keeps what finished passes added. An integrator builds
 // from its own program (kernels/integrator_<mode>.cl: only its stages, one
 // program per integrator and feature set). A new mode is a new
-// integrator_<mode>.{cpp,cl} pair plus one line in make_integrator.
+// integrator_<mode>.{cpp,cl} pair, its make_<mode>_integrator and one case
+// in make_integrator and integrator_program_file.
 #pragma once
 
 #include <CL/opencl.hpp>
@@ -45,7 +46,7 @@ struct RenderStats {
   int passes = 0;
   uint64_t camera_rays = 0;
   uint64_t secondary_rays = 0;
-  uint64_t shadow_rays = 0;   // traced (slots holding a ray; needs a profiling or counting pass)
+  uint64_t shadow_rays = 0;   // traced: slots holding a ray (counted per work-group on the device)
   uint64_t shadow_slots = 0;  // addressed shadow slots, traced or empty
   int chunk_retries = 0;  // chunks traced again in halves after a queue overflow
   // Host traffic: kernel launches and blocking reads/writes (queue counts).
@@ -99,5 +100,11 @@ std::string integrator_program_file(RenderMode mode);
 
 std::unique_ptr<Integrator> make_integrator(RenderMode mode, StageLauncher& launcher, const DeviceScene& scene,
                                             const cl::Program& program, const RenderSettings& settings);
+
+// One per integrator_<mode>.cpp (the classes stay in their files).
+std::unique_ptr<Integrator> make_binary_integrator(StageLauncher& launcher, const DeviceScene& scene,
+                                                   const cl::Program& program, const RenderSettings& settings);
+std::unique_ptr<Integrator> make_phong_integrator(StageLauncher& launcher, const DeviceScene& scene,
+                                                  const cl::Program& program, const RenderSettings& settings);
 
 }  // namespace caustica

@@ -1,10 +1,36 @@
-#include "host/render/integrator_binary.h"
+// Binary mode: red where the camera ray hits anything, black elsewhere.
+// Stages: generate_camera_rays -> intersect_closest -> shade_surface_binary.
+#include "host/render/device_scene.h"
+#include "host/render/integrator.h"
+#include "host/render/kernel_args.h"
 
 #include <algorithm>
 
 #include "host/cl/runtime.h"
 
 namespace caustica {
+namespace {
+
+class BinaryIntegrator final : public Integrator {
+ public:
+  BinaryIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
+                   const RenderSettings& settings);
+  const char* name() const override { return "binary"; }
+  size_t chunk_pixels() const override { return chunk_; }
+  float pass_bound() const override { return 1.0f; }
+  bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
+
+ private:
+  StageLauncher& launcher_;
+  const DeviceScene& scene_;
+  RenderSettings settings_;
+  size_t chunk_ = 0;
+  DeviceQueue rays_;
+  cl::Buffer hits_;
+  StageKernel generate_, intersect_, shade_;
+};
+
+}  // namespace
 
 BinaryIntegrator::BinaryIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                                    const RenderSettings& settings)
@@ -35,6 +61,11 @@ bool BinaryIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_
   film.bind(shade.queue("in", rays_).arg("hits", hits_)).finish();
   launcher_.launch(shade_, pixel_count, stats);
   return true;
+}
+
+std::unique_ptr<Integrator> make_binary_integrator(StageLauncher& launcher, const DeviceScene& scene,
+                                                 const cl::Program& program, const RenderSettings& settings) {
+  return std::make_unique<BinaryIntegrator>(launcher, scene, program, settings);
 }
 
 }  // namespace caustica

@@ -52,12 +52,8 @@ CameraGPU camera_for_image(const CameraDesc& camera, int width, int height) {
 }
 
 const char* render_mode_name(RenderMode mode) {
-  switch (mode) {
-    case RenderMode::Binary: return "binary";
-    case RenderMode::Phong: return "phong";
-    case RenderMode::Path: return "path";
-  }
-  return "?";
+  static const char* const names[] = {"binary", "phong", "path"};  // in RenderMode's order
+  return names[static_cast<int>(mode)];
 }
 
 }  // namespace caustica

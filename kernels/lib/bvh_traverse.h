@@ -30,12 +30,8 @@
 #ifndef BVH_STACK_SIZE /* tests shrink it to exercise the group entries */
 #define BVH_STACK_SIZE CS_BVH_STACK_SIZE
 #endif
-#define BVH_INV_DIR_MAX 1e18f
-/* Relative widening of each box's exit distance, so that rounding in the
- * slab test (and the approximate reciprocals fast-relaxed-math may use)
- * never culls a hit on a primitive touching its box: rays through triangle
- * vertices, which sit exactly on box corners, are the typical victims. */
-#define BVH_EXIT_SLACK 2e-6f
+/* BVH_INV_DIR_MAX and BVH_EXIT_SLACK: shared/types.h. The exit slack also
+ * covers the approximate reciprocals fast-relaxed-math may use. */
 /* The slab distances are fma(plane, inv_d, -o * inv_d): one operation per
  * plane instead of (plane - o) * inv_d, but -o * inv_d carries a rounding
  * error relative to |o * inv_d|, not to t. Near planes move that much

@@ -9,14 +9,8 @@
 
 #include "shared/types.h"
 
-/* Finite stand-in for "infinitely far": fast-relaxed-math may fold inf. */
-#define RAY_T_FAR 1e30f
-
-/* Hit (shared/types.h): t, u, v, prim; see there for u and v by primitive type. */
-
-#define CYL_PART_SIDE 0.0f
-#define CYL_PART_TOP 1.0f    /* the cap at centre + half * axis */
-#define CYL_PART_BOTTOM 2.0f /* the cap at centre - half * axis */
+/* Hit, RAY_T_FAR and CYL_PART_* live in shared/types.h (the host trace
+ * shares them). */
 
 /* The traversal's view of the scene: the wide BVH (nodes, triangle blocks,
  * refs of the sphere/cylinder leaves) and the primitive arrays. */

@@ -39,6 +39,23 @@ typedef int32_t cs_int;
  * -DBVH_STACK_SIZE=N to exercise the group entries. */
 #define CS_BVH_STACK_SIZE 64
 
+/* Ray-query constants shared by the kernels (lib/geometry.h,
+ * lib/bvh_traverse.h) and the host trace (host/bench/host_trace.cpp), which
+ * must give the kernels' answers:
+ *   RAY_T_FAR: finite stand-in for "infinitely far" (fast-relaxed-math may
+ *     fold inf);
+ *   BVH_INV_DIR_MAX: reciprocal directions are clamped to +-this;
+ *   BVH_EXIT_SLACK: relative widening of each box's exit distance, so that
+ *     rounding in the slab test never culls a hit on a primitive touching
+ *     its box (rays through triangle vertices sit exactly on box corners);
+ *   CYL_PART_*: Hit.u of a cylinder hit, the part it is on. */
+#define RAY_T_FAR 1e30f
+#define BVH_INV_DIR_MAX 1e18f
+#define BVH_EXIT_SLACK 2e-6f
+#define CYL_PART_SIDE 0.0f
+#define CYL_PART_TOP 1.0f    /* the cap at centre + half * axis */
+#define CYL_PART_BOTTOM 2.0f /* the cap at centre - half * axis */
+
 /* A closest-hit answer. u, v by primitive type:
  *   triangle: barycentrics, position = (1-u-v) v0 + u v1 + v v2;
  *   cylinder: u = part (CYL_PART_*), v = signed axial coordinate of the hit;
