@@ -2,6 +2,7 @@
 
 #include "host/cl/runtime.h"
 #include "host/error.h"
+#include "host/render/device_scene.h"
 #include "host/render/kernel_args.h"
 
 namespace caustica {
@@ -38,6 +39,17 @@ void StageLauncher::write_count(const cl::Buffer& counter, uint32_t value, Rende
   const cl_uint v = value;
   runtime_.queue().enqueueWriteBuffer(counter, CL_TRUE, 0, sizeof v, &v);
   if (stats) ++stats->blocking_transfers;
+}
+
+void Integrator::generate_camera_rays(StageKernel& generate, const DeviceQueue& rays, size_t first_pixel,
+                                      size_t pixel_count, RenderStats* stats) {
+  CameraGPU camera = camera_for_image(scene_.scene().camera, settings_.width, settings_.height);
+  camera.pixel_offset = cl_uint(first_pixel);
+  camera.pixel_count = cl_uint(pixel_count);
+  KernelArgs(generate).arg("camera", camera).queue("out", rays).finish();
+  launcher_.launch(generate, pixel_count, stats);
+  launcher_.write_count(rays.count(), cl_uint(pixel_count), stats);
+  if (stats) stats->camera_rays += pixel_count;
 }
 
 std::string integrator_program_file(RenderMode mode) {

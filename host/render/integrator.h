@@ -25,6 +25,7 @@
 namespace caustica {
 
 class DeviceScene;
+class DeviceQueue;
 class Runtime;
 struct StageKernel;
 
@@ -84,14 +85,28 @@ class Integrator {
  public:
   virtual ~Integrator() = default;
   virtual const char* name() const = 0;
-  // Pixels per chunk its queues are sized for.
-  virtual size_t chunk_pixels() const = 0;
-  // Largest sum one pixel can receive in one pass (sets the film's scale).
-  virtual float pass_bound() const = 0;
   // One sample for pixels [first_pixel, first_pixel + pixel_count) into the
   // film's pass in progress. False when a queue overflowed: the driver then
   // clears that range of the pass and traces it again in halves.
   virtual bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) = 0;
+
+  // Pixels per chunk its queues are sized for.
+  size_t chunk_pixels() const { return chunk_pixels_; }
+  // Largest sum one pixel can receive in one pass (sets the film's scale).
+  float pass_bound() const { return pass_bound_; }
+
+ protected:
+  Integrator(StageLauncher& launcher, const DeviceScene& scene, const RenderSettings& settings)
+      : launcher_(launcher), scene_(scene), settings_(settings) {}
+  // generate_camera_rays for a chunk into `rays` (count set: one ray a pixel).
+  void generate_camera_rays(StageKernel& generate, const DeviceQueue& rays, size_t first_pixel, size_t pixel_count,
+                            RenderStats* stats);
+
+  StageLauncher& launcher_;
+  const DeviceScene& scene_;
+  RenderSettings settings_;
+  size_t chunk_pixels_ = 0;  // set by the constructors
+  float pass_bound_ = 1.0f;
 };
 
 // The kernel program of a mode ("integrator_phong.cl"); throws

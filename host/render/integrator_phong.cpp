@@ -26,20 +26,14 @@ class PhongIntegrator final : public Integrator {
   PhongIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                   const RenderSettings& settings);
   const char* name() const override { return "phong"; }
-  size_t chunk_pixels() const override { return chunk_; }
-  float pass_bound() const override { return pass_bound_; }
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
 
  private:
   ShadeParams shade_params() const;
 
-  StageLauncher& launcher_;
-  const DeviceScene& scene_;
   const SceneFeatures& features_;
-  RenderSettings settings_;
   size_t light_count_ = 0;
-  size_t chunk_ = 0, ray_capacity_ = 0, shadow_capacity_ = 0;
-  float pass_bound_ = 1.0f;
+  size_t ray_capacity_ = 0, shadow_capacity_ = 0;
   cl::Buffer lights_, hits_, shadow_traced_;
   DeviceQueue rays_[2], shadow_;
   StageKernel generate_, intersect_, shade_, shadow_stage_;
@@ -88,7 +82,7 @@ float phong_pass_bound(const Scene& scene, const std::vector<PointLight>& lights
 
 PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                                  const RenderSettings& settings)
-    : launcher_(launcher), scene_(scene), features_(scene.features()), settings_(settings) {
+    : Integrator(launcher, scene, settings), features_(scene.features()) {
   auto& ctx = launcher.runtime().context();
   const std::vector<PointLight> lights = whitted_point_lights(scene.scene());
   lights_ = upload_buffer(ctx, lights);
@@ -99,12 +93,12 @@ PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& sce
   const size_t pixels = size_t(settings.width) * size_t(settings.height);
   // Queue memory grows with the chunk and the number of lights; keep the
   // shadow queue within ~2^21 entries.
-  chunk_ = std::min(pixels, settings.chunk_pixels);
-  if (light_count_ > 0) chunk_ = std::min(chunk_, std::max<size_t>(4096, (size_t(1) << 21) / light_count_));
+  size_t chunk = std::min(pixels, settings.chunk_pixels);
+  if (light_count_ > 0) chunk = std::min(chunk, std::max<size_t>(4096, (size_t(1) << 21) / light_count_));
+  chunk_pixels_ = chunk;
   // A wave can at most double (one reflection + one refraction child per ray).
-  ray_capacity_ = features_.secondary_rays()
-                      ? std::max(chunk_, size_t(double(chunk_) * settings.queue_capacity_factor))
-                      : chunk_;
+  ray_capacity_ = features_.secondary_rays() ? std::max(chunk, size_t(double(chunk) * settings.queue_capacity_factor))
+                                             : chunk;
   shadow_capacity_ = std::max<size_t>(1, ray_capacity_ * light_count_);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, ray_capacity_ * sizeof(Hit));
   shadow_traced_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
@@ -132,15 +126,9 @@ ShadeParams PhongIntegrator::shade_params() const {
 }
 
 bool PhongIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) {
-  CameraGPU camera = camera_for_image(scene_.scene().camera, settings_.width, settings_.height);
-  camera.pixel_offset = cl_uint(first_pixel);
-  camera.pixel_count = cl_uint(pixel_count);
   DeviceQueue* current = &rays_[0];
   DeviceQueue* next = &rays_[1];
-  KernelArgs(generate_).arg("camera", camera).queue("out", *current).finish();
-  launcher_.launch(generate_, pixel_count, stats);
-  launcher_.write_count(current->count(), cl_uint(pixel_count), stats);
-  if (stats) stats->camera_rays += pixel_count;
+  generate_camera_rays(generate_, *current, first_pixel, pixel_count, stats);
 
   const ShadeParams params = shade_params();
   if (light_count_ > 0) launcher_.write_count(shadow_traced_, 0, stats);
