@@ -1,12 +1,12 @@
 // Renders every community scene in ../shared (skipped when absent) in phong
-// mode at a small size: whatever loads must render with a finite,
-// non-negative film and without crashing; whatever does not load must fail
+// mode at a small size: whatever loads must render without crashing and
+// without the film dropping (NaN/Inf, negative) or clamping a single
+// contribution; whatever does not load must fail
 // with a caustica::Error naming the file (test_community_corpus.cpp pins
 // which is which).
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cmath>
 #include <filesystem>
 
 #include "host/app/session.h"
@@ -45,9 +45,6 @@ TEST(CommunityCorpus, EveryLoadableSceneRendersInPhong) {
     // "no NaN/Inf reached the film" is a count, not a property of the output.
     EXPECT_EQ(stats.film.total(), 0u) << f.filename() << ": " << stats.film.nonfinite << " NaN/Inf, "
                                       << stats.film.negative << " negative, " << stats.film.clamped << " clamped";
-    size_t bad = 0;
-    for (float v : image.rgb) bad += !(std::isfinite(v) && v >= 0.0f);
-    EXPECT_EQ(bad, 0u) << f.filename();
     ++rendered;
     std::printf("[corpus] %-80s rendered %dx%d, %zu prims\n", f.filename().c_str(), image.width, image.height,
                 session->scene.primitive_count());

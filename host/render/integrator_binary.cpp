@@ -14,30 +14,27 @@ namespace {
 class BinaryIntegrator final : public Integrator {
  public:
   BinaryIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
-                   const RenderSettings& settings);
+                   const RenderSettings& settings)
+      : Integrator(launcher, scene, settings),
+        generate_(program, "generate_camera_rays"),
+        intersect_(program, "intersect_closest"),
+        shade_(program, "shade_surface_binary") {
+    auto& context = launcher.runtime().context();
+    chunk_pixels_ = std::min(size_t(settings.width) * size_t(settings.height), settings.chunk_pixels);
+    pass_bound_ = 1.0f;  // red, once
+    rays_ = DeviceQueue(context, path_record_layout(), chunk_pixels_);
+    hits_ = cl::Buffer(context, CL_MEM_READ_WRITE, chunk_pixels_ * sizeof(Hit));
+  }
   const char* name() const override { return "binary"; }
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
 
  private:
+  StageKernel generate_, intersect_, shade_;
   DeviceQueue rays_;
   cl::Buffer hits_;
-  StageKernel generate_, intersect_, shade_;
 };
 
 }  // namespace
-
-BinaryIntegrator::BinaryIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
-                                   const RenderSettings& settings)
-    : Integrator(launcher, scene, settings) {
-  Runtime& runtime = launcher.runtime();
-  chunk_pixels_ = std::min(size_t(settings.width) * size_t(settings.height), settings.chunk_pixels);
-  pass_bound_ = 1.0f;  // red, once
-  rays_ = DeviceQueue(runtime.context(), path_record_layout(), chunk_pixels_);
-  hits_ = cl::Buffer(runtime.context(), CL_MEM_READ_WRITE, chunk_pixels_ * sizeof(Hit));
-  generate_ = StageKernel(program, "generate_camera_rays");
-  intersect_ = StageKernel(program, "intersect_closest");
-  shade_ = StageKernel(program, "shade_surface_binary");
-}
 
 bool BinaryIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) {
   generate_camera_rays(generate_, rays_, first_pixel, pixel_count, stats);
