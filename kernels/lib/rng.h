@@ -1,0 +1,91 @@
+#line 2 "kernels/lib/rng.h"
+/* Counter-based random numbers and low-discrepancy samples for the
+ * stochastic integrators (path tracing, issue 11; photon emission later).
+ *
+ * Rules: no state is carried between work-items or launches; every number is
+ * a pure function of (pixel, sample index, dimension, seed), so an image is
+ * the same bits for any thread count, work-group size, chunking or device
+ * order. Floats are 24-bit fractions in [0, 1): 1 itself never comes out.
+ *
+ * Samples are Sobol-Burley (Burley 2020, "Practical Hash-based Owen
+ * Scrambling"): each pair of dimensions is the 2D Sobol (0,2)-sequence, its
+ * index shuffled by a nested uniform scramble and its coordinates Owen
+ * scrambled, both seeded by a hash of (pixel, dimension pair, seed). Within a
+ * pixel any power-of-two prefix of the samples is a (0,m,2)-net (stratified
+ * in every elementary interval); between pixels and between dimension pairs
+ * the scrambles decorrelate them. */
+#ifndef CAUSTICA_LIB_RNG_H
+#define CAUSTICA_LIB_RNG_H
+
+/* A full-avalanche 32-bit mix ("lowbias32", C. Wellons): every input bit
+ * flips each output bit with probability ~1/2. */
+inline uint hash_u32(uint x) {
+  x ^= x >> 16;
+  x *= 0x21f0aaadu;
+  x ^= x >> 15;
+  x *= 0x735a2d97u;
+  x ^= x >> 15;
+  return x;
+}
+
+inline uint hash_combine(uint seed, uint value) { return hash_u32(seed ^ (value + 0x9e3779b9u + (seed << 6) + (seed >> 2))); }
+
+inline uint hash3(uint a, uint b, uint c) { return hash_combine(hash_combine(hash_u32(a), b), c); }
+
+/* The top 24 bits as a float in [0, 1). */
+inline float unit_float(uint bits) { return (float)(bits >> 8) * 0x1.0p-24f; }
+
+/* An independent uniform in [0, 1) for (key, counter): the plain random
+ * sampler that the low-discrepancy one is compared against. */
+inline float random_float(uint key, uint counter) { return unit_float(hash_combine(hash_u32(key), counter)); }
+
+inline uint reverse_bits_u32(uint x) {
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+  return (x >> 16) | (x << 16);
+}
+
+/* The 2D Sobol sequence as 32-bit fractions: dimension 0 is the van der
+ * Corput sequence (the index's bits reversed), dimension 1 uses the
+ * direction numbers of the primitive polynomial x + 1 (v_1 = 2^31,
+ * v_k = v_{k-1} ^ (v_{k-1} >> 1)). Together a (0,2)-sequence. */
+inline uint sobol_dimension0(uint index) { return reverse_bits_u32(index); }
+
+inline uint sobol_dimension1(uint index) {
+  uint result = 0u, v = 0x80000000u;
+  for (; index != 0u; index >>= 1, v ^= v >> 1)
+    if (index & 1u) result ^= v;
+  return result;
+}
+
+/* Burley's hash-based Laine-Karras permutation: an Owen scramble of the bits
+ * of x seen from the least significant end (each bit flipped by a hash of
+ * the bits below it). */
+inline uint laine_karras_permutation(uint x, uint seed) {
+  x += seed;
+  x ^= x * 0x6c50b47cu;
+  x ^= x * 0xb82f1e52u;
+  x ^= x * 0xc7afe638u;
+  x ^= x * 0x8d22f6e6u;
+  return x;
+}
+
+/* Owen scrambling of a 32-bit fraction: each bit flipped by a hash of the
+ * bits above it. Keeps every (0,m,2)-net a net. */
+inline uint nested_uniform_scramble(uint x, uint seed) {
+  return reverse_bits_u32(laine_karras_permutation(reverse_bits_u32(x), seed));
+}
+
+/* Sample `index` of the pixel's sequence in dimensions (2 pair, 2 pair + 1).
+ * pixel_seed mixes the pixel and the user's seed (hash3(pixel, 0, seed)). */
+inline float2 sobol_burley_2d(uint index, uint pair, uint pixel_seed) {
+  const uint pair_seed = hash_combine(pixel_seed, pair);
+  const uint shuffled = nested_uniform_scramble(index, pair_seed);
+  const uint x = nested_uniform_scramble(sobol_dimension0(shuffled), hash_combine(pair_seed, 0x5ca1ab1eu));
+  const uint y = nested_uniform_scramble(sobol_dimension1(shuffled), hash_combine(pair_seed, 0xdecafbadu));
+  return (float2)(unit_float(x), unit_float(y));
+}
+
+#endif /* CAUSTICA_LIB_RNG_H */

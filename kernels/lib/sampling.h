@@ -1,0 +1,103 @@
+#line 2 "kernels/lib/sampling.h"
+/* Warps of uniform samples onto the shapes the path tracer samples, each
+ * with its density.
+ *
+ * Rules: u is in [0, 1)^2; directions are unit vectors in a local frame
+ * whose z axis is the surface normal (frame_from_normal); densities are per
+ * unit solid angle for directions and per unit area for points. Every warp
+ * is finite for every u in [0, 1)^2 (u = 0 included) and keeps the
+ * stratification of its input (no rejection). */
+#ifndef CAUSTICA_LIB_SAMPLING_H
+#define CAUSTICA_LIB_SAMPLING_H
+
+/* Shirley-Chiu concentric map: the unit square onto the unit disk, area
+ * preserving up to a constant and with low distortion. */
+inline float2 sample_concentric_disk(float2 u) {
+  const float2 o = 2.0f * u - 1.0f;
+  if (o.x == 0.0f && o.y == 0.0f) return (float2)(0.0f, 0.0f);
+  float r, theta;
+  if (fabs(o.x) > fabs(o.y)) {
+    r = o.x;
+    theta = M_PI_4_F * (o.y / o.x);
+  } else {
+    r = o.y;
+    theta = M_PI_2_F - M_PI_4_F * (o.x / o.y);
+  }
+  return r * (float2)(cos(theta), sin(theta));
+}
+
+/* Malley: a disk point lifted onto the hemisphere; density cos(theta) / pi. */
+inline float3 sample_cosine_hemisphere(float2 u) {
+  const float2 d = sample_concentric_disk(u);
+  return (float3)(d.x, d.y, sqrt(fmax(0.0f, 1.0f - d.x * d.x - d.y * d.y)));
+}
+
+inline float pdf_cosine_hemisphere(float cos_theta) { return fmax(cos_theta, 0.0f) * M_1_PI_F; }
+
+/* Uniform over the directions within angle acos(cos_max) of +z; density
+ * 1 / (2 pi (1 - cos_max)). 1 - cos_max is passed as well, because for a
+ * small cone cos_max rounds to 1 and the difference would vanish. */
+inline float3 sample_uniform_cone(float2 u, float one_minus_cos_max) {
+  const float one_minus_cos = u.x * one_minus_cos_max;
+  const float cos_theta = 1.0f - one_minus_cos;
+  const float sin_theta = sqrt(fmax(0.0f, one_minus_cos * (2.0f - one_minus_cos)));
+  const float phi = 2.0f * M_PI_F * u.y;
+  return (float3)(cos(phi) * sin_theta, sin(phi) * sin_theta, cos_theta);
+}
+
+inline float pdf_uniform_cone(float one_minus_cos_max) { return 1.0f / (2.0f * M_PI_F * one_minus_cos_max); }
+
+/* 1 - cos of the half-angle a sphere of squared radius r2 subtends from a
+ * point at squared distance d2 > r2, without the cancellation of
+ * 1 - sqrt(1 - r2 / d2) for a small or far sphere. Sampling the cone
+ * (sample_uniform_cone) samples every direction that can reach the sphere. */
+inline float sphere_cone_one_minus_cos(float d2, float r2) {
+  const float sin2 = fmin(r2 / d2, 1.0f);
+  return sin2 / (1.0f + sqrt(1.0f - sin2));
+}
+
+/* Uniform over the sphere; density 1 / (4 pi). */
+inline float3 sample_uniform_sphere(float2 u) {
+  const float z = 1.0f - 2.0f * u.x;
+  const float r = sqrt(fmax(0.0f, 1.0f - z * z));
+  const float phi = 2.0f * M_PI_F * u.y;
+  return (float3)(r * cos(phi), r * sin(phi), z);
+}
+
+/* Uniform over the rectangle centre + s edge_u + t edge_v, s, t in
+ * [-1/2, 1/2] (the area lights of scene.h); density 1 / |edge_u x edge_v|. */
+inline float3 sample_rectangle(float3 centre, float3 edge_u, float3 edge_v, float2 u) {
+  return centre + (u.x - 0.5f) * edge_u + (u.y - 0.5f) * edge_v;
+}
+
+/* Barycentrics (b1, b2) uniform over a triangle, by Heitz's low-distortion
+ * map (2019) rather than the square-root one, which crowds one corner. */
+inline float2 sample_triangle_barycentrics(float2 u) {
+  float b1, b2;
+  if (u.y > u.x) {
+    b1 = 0.5f * u.x;
+    b2 = u.y - b1;
+  } else {
+    b2 = 0.5f * u.y;
+    b1 = u.x - b2;
+  }
+  return (float2)(b1, b2);
+}
+
+/* An orthonormal frame (t, b, n) around the unit vector n, without a branch
+ * on the axis (Duff et al. 2017). */
+inline void frame_from_normal(float3 n, float3* t, float3* b) {
+  const float sign = copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float c = n.x * n.y * a;
+  *t = (float3)(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+  *b = (float3)(c, sign + n.y * n.y * a, -n.y);
+}
+
+inline float3 frame_to_world(float3 v, float3 t, float3 b, float3 n) { return v.x * t + v.y * b + v.z * n; }
+
+inline float3 frame_to_local(float3 world, float3 t, float3 b, float3 n) {
+  return (float3)(dot(world, t), dot(world, b), dot(world, n));
+}
+
+#endif /* CAUSTICA_LIB_SAMPLING_H */
