@@ -1,0 +1,234 @@
+#line 2 "kernels/lib/bsdf.h"
+/* The scattering models of the path tracer (issue 11), evaluated, sampled
+ * and given densities in one place so that the three always agree.
+ *
+ * Rules: directions are unit vectors in the local shading frame (z = the
+ * shading normal on the side the path arrived from is NOT assumed: wo.z may
+ * be negative inside a dielectric). wo points away from the surface toward
+ * where the path came from, wi away from the surface toward where it goes.
+ * bsdf_eval returns f(wo, wi) without the cosine; bsdf_sample returns the
+ * sampled wi with weight = f |wi.z| / pdf (or the delta lobe's weight), and
+ * flags BSDF_SAMPLED_SPECULAR for delta lobes, whose pdf is not a density
+ * (MIS must not weight them). Radiance transport: transmission divides by
+ * eta^2 (the non-symmetric scaling of camera paths, Veach 1997 ch. 5).
+ * Near-zero roughness (alpha < GGX_ALPHA_MIN) is the smooth model.
+ *
+ * Models:
+ *   BSDF_PLASTIC: Lambertian albedo `diffuse` coupled with a GGX specular
+ *     layer (a mirror when smooth) of normal reflectance `specular` (Schlick
+ *     Fresnel) by Ashikhmin & Shirley's energy-conserving diffuse term
+ *     (2000), so the total reflectance stays <= 1 when diffuse and specular
+ *     are <= 1 per channel;
+ *   BSDF_CONDUCTOR: GGX (or smooth mirror) with Schlick reflectance
+ *     `specular`;
+ *   BSDF_DIELECTRIC: smooth or rough (Walter et al. 2007) glass of relative
+ *     index `ior` (inside over outside; the outside is where z > 0). */
+#ifndef CAUSTICA_LIB_BSDF_H
+#define CAUSTICA_LIB_BSDF_H
+
+#include "lib/ggx.h"
+#include "lib/optics.h"
+#include "lib/sampling.h"
+
+#define BSDF_PLASTIC 0u
+#define BSDF_CONDUCTOR 1u
+#define BSDF_DIELECTRIC 2u
+
+#define BSDF_SAMPLED_SPECULAR 1u  /* a delta lobe: pdf is not a density */
+#define BSDF_SAMPLED_TRANSMIT 2u  /* wi is on the other side of the surface */
+
+typedef struct {
+  float3 diffuse;  /* plastic: Lambertian albedo */
+  float3 specular; /* plastic, conductor: reflectance at normal incidence */
+  float alpha;     /* GGX roughness */
+  float ior;       /* dielectric: inside / outside */
+  uint kind;
+} Bsdf;
+
+inline float bsdf_max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
+
+inline float3 fresnel_schlick(float3 f0, float cos_theta) {
+  const float m = clamp(1.0f - cos_theta, 0.0f, 1.0f);
+  const float m2 = m * m;
+  return f0 + (1.0f - f0) * (m2 * m2 * m);
+}
+
+inline bool bsdf_is_smooth(Bsdf b) { return b.alpha < GGX_ALPHA_MIN; }
+
+/* Probability that plastic sampling picks the specular lobe: proportional
+ * to the lobes' reflectance scales, never 0 or 1 while both exist. */
+inline float plastic_specular_probability(Bsdf b) {
+  const float s = bsdf_max3(b.specular), d = bsdf_max3(b.diffuse);
+  if (s <= 0.0f) return 0.0f;
+  if (d <= 0.0f) return 1.0f;
+  return clamp(s / (s + d), 0.1f, 0.9f);
+}
+
+/* The microfacet reflection term D G F / (4 |cos_o| |cos_i|) for wo, wi on
+ * the +z side. */
+inline float3 ggx_reflection(float3 f0, float alpha, float3 wo, float3 wi) {
+  const float3 h = wo + wi;
+  const float hl = length(h);
+  if (!(hl > 0.0f) || wo.z <= 0.0f || wi.z <= 0.0f) return (float3)(0.0f);
+  const float3 m = h / hl;
+  const float3 f = fresnel_schlick(f0, dot(wo, m));
+  return f * (ggx_d(m, alpha) * ggx_g2(wo, wi, alpha) / (4.0f * wo.z * wi.z));
+}
+
+/* Density of reflecting by a visible normal: pdf_vnd(m) / (4 |wo.m|). */
+inline float ggx_reflection_pdf(float alpha, float3 wo, float3 wi) {
+  const float3 h = wo + wi;
+  const float hl = length(h);
+  if (!(hl > 0.0f) || wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
+  const float3 m = h / hl;
+  return ggx_pdf_visible_normal(wo, m, alpha) / (4.0f * fabs(dot(wo, m)));
+}
+
+inline float3 plastic_diffuse(Bsdf b, float3 wo, float3 wi) {
+  /* Ashikhmin-Shirley: 28/(23 pi) Rd (1 - Rs) (1 - (1 - cos_i/2)^5)(1 - (1 - cos_o/2)^5) */
+  const float a = 1.0f - 0.5f * wi.z, c = 1.0f - 0.5f * wo.z;
+  const float a5 = a * a * a * a * a, c5 = c * c * c * c * c;
+  return b.diffuse * (1.0f - b.specular) * ((28.0f / (23.0f * M_PI_F)) * (1.0f - a5) * (1.0f - c5));
+}
+
+/* ---- dielectric ---- */
+
+/* eta of the side wo is on over the other side, and the flipped frame. */
+inline float dielectric_eta(Bsdf b, float3 wo) { return wo.z > 0.0f ? b.ior : 1.0f / b.ior; }
+
+/* Generalised half vector of a refraction (Walter et al.), on the +z side. */
+inline float3 refraction_half(float3 wo, float3 wi, float eta) {
+  float3 m = wo + eta * wi; /* eta = n_i / n_o with n_o the side of wo */
+  const float l = length(m);
+  if (!(l > 0.0f)) return (float3)(0.0f, 0.0f, 1.0f);
+  m /= l;
+  return m.z < 0.0f ? -m : m;
+}
+
+inline float3 bsdf_eval(Bsdf b, float3 wo, float3 wi) {
+  if (b.kind == BSDF_PLASTIC) {
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return (float3)(0.0f);
+    float3 f = plastic_diffuse(b, wo, wi);
+    if (!bsdf_is_smooth(b)) f += ggx_reflection(b.specular, b.alpha, wo, wi);
+    return f;
+  }
+  if (bsdf_is_smooth(b)) return (float3)(0.0f); /* delta lobes only */
+  if (b.kind == BSDF_CONDUCTOR) return ggx_reflection(b.specular, b.alpha, wo, wi);
+  /* rough dielectric */
+  if (wo.z == 0.0f || wi.z == 0.0f) return (float3)(0.0f);
+  const float eta = dielectric_eta(b, wo); /* transmitted side over wo's side */
+  const bool reflect = wo.z * wi.z > 0.0f;
+  const float sign = wo.z > 0.0f ? 1.0f : -1.0f;
+  const float3 wo_up = wo * sign, wi_up = wi * sign; /* wo on +z */
+  float cos_t;
+  if (reflect) {
+    const float3 m = normalize(wo_up + wi_up);
+    const float f = fresnel_dielectric(fabs(dot(wo_up, m)), 1.0f / eta, &cos_t);
+    return (float3)(f * ggx_d(m, b.alpha) * ggx_g2(wo_up, wi_up, b.alpha) / (4.0f * fabs(wo.z) * fabs(wi.z)));
+  }
+  const float3 m = refraction_half(wo_up, wi_up, eta);
+  const float om = dot(wo_up, m), im = dot(wi_up, m);
+  if (om <= 0.0f || im >= 0.0f) return (float3)(0.0f); /* not a refraction through m */
+  const float f = fresnel_dielectric(om, 1.0f / eta, &cos_t);
+  const float denom = om + eta * im;
+  const float value = (1.0f - f) * ggx_d(m, b.alpha) * ggx_g2(wo_up, wi_up, b.alpha) * fabs(im) * om /
+                      (fabs(wo.z) * fabs(wi.z) * denom * denom);
+  return (float3)(value); /* eta^2 * (1/eta^2): radiance scaling cancels Walter's eta_t^2 */
+}
+
+inline float bsdf_pdf(Bsdf b, float3 wo, float3 wi) {
+  if (b.kind == BSDF_PLASTIC) {
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
+    const float ps = plastic_specular_probability(b); /* smooth: a delta lobe, no density */
+    return (bsdf_is_smooth(b) ? 0.0f : ps * ggx_reflection_pdf(b.alpha, wo, wi)) +
+           (1.0f - ps) * pdf_cosine_hemisphere(wi.z);
+  }
+  if (bsdf_is_smooth(b)) return 0.0f;
+  if (b.kind == BSDF_CONDUCTOR) return ggx_reflection_pdf(b.alpha, wo, wi);
+  if (wo.z == 0.0f || wi.z == 0.0f) return 0.0f;
+  const float eta = dielectric_eta(b, wo);
+  const float sign = wo.z > 0.0f ? 1.0f : -1.0f;
+  const float3 wo_up = wo * sign, wi_up = wi * sign;
+  float cos_t;
+  if (wo.z * wi.z > 0.0f) {
+    const float3 m = normalize(wo_up + wi_up);
+    const float f = fresnel_dielectric(fabs(dot(wo_up, m)), 1.0f / eta, &cos_t);
+    return f * ggx_pdf_visible_normal(wo_up, m, b.alpha) / (4.0f * fabs(dot(wo_up, m)));
+  }
+  const float3 m = refraction_half(wo_up, wi_up, eta);
+  const float om = dot(wo_up, m), im = dot(wi_up, m);
+  if (om <= 0.0f || im >= 0.0f) return 0.0f;
+  const float f = fresnel_dielectric(om, 1.0f / eta, &cos_t);
+  const float denom = om + eta * im;
+  /* dm/dwi = eta^2 |wi.m| / (wo.m + eta wi.m)^2 */
+  return (1.0f - f) * ggx_pdf_visible_normal(wo_up, m, b.alpha) * eta * eta * fabs(im) / (denom * denom);
+}
+
+/* Samples wi for wo with u in [0,1)^3 (u.z picks a lobe). Returns false when
+ * no direction is produced (wo below a reflector, a sampled micro-normal that
+ * sends wi below the surface). */
+inline bool bsdf_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight, float* pdf, uint* flags) {
+  *flags = 0u;
+  if (b.kind == BSDF_PLASTIC || b.kind == BSDF_CONDUCTOR) {
+    if (wo.z <= 0.0f) return false;
+    const bool smooth = bsdf_is_smooth(b);
+    if (b.kind == BSDF_CONDUCTOR && smooth) {
+      *wi = (float3)(-wo.x, -wo.y, wo.z);
+      *pdf = 1.0f;
+      *weight = fresnel_schlick(b.specular, wo.z);
+      *flags = BSDF_SAMPLED_SPECULAR;
+      return true;
+    }
+    const float ps = b.kind == BSDF_CONDUCTOR ? 1.0f : plastic_specular_probability(b);
+    if (smooth && u.z < ps) { /* smooth plastic: the specular layer is a mirror */
+      *wi = (float3)(-wo.x, -wo.y, wo.z);
+      *pdf = ps;
+      *weight = fresnel_schlick(b.specular, wo.z) / ps;
+      *flags = BSDF_SAMPLED_SPECULAR;
+      return true;
+    }
+    if (u.z < ps) {
+      const float3 m = ggx_sample_visible_normal(wo, b.alpha, u.xy);
+      *wi = reflect_dir(-wo, m);
+    } else {
+      *wi = sample_cosine_hemisphere(u.xy);
+    }
+    if (wi->z <= 0.0f) return false;
+    *pdf = bsdf_pdf(b, wo, *wi);
+    if (!(*pdf > 0.0f)) return false;
+    *weight = bsdf_eval(b, wo, *wi) * (wi->z / *pdf);
+    return true;
+  }
+  /* dielectric */
+  const float eta = dielectric_eta(b, wo);
+  const float sign = wo.z > 0.0f ? 1.0f : -1.0f;
+  const float3 wo_up = wo * sign;
+  const float3 m = bsdf_is_smooth(b) ? (float3)(0.0f, 0.0f, 1.0f) : ggx_sample_visible_normal(wo_up, b.alpha, u.xy);
+  const float om = dot(wo_up, m);
+  if (!(om > 0.0f)) return false;
+  float cos_t;
+  const float f = fresnel_dielectric(om, 1.0f / eta, &cos_t);
+  float3 w;
+  if (u.z < f) {
+    w = reflect_dir(-wo_up, m);
+    if (w.z <= 0.0f) return false;
+  } else {
+    w = refract_dir(-wo_up, m, 1.0f / eta, om, cos_t);
+    if (w.z >= 0.0f) return false;
+    *flags |= BSDF_SAMPLED_TRANSMIT;
+  }
+  *wi = w * sign;
+  if (bsdf_is_smooth(b)) {
+    *flags |= BSDF_SAMPLED_SPECULAR;
+    *pdf = u.z < f ? f : 1.0f - f;
+    /* f (or 1 - f) / its probability; transmission scaled by 1/eta^2 */
+    *weight = (float3)((*flags & BSDF_SAMPLED_TRANSMIT) ? 1.0f / (eta * eta) : 1.0f);
+    return true;
+  }
+  *pdf = bsdf_pdf(b, wo, *wi);
+  if (!(*pdf > 0.0f)) return false;
+  *weight = bsdf_eval(b, wo, *wi) * (fabs(wi->z) / *pdf);
+  return true;
+}
+
+#endif /* CAUSTICA_LIB_BSDF_H */
