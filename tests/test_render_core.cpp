@@ -40,6 +40,8 @@ namespace {
   X(sizeof(Hit)) X(__builtin_offsetof(Hit, u)) X(__builtin_offsetof(Hit, prim))                            \
   X(sizeof(PathRecord)) X(__builtin_offsetof(PathRecord, dir)) X(__builtin_offsetof(PathRecord, throughput)) \
   X(__builtin_offsetof(PathRecord, pixel)) X(__builtin_offsetof(PathRecord, depth))                        \
+  X(__builtin_offsetof(PathRecord, bsdf_pdf)) X(__builtin_offsetof(PathRecord, flags))                      \
+  X(sizeof(PathLight)) X(__builtin_offsetof(PathLight, emitted)) X(__builtin_offsetof(PathLight, select_cdf)) \
   X(sizeof(ShadowRecord)) X(__builtin_offsetof(ShadowRecord, dir))                                          \
   X(__builtin_offsetof(ShadowRecord, contribution)) X(__builtin_offsetof(ShadowRecord, pixel))              \
   X(sizeof(FilmParams)) X(__builtin_offsetof(FilmParams, max_contribution))                                 \
@@ -47,7 +49,9 @@ namespace {
   X(__builtin_offsetof(FilmAccumulate, inv_scale))                                                          \
   X(sizeof(ShadeParams)) X(__builtin_offsetof(ShadeParams, light_count))                                    \
   X(__builtin_offsetof(ShadeParams, min_weight))                                                            \
-  X(sizeof(CameraGPU)) X(__builtin_offsetof(CameraGPU, width)) X(__builtin_offsetof(CameraGPU, pixel_count)) \
+  X(sizeof(CameraGPU)) X(__builtin_offsetof(CameraGPU, lens)) X(__builtin_offsetof(CameraGPU, width))        \
+  X(__builtin_offsetof(CameraGPU, pixel_count)) X(__builtin_offsetof(Material, roughness))                    \
+  X(__builtin_offsetof(Material, metallic))                                                                   \
   X(sizeof(Material)) X(__builtin_offsetof(Material, specular_exponent))                                   \
   X(__builtin_offsetof(Material, texture)) X(sizeof(PointLight)) X(sizeof(Sphere)) X(sizeof(Cylinder))    \
   X(sizeof(Triangle)) X(sizeof(TriangleShading)) X(__builtin_offsetof(TriangleShading, u2))               \
@@ -78,8 +82,8 @@ TEST(RecordLayout, DeviceAgreesWithHost) {
   // The SoA queues allocate one element of each field's type per slot.
   size_t path_bytes = 0;
   for (const RecordField& f : path_record_layout().fields) path_bytes += f.bytes;
-  EXPECT_EQ(path_bytes, 2 * sizeof(cs_float4) + sizeof(cs_float4) + 2 * sizeof(cs_uint));
-  EXPECT_EQ(path_record_layout().fields.size(), 5u);
+  EXPECT_EQ(path_bytes, sizeof(PathRecord));
+  EXPECT_EQ(path_record_layout().fields.size(), 7u);
   EXPECT_EQ(shadow_record_layout().fields.size(), 4u);
 }
 
@@ -109,7 +113,7 @@ TEST(KernelArgs, BindingIsCheckedAgainstTheKernelsNames) {
     KernelArgs(too_few).arg("camera", camera).finish();
     ADD_FAILURE() << "a binding with too few arguments was accepted";
   } catch (const Error& e) {
-    EXPECT_TRUE(test::Contains(e.what(), {"generate_camera_rays", "declares 7 arguments", "binds 1"}));
+    EXPECT_TRUE(test::Contains(e.what(), {"generate_camera_rays", "declares 9 arguments", "binds 1"}));
   }
 }
 

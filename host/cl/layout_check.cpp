@@ -25,10 +25,15 @@ static_assert(sizeof(BvhNode8) == 256 && offsetof(BvhNode8, hi_x) == 32 && offse
 static_assert(sizeof(TriangleBlock4) == 160 && offsetof(TriangleBlock4, ref) == 144, "TriangleBlock4 layout");
 static_assert(sizeof(Material) == 80 && offsetof(Material, specular) == 16 && offsetof(Material, emission) == 32 &&
                   offsetof(Material, specular_exponent) == 48 && offsetof(Material, ka) == 60 &&
-                  offsetof(Material, flags) == 64 && offsetof(Material, texture) == 68,
+                  offsetof(Material, flags) == 64 && offsetof(Material, texture) == 68 &&
+                  offsetof(Material, roughness) == 72 && offsetof(Material, metallic) == 76,
               "Material layout");
+static_assert(sizeof(PathLight) == 80 && offsetof(PathLight, emitted) == 48 && offsetof(PathLight, kind) == 64 &&
+                  offsetof(PathLight, select_cdf) == 72,
+              "PathLight layout");
 static_assert(sizeof(PointLight) == 32 && offsetof(PointLight, intensity) == 16, "PointLight layout");
-static_assert(sizeof(CameraGPU) == 80 && offsetof(CameraGPU, width) == 64 && offsetof(CameraGPU, pixel_count) == 76,
+static_assert(sizeof(CameraGPU) == 96 && offsetof(CameraGPU, lens) == 64 && offsetof(CameraGPU, width) == 80 &&
+                  offsetof(CameraGPU, pixel_count) == 92,
               "CameraGPU layout");
 static_assert(sizeof(ShadeParams) == 64 && offsetof(ShadeParams, ambient_light) == 16 &&
                   offsetof(ShadeParams, light_count) == 32 && offsetof(ShadeParams, min_weight) == 44,
@@ -37,7 +42,8 @@ static_assert(sizeof(Hit) == 16 && offsetof(Hit, prim) == 12, "Hit layout");
 static_assert(sizeof(FilmParams) == 16 && offsetof(FilmParams, max_contribution) == 4, "FilmParams layout");
 static_assert(sizeof(FilmAccumulate) == 16 && offsetof(FilmAccumulate, inv_scale) == 12, "FilmAccumulate layout");
 static_assert(sizeof(PathRecord) == 64 && offsetof(PathRecord, throughput) == 32 && offsetof(PathRecord, pixel) == 48 &&
-                  offsetof(PathRecord, depth) == 52,
+                  offsetof(PathRecord, depth) == 52 && offsetof(PathRecord, bsdf_pdf) == 56 &&
+                  offsetof(PathRecord, flags) == 60,
               "PathRecord layout");
 static_assert(sizeof(ShadowRecord) == 64 && offsetof(ShadowRecord, contribution) == 32 &&
                   offsetof(ShadowRecord, pixel) == 48,

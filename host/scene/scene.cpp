@@ -44,6 +44,7 @@ CameraGPU camera_for_image(const CameraDesc& camera, int width, int height) {
   cam.forward = to_float4(basis.forward);
   cam.right = to_float4(basis.right * (tan_half * aspect));
   cam.up = to_float4(basis.up * tan_half);
+  cam.lens = cs_float4{camera.aperture_radius, camera.focus_distance, 0.0f, 0.0f};
   cam.width = cs_uint(width);
   cam.height = cs_uint(height);
   cam.pixel_offset = 0;

@@ -15,10 +15,10 @@ const KeyList kMaterialKeys = {"ks",           "kd",          "specularexponent"
                                "basecolor",    "type",        "albedo",           "ior",          "colour",
                                "color",        "intensity",   "emission",         "emissioncolor", "texture",
                                "texture_file", "texturefile", "textureFilename",  "hasTexture",   "texturepath",
-                               "hastexture"};
+                               "hastexture",   "roughness",   "metallic"};
 // Path-tracing parameters of some authors' BRDFs: nothing in the phong model
 // or in Material corresponds, and they do not change what the scene is.
-const KeyList kMaterialIgnored = {"roughness", "transmittance", "transmittancecolor", "fresnelreflectance", "fuzz"};
+const KeyList kMaterialIgnored = {"transmittance", "transmittancecolor", "fresnelreflectance", "fuzz"};
 const KeyList kTexturePathKeys = {"texture", "texture_file", "texturefile", "textureFilename", "texturepath"};
 
 enum class Kind { Phong, Diffuse, Metal, Dielectric, Emissive };
@@ -94,6 +94,9 @@ Material read_material_object(LoadContext& ctx, const json& m, const std::string
   out.ior = ior ? r.number(*ior, path + "/" + ior_key, refractive ? Range::Positive : Range::NonNegative)
                 : kind == Kind::Dielectric ? 1.5f : 1.0f;
   if (!(out.ior > 0.0f)) out.ior = 1.0f;
+  out.roughness = r.read_number(m, "roughness", path, Range::NonNegative, -1.0f);
+  out.metallic = r.read_number(m, "metallic", path, Range::NonNegative, 0.0f);
+  if (out.metallic > 1.0f) r.expected(path + "/metallic", "a number in [0, 1]", m["metallic"]);
 
   glm::vec3 emission(0.0f);
   if (const json* e = Reader::find_any(m, {"emission", "emissioncolor"}, &which)) {
@@ -126,6 +129,8 @@ Material default_material() {
   out.ior = 1.0f;
   out.ka = kDefaultAmbient;
   out.texture = -1;
+  out.roughness = -1.0f;
+  out.metallic = 0.0f;
   return out;
 }
 

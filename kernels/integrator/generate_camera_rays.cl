@@ -19,5 +19,7 @@ __kernel void generate_camera_rays(CameraGPU camera, PATH_QUEUE_PARAMS(out)) {
   ray.throughput = (float4)(1.0f, 1.0f, 1.0f, 0.0f);
   ray.pixel = pixel;
   ray.depth = 0u;
+  ray.bsdf_pdf = 0.0f;
+  ray.flags = PATH_SPECULAR;
   path_store(PATH_QUEUE_ARGS(out), i, ray);
 }

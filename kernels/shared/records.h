@@ -27,7 +27,9 @@
   F(q, cs_float4, dir)        /* xyz unit direction; w unused */   \
   F(q, cs_float4, throughput) /* rgb share of the pixel; w unused */ \
   F(q, cs_uint, pixel)        /* film pixel it contributes to */   \
-  F(q, cs_uint, depth)        /* scattering events so far */
+  F(q, cs_uint, depth)        /* scattering events so far */       \
+  F(q, float, bsdf_pdf)       /* path: density of the sampled direction (MIS); 0 after a delta lobe */ \
+  F(q, cs_uint, flags)        /* path: PATH_* bits */
 
 /* A segment toward a light, with what it adds to the film when unoccluded. */
 #define SHADOW_RECORD_FIELDS(F, q)                                   \
@@ -40,8 +42,10 @@
 #define RECORD_STRUCT_MEMBER(q, type, name) type name;
 typedef struct {
   PATH_RECORD_FIELDS(RECORD_STRUCT_MEMBER, _)
-  cs_uint pad0, pad1; /* to a multiple of 16 bytes */
-} PathRecord;         /* 64 bytes */
+} PathRecord; /* 64 bytes */
+
+/* PathRecord.flags */
+#define PATH_SPECULAR 1u /* arrived by a delta lobe or from the camera: emission hit counts fully */
 typedef struct {
   SHADOW_RECORD_FIELDS(RECORD_STRUCT_MEMBER, _)
   cs_uint pad0, pad1, pad2;

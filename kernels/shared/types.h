@@ -172,7 +172,8 @@ typedef struct {
   float ka;           /* ambient coefficient (times the diffuse colour) */
   cs_uint flags;
   cs_int texture; /* index into the Texture table modulating the diffuse colour; -1: none */
-  cs_uint pad0, pad1;
+  float roughness; /* path mode: GGX alpha as written ("roughness"); < 0: not given */
+  float metallic;  /* path mode: 0 dielectric-coated ... 1 conductor ("metallic") */
 } Material; /* 80 bytes */
 
 typedef struct {
@@ -180,16 +181,45 @@ typedef struct {
   cs_float4 intensity; /* rgb, w unused */
 } PointLight; /* 32 bytes */
 
+/* A light as the path tracer samples it (host/render/path_lights.cpp).
+ *   LIGHT_POINT: p0 = position; emitted = intensity I (radiance I / d^2 at d);
+ *   LIGHT_RECT: p0 = centre, p1 / p2 = full edge vectors u, v; emits
+ *     `emitted` (radiance) on the side of cross(u, v) only;
+ *   LIGHT_SPHERE: p0.xyz = centre, p0.w = radius; radiance `emitted`
+ *     outward;
+ *   LIGHT_TRIANGLE: p0, p1, p2 = vertices (an emissive triangle of the
+ *     scene); radiance `emitted` on both sides.
+ * Area lights are also scene geometry (so BSDF-sampled rays hit them); a
+ * hit primitive's light is found through the per-primitive light indices
+ * (light_of_sphere, light_of_triangle; LIGHT_NONE for none). Lights are
+ * picked in proportion to power: select_cdf is the inclusive prefix sum of
+ * select_probability. */
+#define LIGHT_NONE 0xFFFFFFFFu
+#define LIGHT_POINT 0u
+#define LIGHT_RECT 1u
+#define LIGHT_SPHERE 2u
+#define LIGHT_TRIANGLE 3u
+
+typedef struct {
+  cs_float4 p0, p1, p2;
+  cs_float4 emitted; /* rgb; w: the light's area (0 for points) */
+  cs_uint kind;
+  float select_probability;
+  float select_cdf;
+  cs_uint pad0;
+} PathLight; /* 80 bytes */
+
 /* Pinhole camera (host: camera_for_image; the ray: shared/camera.h). */
 typedef struct {
   cs_float4 position;
   cs_float4 forward; /* unit */
   cs_float4 right;   /* scaled */
   cs_float4 up;      /* scaled */
+  cs_float4 lens;    /* x: aperture radius (0: pinhole), y: focus distance along forward; zw unused */
   cs_uint width, height;
   cs_uint pixel_offset; /* first pixel of this chunk (row-major) */
   cs_uint pixel_count;  /* pixels in this chunk */
-} CameraGPU; /* 80 bytes */
+} CameraGPU; /* 96 bytes */
 
 /* Per-launch constants of the Whitted (phong) shading stage. */
 typedef struct {
