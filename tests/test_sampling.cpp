@@ -1,0 +1,832 @@
+// Kernel-level tests of lib/sampling.h and lib/ggx.h, run as OpenCL kernels.
+//
+// The warps are checked by a chi-square goodness-of-fit test in the style of
+// pbrt-v4 and Mitsuba 3: a kernel draws N samples from independent uniforms
+// (random_float of lib/rng.h keyed by the work-item, so every run sees the
+// same numbers and the tests cannot flake); the host histograms them over a
+// 2D parametrisation of the sample space mapped onto the unit square; the
+// expected count of each cell is N times the integral of the claimed density
+// over the cell, by 5x5-point Gauss-Legendre in the parametrisation, with the
+// density evaluated by a kernel calling the header's pdf function (so the
+// device's pdf is what is tested, against the device's warp). Cells expecting
+// fewer than 5 samples are pooled; the p-value is the regularised upper
+// incomplete gamma function Q(dof/2, chi2/2). Every such test also checks
+// that the density integrates to 1 within 1e-3 over the parametrised domain.
+//
+// Parametrisations (unit square <- sample space):
+//  - sphere: (cos theta in [-1, 1], phi in [0, 2 pi)), 32 x 64 cells;
+//  - cone: ((1 - cos theta) / (1 - cos_max), phi), 32 x 64 cells, so that a
+//    tiny cone gets the same resolution as a wide one;
+//  - GGX visible normals: the sphere parametrisation of the *stretched*
+//    normal m' = normalize(m.x / alpha, m.y / alpha, m.z) (the configuration
+//    in which every alpha looks like alpha = 1), 32 x 64 cells, with the
+//    Jacobian d omega_m / d omega_m' = alpha^2 / |(alpha m'.x, alpha m'.y,
+//    m'.z)|^3. The narrow lobe of a small alpha is thereby spread over the
+//    whole hemisphere of cells: every alpha is tested with the same power;
+//  - disk: (r^2, angle), 32 x 64; triangle: a 64 x 64 grid over (b1, b2)
+//    whose diagonal cells are exact half cells; parallelogram: (s, t) from
+//    the least-squares inverse, 32 x 32.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <iostream>
+#include <glm/glm.hpp>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/support/test_support.h"
+
+namespace caustica {
+namespace {
+
+using glm::dvec3;
+using test::runtime;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kAlphaLevel = 0.01;  // significance of one chi-square test
+constexpr size_t kSamples = 1000000;
+
+const char* kSamplingKernel = R"CLC(
+#include "lib/rng.h"
+#include "lib/sampling.h"
+#include "lib/ggx.h"
+
+#define WARP_COSINE 0
+#define WARP_SPHERE 1
+#define WARP_CONE 2
+#define WARP_GGX_VNDF 3
+#define WARP_DISK 4
+#define WARP_TRIANGLE 5
+#define WARP_RECTANGLE 6
+
+/* param: 1 - cos_max of the cone, alpha of GGX; a: wo of GGX, the centre of
+ * the rectangle; b, c: the rectangle's edges. */
+inline float4 warp(uint mode, float param, float4 a, float4 b, float4 c, float2 u) {
+  switch (mode) {
+    case WARP_COSINE: return (float4)(sample_cosine_hemisphere(u), 0.0f);
+    case WARP_SPHERE: return (float4)(sample_uniform_sphere(u), 0.0f);
+    case WARP_CONE: return (float4)(sample_uniform_cone(u, param), 0.0f);
+    case WARP_GGX_VNDF: return (float4)(ggx_sample_visible_normal(a.xyz, param, u), 0.0f);
+    case WARP_DISK: return (float4)(sample_concentric_disk(u), 0.0f, 0.0f);
+    case WARP_TRIANGLE: return (float4)(sample_triangle_barycentrics(u), 0.0f, 0.0f);
+    default: return (float4)(sample_rectangle(a.xyz, b.xyz, c.xyz, u), 0.0f);
+  }
+}
+
+__kernel void sample_random(uint mode, float param, float4 a, float4 b, float4 c, uint key, uint count,
+                            __global float4* out) {
+  const uint i = get_global_id(0);
+  if (i >= count) return;
+  const float2 u = (float2)(random_float(key, 2u * i), random_float(key, 2u * i + 1u));
+  out[i] = warp(mode, param, a, b, c, u);
+}
+
+__kernel void sample_at(uint mode, float param, float4 a, float4 b, float4 c, __global const float2* u, uint count,
+                        __global float4* out) {
+  const uint i = get_global_id(0);
+  if (i >= count) return;
+  out[i] = warp(mode, param, a, b, c, u[i]);
+}
+
+/* The header's density of `mode` at the direction p[i]. The uniform sphere
+ * has no pdf function: its documented 1 / (4 pi). The cone's density is
+ * pdf_uniform_cone inside the cone, 0 outside. */
+__kernel void pdf(uint mode, float param, float4 a, __global const float4* p, uint count, __global float* out) {
+  const uint i = get_global_id(0);
+  if (i >= count) return;
+  const float3 d = p[i].xyz;
+  float r = 0.0f;
+  switch (mode) {
+    case WARP_COSINE: r = pdf_cosine_hemisphere(d.z); break;
+    case WARP_SPHERE: r = 0.25f * M_1_PI_F; break;
+    case WARP_CONE:
+      r = (d.x * d.x + d.y * d.y) / (1.0f + d.z) <= param * 1.00001f ? pdf_uniform_cone(param) : 0.0f;
+      break;
+    case WARP_GGX_VNDF: r = ggx_pdf_visible_normal(a.xyz, d, param); break;
+  }
+  out[i] = r;
+}
+
+/* (D(wo), G1(wo), G2(wo, wi), pdf of wi as a visible normal seen from wo). */
+__kernel void ggx_eval(float alpha, __global const float4* wo, __global const float4* wi, uint count,
+                       __global float4* out) {
+  const uint i = get_global_id(0);
+  if (i >= count) return;
+  const float3 o = wo[i].xyz, w = wi[i].xyz;
+  out[i] = (float4)(ggx_d(o, alpha), ggx_g1(o, alpha), ggx_g2(o, w, alpha), ggx_pdf_visible_normal(o, w, alpha));
+}
+
+__kernel void frame(__global const float4* n, uint count, __global float4* t_out, __global float4* b_out) {
+  const uint i = get_global_id(0);
+  if (i >= count) return;
+  float3 t, b;
+  frame_from_normal(n[i].xyz, &t, &b);
+  t_out[i] = (float4)(t, 0.0f);
+  b_out[i] = (float4)(b, 0.0f);
+}
+)CLC";
+
+enum Warp : cl_uint { kCosine = 0, kSphere, kCone, kGgxVndf, kDisk, kTriangle, kRectangle };
+
+cl_float4 f4(double x, double y, double z, double w = 0.0) {
+  return {{static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), static_cast<float>(w)}};
+}
+cl_float4 f4(const dvec3& v) { return f4(v.x, v.y, v.z); }
+dvec3 d3(const cl_float4& v) { return dvec3(v.s[0], v.s[1], v.s[2]); }
+
+// ------------------------------------------------------------- the device
+
+cl::Program program() {
+  static cl::Program p = runtime().build_source("test_sampling.cl", kSamplingKernel, "").program;
+  return p;
+}
+
+template <class T>
+cl::Buffer upload(std::vector<T> v) {
+  if (v.empty()) v.resize(1);  // OpenCL refuses zero-sized buffers
+  return cl::Buffer(runtime().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data());
+}
+
+template <class T>
+cl::Buffer output(size_t n) {
+  return cl::Buffer(runtime().context(), CL_MEM_WRITE_ONLY, std::max<size_t>(n, 1) * sizeof(T));
+}
+
+template <class T>
+std::vector<T> read(const cl::Buffer& b, size_t n) {
+  std::vector<T> r(n);
+  if (n) runtime().queue().enqueueReadBuffer(b, CL_TRUE, 0, n * sizeof(T), r.data());
+  return r;
+}
+
+void launch(cl::Kernel& k, size_t n) {
+  runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(std::max<size_t>(n, 1), 64)),
+                                         cl::NDRange(64));
+}
+
+struct WarpParams {
+  Warp mode;
+  float param = 0.0f;
+  cl_float4 a{}, b{}, c{};
+};
+
+void set_warp_args(cl::Kernel& k, const WarpParams& w) {
+  k.setArg(0, static_cast<cl_uint>(w.mode));
+  k.setArg(1, w.param);
+  k.setArg(2, w.a);
+  k.setArg(3, w.b);
+  k.setArg(4, w.c);
+}
+
+std::vector<cl_float4> sample_random(const WarpParams& w, cl_uint key, size_t n) {
+  cl::Kernel k(program(), "sample_random");
+  cl::Buffer out = output<cl_float4>(n);
+  set_warp_args(k, w);
+  k.setArg(5, key);
+  k.setArg(6, static_cast<cl_uint>(n));
+  k.setArg(7, out);
+  launch(k, n);
+  return read<cl_float4>(out, n);
+}
+
+std::vector<cl_float4> sample_at(const WarpParams& w, const std::vector<cl_float2>& u) {
+  cl::Kernel k(program(), "sample_at");
+  cl::Buffer out = output<cl_float4>(u.size()), in = upload(u);
+  set_warp_args(k, w);
+  k.setArg(5, in);
+  k.setArg(6, static_cast<cl_uint>(u.size()));
+  k.setArg(7, out);
+  launch(k, u.size());
+  return read<cl_float4>(out, u.size());
+}
+
+std::vector<double> device_pdf(const WarpParams& w, const std::vector<cl_float4>& points) {
+  cl::Kernel k(program(), "pdf");
+  cl::Buffer out = output<cl_float>(points.size()), in = upload(points);
+  k.setArg(0, static_cast<cl_uint>(w.mode));
+  k.setArg(1, w.param);
+  k.setArg(2, w.a);
+  k.setArg(3, in);
+  k.setArg(4, static_cast<cl_uint>(points.size()));
+  k.setArg(5, out);
+  launch(k, points.size());
+  const std::vector<cl_float> r = read<cl_float>(out, points.size());
+  return std::vector<double>(r.begin(), r.end());
+}
+
+struct GgxValues {
+  double d, g1, g2, pdf;
+};
+std::vector<GgxValues> ggx_eval(float alpha, const std::vector<cl_float4>& wo, const std::vector<cl_float4>& wi) {
+  cl::Kernel k(program(), "ggx_eval");
+  cl::Buffer out = output<cl_float4>(wo.size()), in_o = upload(wo), in_i = upload(wi);
+  k.setArg(0, alpha);
+  k.setArg(1, in_o);
+  k.setArg(2, in_i);
+  k.setArg(3, static_cast<cl_uint>(wo.size()));
+  k.setArg(4, out);
+  launch(k, wo.size());
+  std::vector<GgxValues> r;
+  for (const cl_float4& v : read<cl_float4>(out, wo.size())) r.push_back({v.s[0], v.s[1], v.s[2], v.s[3]});
+  return r;
+}
+
+// ------------------------------------------------- chi-square statistics
+
+// Regularised upper incomplete gamma function Q(a, x) = Gamma(a, x) / Gamma(a):
+// the series for P when x < a + 1, Lentz's continued fraction for Q otherwise
+// (Numerical Recipes 6.2).
+double gamma_q(double a, double x) {
+  if (x <= 0.0) return 1.0;
+  if (!std::isfinite(x)) return 0.0;
+  const double log_prefactor = -x + a * std::log(x) - std::lgamma(a);
+  if (x < a + 1.0) {
+    double term = 1.0 / a, sum = term;
+    for (int n = 1; n < 100000; ++n) {
+      term *= x / (a + n);
+      sum += term;
+      if (std::abs(term) < std::abs(sum) * 1e-15) break;
+    }
+    return std::max(0.0, 1.0 - sum * std::exp(log_prefactor));
+  }
+  const double tiny = 1e-300;
+  double b = x + 1.0 - a, c = 1.0 / tiny, d = 1.0 / b, h = d;
+  for (int i = 1; i < 100000; ++i) {
+    const double an = -i * (i - a);
+    b += 2.0;
+    d = an * d + b;
+    if (std::abs(d) < tiny) d = tiny;
+    c = b + an / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1.0 / d;
+    const double delta = d * c;
+    h *= delta;
+    if (std::abs(delta - 1.0) < 1e-15) break;
+  }
+  return std::exp(log_prefactor) * h;
+}
+
+double chi_square_p_value(double chi2, int dof) { return dof <= 0 ? 1.0 : gamma_q(0.5 * dof, 0.5 * chi2); }
+
+// The threshold each of k tests in one TEST must pass for the whole to have
+// significance kAlphaLevel (Sidak).
+double sidak(int k) { return 1.0 - std::pow(1.0 - kAlphaLevel, 1.0 / k); }
+
+struct ChiSquare {
+  double chi2 = 0.0, p = 0.0, integral = 0.0;
+  int dof = 0;
+  size_t outside = 0;       // samples outside the parametrised domain
+  double max_norm_error = 0.0;  // max | |d| - 1 | of direction samples
+  std::string describe() const {
+    std::ostringstream s;
+    s << "chi2 " << chi2 << " dof " << dof << " p " << p << " integral " << integral << " outside " << outside;
+    return s.str();
+  }
+};
+
+// Pools cells expecting fewer than 5 (sorted ascending, a pool still below 5
+// takes the next cells until it reaches 5, as Mitsuba 3's chi2 test does) and
+// returns chi2 and dof; chi2 is infinite when samples fall where nothing is
+// expected.
+void chi_square_statistic(const std::vector<double>& observed, const std::vector<double>& expected, ChiSquare* r) {
+  std::vector<size_t> order(observed.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return expected[a] < expected[b]; });
+  const double min_expected = 5.0;
+  double pooled_obs = 0.0, pooled_exp = 0.0, chi2 = 0.0;
+  int cells = 0;
+  for (size_t i : order) {
+    const double o = observed[i], e = expected[i];
+    if (e < min_expected || (pooled_exp > 0.0 && pooled_exp < min_expected)) {
+      pooled_obs += o;
+      pooled_exp += e;
+    } else {
+      chi2 += (o - e) * (o - e) / e;
+      ++cells;
+    }
+  }
+  if (pooled_obs > 0.0 || pooled_exp > 0.0) {
+    chi2 += pooled_exp > 0.0 ? (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp
+                             : std::numeric_limits<double>::infinity();
+    ++cells;
+  }
+  r->chi2 = chi2;
+  r->dof = cells - 1;
+  r->p = chi_square_p_value(chi2, r->dof);
+}
+
+// A parametrisation of the sample space over the unit square.
+struct Domain {
+  int n1, n2;  // cells along each unit coordinate
+  // A sample's unit coordinates; false when it lies outside the domain.
+  std::function<bool(const cl_float4&, double*, double*)> to_unit;
+  // The point at unit coordinates (x1, x2), and the measure (solid angle or
+  // area) per unit of x1 x2 there.
+  std::function<cl_float4(double, double, double*)> from_unit;
+  bool directions = true;  // samples are unit vectors
+};
+
+// The density at a batch of points (the device's pdf, or a host formula).
+using Density = std::function<std::vector<double>(const std::vector<cl_float4>&)>;
+
+const double kGaussNodes[5] = {0.04691007703066802, 0.23076534494715845, 0.5, 0.7692346550528415,
+                               0.9530899229693319};
+const double kGaussWeights[5] = {0.11846344252809454, 0.23931433524968324, 0.28444444444444444,
+                                 0.23931433524968324, 0.11846344252809454};
+
+ChiSquare chi_square_test(const std::vector<cl_float4>& samples, const Domain& dom, const Density& density) {
+  ChiSquare r;
+  const size_t cells = static_cast<size_t>(dom.n1) * dom.n2;
+  std::vector<double> observed(cells, 0.0), expected(cells, 0.0);
+  for (const cl_float4& s : samples) {
+    if (dom.directions) r.max_norm_error = std::max(r.max_norm_error, std::abs(glm::length(d3(s)) - 1.0));
+    double x1, x2;
+    if (!dom.to_unit(s, &x1, &x2) || !(x1 >= 0.0 && x1 <= 1.0 && x2 >= 0.0 && x2 <= 1.0)) {
+      ++r.outside;
+      continue;
+    }
+    const int i = std::min(static_cast<int>(x1 * dom.n1), dom.n1 - 1);
+    const int j = std::min(static_cast<int>(x2 * dom.n2), dom.n2 - 1);
+    observed[static_cast<size_t>(i) * dom.n2 + j] += 1.0;
+  }
+  // Gauss-Legendre nodes of every cell, their density in one batch.
+  std::vector<cl_float4> points;
+  std::vector<double> weights;
+  points.reserve(cells * 25);
+  weights.reserve(cells * 25);
+  for (int i = 0; i < dom.n1; ++i)
+    for (int j = 0; j < dom.n2; ++j)
+      for (int a = 0; a < 5; ++a)
+        for (int b = 0; b < 5; ++b) {
+          double jacobian;
+          points.push_back(dom.from_unit((i + kGaussNodes[a]) / dom.n1, (j + kGaussNodes[b]) / dom.n2, &jacobian));
+          weights.push_back(kGaussWeights[a] * kGaussWeights[b] * jacobian / (double(dom.n1) * dom.n2));
+        }
+  const std::vector<double> pdf = density(points);
+  for (size_t c = 0; c < cells; ++c) {
+    double sum = 0.0;
+    for (size_t k = 0; k < 25; ++k) sum += pdf[c * 25 + k] * weights[c * 25 + k];
+    expected[c] = sum * samples.size();
+    r.integral += sum;
+  }
+  chi_square_statistic(observed, expected, &r);
+  return r;
+}
+
+double wrap_unit_angle(double x, double y) {
+  double a = std::atan2(y, x) / (2.0 * kPi);
+  if (a < 0.0) a += 1.0;
+  return a >= 1.0 ? 0.0 : a;
+}
+
+// (cos theta, phi) of the sphere.
+Domain sphere_domain() {
+  Domain d{32, 64, {}, {}};
+  d.to_unit = [](const cl_float4& s, double* x1, double* x2) {
+    const dvec3 v = glm::normalize(d3(s));
+    *x1 = std::clamp(0.5 * (v.z + 1.0), 0.0, 1.0);
+    *x2 = wrap_unit_angle(v.x, v.y);
+    return true;
+  };
+  d.from_unit = [](double x1, double x2, double* jacobian) {
+    const double z = 2.0 * x1 - 1.0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = 2.0 * kPi * x2;
+    *jacobian = 4.0 * kPi;
+    return f4(r * std::cos(phi), r * std::sin(phi), z);
+  };
+  return d;
+}
+
+// ((1 - cos theta) / one_minus_cos_max, phi) of the cone around +z.
+Domain cone_domain(double one_minus_cos_max) {
+  Domain d{32, 64, {}, {}};
+  d.to_unit = [one_minus_cos_max](const cl_float4& s, double* x1, double* x2) {
+    const dvec3 v = d3(s);
+    if (v.z <= 0.0 && one_minus_cos_max <= 1.0) return false;
+    const double one_minus_cos = (v.x * v.x + v.y * v.y) / (1.0 + v.z);  // no cancellation
+    const double x = one_minus_cos / one_minus_cos_max;
+    if (x > 1.0 + 1e-4) return false;
+    *x1 = std::min(x, 1.0);
+    *x2 = wrap_unit_angle(v.x, v.y);
+    return true;
+  };
+  d.from_unit = [one_minus_cos_max](double x1, double x2, double* jacobian) {
+    const double omc = x1 * one_minus_cos_max, s = std::sqrt(omc * (2.0 - omc)), phi = 2.0 * kPi * x2;
+    *jacobian = 2.0 * kPi * one_minus_cos_max;
+    return f4(s * std::cos(phi), s * std::sin(phi), 1.0 - omc);
+  };
+  return d;
+}
+
+// The sphere parametrisation of the stretched normal m' (see the top).
+Domain stretched_domain(double alpha) {
+  Domain d{32, 64, {}, {}};
+  d.to_unit = [alpha](const cl_float4& s, double* x1, double* x2) {
+    const dvec3 v = glm::normalize(dvec3(s.s[0] / alpha, s.s[1] / alpha, s.s[2]));
+    *x1 = std::clamp(0.5 * (v.z + 1.0), 0.0, 1.0);
+    *x2 = wrap_unit_angle(v.x, v.y);
+    return true;
+  };
+  d.from_unit = [alpha](double x1, double x2, double* jacobian) {
+    const double z = 2.0 * x1 - 1.0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = 2.0 * kPi * x2;
+    const dvec3 m(alpha * r * std::cos(phi), alpha * r * std::sin(phi), z);
+    const double len = glm::length(m);
+    *jacobian = 4.0 * kPi * alpha * alpha / (len * len * len);
+    return f4(m / len);
+  };
+  return d;
+}
+
+Density device_density(const WarpParams& w) {
+  return [w](const std::vector<cl_float4>& points) { return device_pdf(w, points); };
+}
+
+ChiSquare run_chi_square(const WarpParams& w, const Domain& dom, cl_uint key) {
+  return chi_square_test(sample_random(w, key, kSamples), dom, device_density(w));
+}
+
+dvec3 direction_at(double theta_degrees) {
+  const double t = theta_degrees * kPi / 180.0;
+  return dvec3(std::sin(t), 0.0, std::cos(t));
+}
+
+// Checks one chi-square result against the threshold p_min.
+void expect_fits(const ChiSquare& r, double p_min) {
+  EXPECT_EQ(r.outside, 0u) << r.describe();
+  EXPECT_LT(r.max_norm_error, 1e-5) << r.describe();
+  EXPECT_NEAR(r.integral, 1.0, 1e-3) << r.describe();
+  EXPECT_GT(r.p, p_min) << r.describe();
+}
+
+// ------------------------------------------------------------------ tests
+
+// The statistics themselves, against closed forms.
+TEST(ChiSquareHarness, IncompleteGammaMatchesClosedForms) {
+  for (double x : {0.01, 0.5, 1.0, 3.0, 10.0, 40.0}) {
+    EXPECT_NEAR(gamma_q(1.0, x), std::exp(-x), 1e-12) << x;
+    EXPECT_NEAR(gamma_q(0.5, x), std::erfc(std::sqrt(x)), 1e-12) << x;
+    EXPECT_NEAR(gamma_q(2.0, x), (1.0 + x) * std::exp(-x), 1e-12) << x;
+  }
+  // Large dof: chi2 = dof is near the median (p ~ 0.5); the tails behave.
+  EXPECT_NEAR(chi_square_p_value(2000.0, 2000), 0.4955, 2e-3);
+  EXPECT_LT(chi_square_p_value(2300.0, 2000), 1e-4);
+  EXPECT_GT(chi_square_p_value(1700.0, 2000), 0.9999);
+}
+
+// The harness can fail: a density 5% too large, and one of the wrong shape,
+// are both caught on cosine-weighted samples.
+TEST(ChiSquareHarness, RejectsWrongDensities) {
+  const WarpParams w{kCosine};
+  const std::vector<cl_float4> samples = sample_random(w, 11u, kSamples);
+  const ChiSquare right = chi_square_test(samples, sphere_domain(), device_density(w));
+  EXPECT_GT(right.p, kAlphaLevel) << right.describe();
+  const ChiSquare scaled = chi_square_test(samples, sphere_domain(), [&](const std::vector<cl_float4>& p) {
+    std::vector<double> d = device_pdf(w, p);
+    for (double& v : d) v *= 1.05;
+    return d;
+  });
+  EXPECT_GT(std::abs(scaled.integral - 1.0), 0.04);
+  EXPECT_LT(scaled.p, 1e-6) << scaled.describe();
+  const ChiSquare uniform = chi_square_test(samples, sphere_domain(), [](const std::vector<cl_float4>& p) {
+    std::vector<double> d;
+    for (const cl_float4& v : p) d.push_back(v.s[2] > 0.0f ? 0.5 / kPi : 0.0);  // uniform hemisphere
+    return d;
+  });
+  EXPECT_NEAR(uniform.integral, 1.0, 1e-3);
+  EXPECT_LT(uniform.p, 1e-6) << uniform.describe();
+}
+
+TEST(SamplingChiSquare, CosineHemisphere) {
+  const ChiSquare r = run_chi_square({kCosine}, sphere_domain(), 1u);
+  std::cout << "cosine hemisphere: " << r.describe() << "\n";
+  expect_fits(r, kAlphaLevel);
+}
+
+TEST(SamplingChiSquare, UniformSphere) {
+  const ChiSquare r = run_chi_square({kSphere}, sphere_domain(), 2u);
+  std::cout << "uniform sphere: " << r.describe() << "\n";
+  expect_fits(r, kAlphaLevel);
+}
+
+TEST(SamplingChiSquare, UniformCone) {
+  const std::vector<float> cones = {1e-3f, 0.1f, 1.0f};
+  for (size_t i = 0; i < cones.size(); ++i) {
+    WarpParams w{kCone, cones[i]};
+    const ChiSquare r = run_chi_square(w, cone_domain(cones[i]), 3u + static_cast<cl_uint>(i));
+    std::cout << "cone 1-cos_max " << cones[i] << ": " << r.describe() << "\n";
+    SCOPED_TRACE(::testing::Message() << "one_minus_cos_max " << cones[i]);
+    expect_fits(r, sidak(static_cast<int>(cones.size())));
+  }
+}
+
+TEST(SamplingChiSquare, GgxVisibleNormals) {
+  const float alphas[] = {0.05f, 0.2f, 0.5f, 1.0f};
+  const double thetas[] = {0.0, 30.0, 60.0, 85.0};
+  const int tests = 16;
+  cl_uint key = 100;
+  for (float alpha : alphas)
+    for (double theta : thetas) {
+      WarpParams w{kGgxVndf, alpha, f4(direction_at(theta))};
+      const ChiSquare r = run_chi_square(w, stretched_domain(alpha), key++);
+      std::cout << "ggx alpha " << alpha << " theta " << theta << ": " << r.describe() << "\n";
+      SCOPED_TRACE(::testing::Message() << "alpha " << alpha << " theta_o " << theta);
+      expect_fits(r, sidak(tests));
+    }
+}
+
+TEST(SamplingChiSquare, ConcentricDisk) {
+  Domain d{32, 64, {}, {}};
+  d.directions = false;
+  d.to_unit = [](const cl_float4& s, double* x1, double* x2) {
+    const double r2 = double(s.s[0]) * s.s[0] + double(s.s[1]) * s.s[1];
+    if (r2 > 1.0 + 1e-6) return false;
+    *x1 = std::min(r2, 1.0);
+    *x2 = wrap_unit_angle(s.s[0], s.s[1]);
+    return true;
+  };
+  d.from_unit = [](double x1, double x2, double* jacobian) {
+    *jacobian = kPi;  // area = (1/2) d(r^2) d(angle)
+    const double r = std::sqrt(x1), phi = 2.0 * kPi * x2;
+    return f4(r * std::cos(phi), r * std::sin(phi), 0.0);
+  };
+  const ChiSquare r = chi_square_test(sample_random({kDisk}, 20u, kSamples), d, [](const std::vector<cl_float4>& p) {
+    return std::vector<double>(p.size(), 1.0 / kPi);  // uniform on the unit disk
+  });
+  std::cout << "concentric disk: " << r.describe() << "\n";
+  expect_fits(r, kAlphaLevel);
+}
+
+TEST(SamplingChiSquare, TriangleBarycentrics) {
+  // A 64 x 64 grid over (b1, b2): cells with i + j <= n - 2 lie inside the
+  // triangle, cells with i + j = n - 1 are cut exactly in half by b1 + b2 = 1.
+  const int n = 64;
+  const std::vector<cl_float4> s = sample_random({kTriangle}, 21u, kSamples);
+  std::vector<double> observed(n * n, 0.0), expected(n * n, 0.0);
+  size_t outside = 0;
+  for (const cl_float4& v : s) {
+    const double b1 = v.s[0], b2 = v.s[1];
+    if (!(b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0 + 1e-6)) {
+      ++outside;
+      continue;
+    }
+    const int i = std::min(int(b1 * n), n - 1), j = std::min(int(b2 * n), n - 1);
+    observed[i * n + j] += 1.0;
+  }
+  double integral = 0.0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double area = i + j <= n - 2 ? 1.0 / (n * n) : i + j == n - 1 ? 0.5 / (n * n) : 0.0;
+      integral += 2.0 * area;  // density 1 / (triangle area 1/2)
+      expected[i * n + j] = 2.0 * area * s.size();
+    }
+  ChiSquare r;
+  r.integral = integral;
+  r.outside = outside;
+  chi_square_statistic(observed, expected, &r);
+  std::cout << "triangle: " << r.describe() << "\n";
+  expect_fits(r, kAlphaLevel);
+}
+
+TEST(SamplingChiSquare, Parallelogram) {
+  const dvec3 centre(0.3, -1.2, 2.0), eu(2.0, 0.5, 0.3), ev(-0.4, 1.5, 0.8);
+  const double area = glm::length(glm::cross(eu, ev));
+  WarpParams w{kRectangle, 0.0f, f4(centre), f4(eu), f4(ev)};
+  Domain d{32, 32, {}, {}};
+  d.directions = false;
+  double max_off_plane = 0.0;
+  d.to_unit = [&](const cl_float4& v, double* x1, double* x2) {
+    // Least squares (s, t) of p - centre = s eu + t ev.
+    const dvec3 p = d3(v) - centre;
+    const double a = glm::dot(eu, eu), b = glm::dot(eu, ev), c = glm::dot(ev, ev);
+    const double pu = glm::dot(p, eu), pv = glm::dot(p, ev), det = a * c - b * b;
+    const double s = (c * pu - b * pv) / det, t = (a * pv - b * pu) / det;
+    max_off_plane = std::max(max_off_plane, glm::length(p - s * eu - t * ev));
+    if (std::abs(s) > 0.5 + 1e-5 || std::abs(t) > 0.5 + 1e-5) return false;
+    *x1 = std::clamp(s + 0.5, 0.0, 1.0);
+    *x2 = std::clamp(t + 0.5, 0.0, 1.0);
+    return true;
+  };
+  d.from_unit = [&](double x1, double x2, double* jacobian) {
+    *jacobian = area;
+    return f4(centre + (x1 - 0.5) * eu + (x2 - 0.5) * ev);
+  };
+  const ChiSquare r = chi_square_test(sample_random(w, 22u, kSamples), d, [&](const std::vector<cl_float4>& p) {
+    return std::vector<double>(p.size(), 1.0 / area);  // the documented 1 / |edge_u x edge_v|
+  });
+  std::cout << "parallelogram: " << r.describe() << "\n";
+  expect_fits(r, kAlphaLevel);
+  EXPECT_LT(max_off_plane, 1e-5);
+}
+
+// ------------------------------------------------------------ GGX identities
+
+// The integral of D(m) m.z over the hemisphere is 1. With t = tan^2 theta /
+// alpha^2 and v = t / (1 + t) in [0, 1), D m.z d omega = dv exactly, so the
+// midpoint rule in v resolves the peak of any alpha; per unit v the weight of
+// D is pi alpha^2 cos^4 theta / (1 - v)^2 = pi alpha^2 / ((1 - v) + alpha^2 v)^2.
+TEST(Ggx, NormalDistributionIsNormalised) {
+  const int n = 20000;
+  for (float alpha : {0.01f, 0.1f, 0.5f, 1.0f}) {
+    const double a2 = double(alpha) * alpha;
+    std::vector<cl_float4> m;
+    std::vector<double> weight;
+    for (int k = 0; k < n; ++k) {
+      const double v = (k + 0.5) / n, q = (1.0 - v) + a2 * v;
+      m.push_back(f4(std::sqrt(a2 * v / q), 0.0, std::sqrt((1.0 - v) / q)));
+      weight.push_back(kPi * a2 / (q * q) / n);
+    }
+    const auto out = ggx_eval(alpha, m, m);
+    double integral = 0.0;
+    for (int k = 0; k < n; ++k) integral += out[k].d * weight[k];
+    EXPECT_NEAR(integral, 1.0, 1e-3) << "alpha " << alpha;
+  }
+}
+
+// The visible-normal density integrates to 1 over m, for every wo. The
+// integral runs over the stretched hemisphere (as the chi-square test bins),
+// where the integrand is a clamped cosine: a fine midpoint grid suffices.
+TEST(Ggx, VisibleNormalDensityIsNormalised) {
+  const int nz = 256, nphi = 512;
+  for (float alpha : {0.01f, 0.1f, 0.5f, 1.0f})
+    for (double theta : {0.0, 30.0, 60.0, 85.0, 89.5}) {
+      const dvec3 wo = direction_at(theta);
+      std::vector<cl_float4> wos, ms;
+      std::vector<double> weight;
+      for (int i = 0; i < nz; ++i)
+        for (int j = 0; j < nphi; ++j) {
+          const double z = (i + 0.5) / nz, r = std::sqrt(1.0 - z * z), phi = 2.0 * kPi * (j + 0.5) / nphi;
+          const dvec3 m(alpha * r * std::cos(phi), alpha * r * std::sin(phi), z);
+          const double len = glm::length(m);
+          wos.push_back(f4(wo));
+          ms.push_back(f4(m / len));
+          weight.push_back(2.0 * kPi * alpha * alpha / (len * len * len) / (double(nz) * nphi));
+        }
+      const auto out = ggx_eval(alpha, wos, ms);
+      double integral = 0.0;
+      for (size_t k = 0; k < out.size(); ++k) integral += out[k].pdf * weight[k];
+      EXPECT_NEAR(integral, 1.0, 1e-3) << "alpha " << alpha << " theta_o " << theta;
+    }
+}
+
+// G1 is 1 at normal incidence, matches Smith's closed form, and decreases
+// toward grazing incidence.
+TEST(Ggx, MaskingDecreasesTowardGrazing) {
+  std::vector<cl_float4> w;
+  std::vector<double> theta;
+  for (int k = 0; k <= 900; ++k) {
+    theta.push_back(k * 0.1);
+    w.push_back(f4(direction_at(k * 0.1)));
+  }
+  w.back() = f4(1.0, 0.0, 0.0);  // exactly tangent
+  for (float alpha : {1e-3f, 0.05f, 0.2f, 0.5f, 1.0f}) {
+    SCOPED_TRACE(::testing::Message() << "alpha " << alpha);
+    const auto out = ggx_eval(alpha, w, w);
+    EXPECT_EQ(out[0].g1, 1.0);
+    for (size_t k = 0; k < out.size(); ++k) {
+      const double g1 = out[k].g1;
+      ASSERT_TRUE(std::isfinite(g1) && g1 >= 0.0 && g1 <= 1.0) << "theta " << theta[k] << " g1 " << g1;
+      if (k > 0) ASSERT_LE(g1, out[k - 1].g1 + 1e-6) << "theta " << theta[k];
+      if (k + 1 < out.size()) {
+        const dvec3 v = d3(w[k]);  // the float direction, exactly
+        const double tan2 = (v.x * v.x + v.y * v.y) / (v.z * v.z);
+        const double exact = 2.0 / (1.0 + std::sqrt(1.0 + double(alpha) * alpha * tan2));
+        ASSERT_NEAR(g1, exact, 1e-5) << "theta " << theta[k];
+      }
+    }
+    EXPECT_LT(out.back().g1, 1e-6);  // tangent: fully masked
+    if (alpha >= 0.05f) EXPECT_LT(out[895].g1, out[0].g1 - 0.05);
+  }
+}
+
+// Height-correlated G2 lies between the uncorrelated product and the smaller
+// of the two G1.
+TEST(Ggx, ShadowingMaskingIsBoundedByMasking) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  auto hemisphere = [&] {
+    const double z = uni(rng), r = std::sqrt(1.0 - z * z), phi = 2.0 * kPi * uni(rng);
+    return f4(r * std::cos(phi), r * std::sin(phi), z);
+  };
+  std::vector<cl_float4> wo, wi;
+  for (int k = 0; k < 20000; ++k) {
+    wo.push_back(hemisphere());
+    wi.push_back(hemisphere());
+  }
+  for (float alpha : {1e-3f, 0.05f, 0.2f, 0.5f, 1.0f}) {
+    const auto pair = ggx_eval(alpha, wo, wi);
+    const auto in = ggx_eval(alpha, wi, wi);
+    for (size_t k = 0; k < wo.size(); ++k) {
+      const double g1o = pair[k].g1, g1i = in[k].g1, g2 = pair[k].g2;
+      ASSERT_TRUE(std::isfinite(g2)) << "alpha " << alpha;
+      ASSERT_LE(g2, std::min(g1o, g1i) + 1e-6) << "alpha " << alpha << " k " << k;
+      ASSERT_GE(g2, g1o * g1i - 1e-6) << "alpha " << alpha << " k " << k;
+    }
+  }
+}
+
+// Everything stays finite at grazing angles (w.z = 1e-7, and 0) with the
+// smallest supported alpha.
+TEST(Ggx, FiniteAtGrazingAnglesAndTinyAlpha) {
+  const std::vector<dvec3> dirs = {dvec3(1.0, 0.0, 1e-7), dvec3(0.6, 0.8, 1e-7), dvec3(1.0, 0.0, 0.0),
+                                   dvec3(0.0, 0.0, 1.0), direction_at(60.0), dvec3(-1.0, 0.0, 1e-7)};
+  std::vector<cl_float4> wo, wi;
+  for (const dvec3& a : dirs)
+    for (const dvec3& b : dirs) {
+      wo.push_back(f4(glm::normalize(a)));
+      wi.push_back(f4(glm::normalize(b)));
+    }
+  for (float alpha : {1e-3f, 0.01f, 1.0f}) {
+    const auto out = ggx_eval(alpha, wo, wi);
+    for (size_t k = 0; k < out.size(); ++k) {
+      SCOPED_TRACE(::testing::Message() << "alpha " << alpha << " wo " << wo[k].s[0] << "," << wo[k].s[1] << ","
+                                        << wo[k].s[2] << " wi " << wi[k].s[0] << "," << wi[k].s[1] << ","
+                                        << wi[k].s[2]);
+      for (double v : {out[k].d, out[k].g1, out[k].g2, out[k].pdf}) {
+        EXPECT_TRUE(std::isfinite(v)) << v;
+        EXPECT_GE(v, 0.0);
+      }
+    }
+  }
+}
+
+// --------------------------------------------------------------- the frame
+
+TEST(Sampling, FrameFromNormalIsOrthonormalAndRightHanded) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> gauss;
+  std::vector<cl_float4> n = {f4(0, 0, -1), f4(0, 0, 1), f4(glm::normalize(dvec3(1e-4, 0, -1))),
+                              f4(glm::normalize(dvec3(0, 1e-3, -1))), f4(glm::normalize(dvec3(3e-4, -2e-4, -1))),
+                              f4(glm::normalize(dvec3(1e-20, 1e-20, -1))), f4(1, 0, 0), f4(0, -1, 0),
+                              f4(0, 1, -0.0)};
+  while (n.size() < 100000) {
+    const dvec3 v(gauss(rng), gauss(rng), gauss(rng));
+    if (glm::length(v) > 1e-6) n.push_back(f4(glm::normalize(v)));
+  }
+  // Normals crowding -z, where the frame's branch-free formula divides by
+  // (1 + |n.z|) ... and where Frisvad's original one failed.
+  for (int k = 0; k < 1000; ++k) {
+    const double e = std::pow(10.0, -1.0 - 7.0 * k / 1000.0), phi = 0.1 * k;
+    n.push_back(f4(glm::normalize(dvec3(e * std::cos(phi), e * std::sin(phi), -1.0))));
+  }
+  cl::Kernel k(program(), "frame");
+  cl::Buffer t_out = output<cl_float4>(n.size()), b_out = output<cl_float4>(n.size());
+  cl::Buffer in = upload(n);
+  k.setArg(0, in);
+  k.setArg(1, static_cast<cl_uint>(n.size()));
+  k.setArg(2, t_out);
+  k.setArg(3, b_out);
+  launch(k, n.size());
+  const auto ts = read<cl_float4>(t_out, n.size()), bs = read<cl_float4>(b_out, n.size());
+  for (size_t i = 0; i < n.size(); ++i) {
+    const dvec3 nn = d3(n[i]), t = d3(ts[i]), b = d3(bs[i]);
+    SCOPED_TRACE(::testing::Message() << "n " << nn.x << "," << nn.y << "," << nn.z);
+    ASSERT_NEAR(glm::length(t), 1.0, 1e-5);
+    ASSERT_NEAR(glm::length(b), 1.0, 1e-5);
+    ASSERT_NEAR(glm::dot(t, b), 0.0, 1e-5);
+    ASSERT_NEAR(glm::dot(t, nn), 0.0, 1e-5);
+    ASSERT_NEAR(glm::dot(b, nn), 0.0, 1e-5);
+    ASSERT_LT(glm::length(glm::cross(t, b) - nn), 1e-5);
+  }
+}
+
+// ---------------------------------------------------------- finite corners
+
+TEST(Sampling, EveryWarpIsFiniteAtTheCornersOfTheSquare) {
+  const float corners[] = {0.0f, 0.5f, 1.0f - 0x1p-24f};
+  std::vector<cl_float2> u;
+  for (float a : corners)
+    for (float b : corners) u.push_back({{a, b}});
+  std::vector<std::pair<std::string, WarpParams>> warps = {
+      {"cosine", {kCosine}}, {"sphere", {kSphere}}, {"disk", {kDisk}}, {"triangle", {kTriangle}},
+      {"rectangle", {kRectangle, 0.0f, f4(0.3, -1.2, 2.0), f4(2.0, 0.5, 0.3), f4(-0.4, 1.5, 0.8)}}};
+  for (float c : {1e-7f, 1e-3f, 0.1f, 1.0f, 2.0f}) warps.push_back({"cone " + std::to_string(c), {kCone, c}});
+  for (float alpha : {1e-3f, 0.05f, 1.0f})
+    for (const dvec3& wo : {dvec3(0, 0, 1), direction_at(60.0), glm::normalize(dvec3(1.0, 0.0, 1e-7))})
+      warps.push_back({"ggx alpha " + std::to_string(alpha) + " wo.z " + std::to_string(wo.z),
+                       {kGgxVndf, alpha, f4(wo)}});
+  for (const auto& [name, w] : warps) {
+    const auto out = sample_at(w, u);
+    const bool direction = w.mode == kCosine || w.mode == kSphere || w.mode == kCone || w.mode == kGgxVndf;
+    for (size_t i = 0; i < u.size(); ++i) {
+      SCOPED_TRACE(::testing::Message() << name << " u " << u[i].s[0] << "," << u[i].s[1]);
+      for (int c = 0; c < 4; ++c) ASSERT_TRUE(std::isfinite(out[i].s[c])) << out[i].s[c];
+      if (direction) EXPECT_NEAR(glm::length(d3(out[i])), 1.0, 1e-5);
+      if (w.mode == kDisk) EXPECT_LE(glm::length(d3(out[i])), 1.0 + 1e-6);
+      if (w.mode == kTriangle) {
+        EXPECT_GE(out[i].s[0], 0.0f);
+        EXPECT_GE(out[i].s[1], 0.0f);
+        EXPECT_LE(out[i].s[0] + out[i].s[1], 1.0f);
+      }
+    }
+    if (w.mode == kGgxVndf || w.mode == kCosine) {  // the density at the samples is finite too
+      const auto pdf = device_pdf(w, out);
+      for (size_t i = 0; i < pdf.size(); ++i) EXPECT_TRUE(std::isfinite(pdf[i])) << name << " " << i;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace caustica
