@@ -14,12 +14,14 @@
 #define GGX_ALPHA_MIN 1e-3f
 
 /* D(m): density of micro-normals per unit solid angle times cos(theta_m)
- * normalisation (integral of D(m) m.z over the hemisphere = 1). */
+ * normalisation (integral of D(m) m.z over the hemisphere = 1). sin^2 is
+ * taken from the components, not as 1 - cos^2: near the pole (where a small
+ * alpha puts every micro-normal) 1 - m.z^2 keeps only a few bits, which at
+ * alpha = GGX_ALPHA_MIN made D wrong by several percent per evaluation. */
 inline float ggx_d(float3 m, float alpha) {
   if (m.z <= 0.0f) return 0.0f;
   const float a2 = alpha * alpha;
-  const float c2 = m.z * m.z;
-  const float t = c2 * (a2 - 1.0f) + 1.0f; /* = cos^2 (a^2 - 1) + 1 = a^2 cos^2 + sin^2 */
+  const float t = a2 * m.z * m.z + (m.x * m.x + m.y * m.y); /* a^2 cos^2 + sin^2 */
   return a2 / (M_PI_F * t * t);
 }
 
