@@ -154,6 +154,8 @@ int main(int argc, char** argv) {
       "--bvh", [&](const std::string& q) { render.session.bvh_quality = parse_bvh_quality(q); },
       "BVH build: spatial (SBVH, default), sah, or fast for huge scenes");
   render_cmd->add_flag("--strict", render.session.strict, "unknown scene keys are errors, not warnings");
+  render_cmd->add_option("--spp", render.session.spp, "path: samples per pixel (default 64)")->check(CLI::PositiveNumber);
+  render_cmd->add_option("--seed", render.session.seed, "path: seed of the sample sequences (default 0)");
   render_cmd->add_flag("-v,--verbose", render.verbose, "print features, build, BVH and render times");
   render_cmd->add_flag("-q,--quiet", render.quiet, "print nothing but errors");
 

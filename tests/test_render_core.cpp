@@ -381,24 +381,27 @@ std::string write_scene(const std::string& name, const std::string& text) {
   return path;
 }
 
-TEST(RenderCore, PathModeLoadsButIsRefusedUntilItIsBuilt) {
+// The file's rendermode is the default, --mode wins; each mode runs its own
+// integrator.
+TEST(RenderCore, TheModeIsChosenAtRenderTime) {
   const std::string scene = write_scene("path.json", R"({"rendermode": "pathtracer",
     "camera": {"type": "pinhole", "width": 8, "height": 8, "position": [0, 0, -3], "lookAt": [0, 0, 0],
                "upVector": [0, 1, 0], "fov": 40},
-    "scene": {"shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1}]}})");
+    "scene": {"backgroundcolor": [0.5, 0.5, 0.5], "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1}]}})");
   SessionOptions o;
   o.scene_path = scene;
   o.device = test::device_spec();
-  try {
-    prepare_session(o);
-    ADD_FAILURE() << "path mode rendered before it exists";
-  } catch (const Error& e) {
-    EXPECT_TRUE(test::Contains(e.what(), {"path tracing", "not available yet", "--mode binary"}));
-  }
+  o.spp = 2;
+  auto path = prepare_session(o);
+  EXPECT_EQ(path->mode, RenderMode::Path);
+  EXPECT_STREQ(path->renderer->integrator().name(), "path");
+  EXPECT_EQ(path->settings.passes, 2);
   o.mode = RenderMode::Binary;  // the CLI's choice wins over the file's
   const auto session = prepare_session(o);
   EXPECT_EQ(session->mode, RenderMode::Binary);
   EXPECT_EQ(session->scene.mode, RenderMode::Path);
+  EXPECT_STREQ(session->renderer->integrator().name(), "binary");
+  EXPECT_EQ(session->settings.passes, 1);
   RenderStats stats;
   const ImageF img = session->renderer->render(&stats);
   EXPECT_EQ(img.at(4, 4)[0], 1.0f);  // the sphere fills the centre: red

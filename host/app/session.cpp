@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "host/error.h"
+#include "host/render/path_lights.h"
 #include "host/scene/load_scene.h"
 
 namespace caustica {
@@ -57,7 +58,9 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   session->load_ms = ms_since(t0);
   Scene& scene = session->scene;
   session->mode = options.mode.value_or(scene.mode);
-  const std::string program_file = integrator_program_file(session->mode);  // refuses modes not built yet
+  const std::string program_file = integrator_program_file(session->mode);
+  // The path tracer hits the lights it samples: their geometry joins the scene.
+  if (session->mode == RenderMode::Path) add_light_geometry(scene);
 
   session->features = analyse_scene(scene, session->mode);
   session->runtime = std::make_unique<Runtime>(select_device(options.device), options.profile_stages);
@@ -72,6 +75,9 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   resolve_image_size(scene.camera, options.width, options.height, &session->settings.width,
                      &session->settings.height);
   session->settings.local_size = options.local_size;
+  if (options.spp < 0) throw Error("--spp must be positive");
+  session->settings.passes = session->mode == RenderMode::Path ? (options.spp > 0 ? options.spp : kDefaultPathSpp) : 1;
+  session->settings.seed = options.seed;
   t0 = std::chrono::steady_clock::now();
   session->device_scene =
       std::make_unique<DeviceScene>(session->runtime->context(), scene, session->wide, session->features);

@@ -32,9 +32,13 @@ struct SessionOptions {
   bool strict = false;  // unknown scene keys are errors instead of warnings
   size_t local_size = 64;  // work-group size of the stage launches
   bool profile_stages = false;  // device time per stage kernel in RenderStats::stage_ms (bench)
+  int spp = 0;                  // path: samples per pixel (passes); 0: the default (kDefaultPathSpp)
+  uint32_t seed = 0;            // path: sample sequence seed
   // --bvh: spatial splits (SBVH) by default; "fast" for huge scenes.
   BvhBuildOptions::Quality bvh_quality = BvhBuildOptions::Quality::Spatial;
 };
+
+inline constexpr int kDefaultPathSpp = 64;
 
 struct Session {
   Scene scene;

@@ -38,6 +38,9 @@ static_assert(sizeof(CameraGPU) == 96 && offsetof(CameraGPU, lens) == 64 && offs
 static_assert(sizeof(ShadeParams) == 64 && offsetof(ShadeParams, ambient_light) == 16 &&
                   offsetof(ShadeParams, light_count) == 32 && offsetof(ShadeParams, min_weight) == 44,
               "ShadeParams layout");
+static_assert(sizeof(PathParams) == 48 && offsetof(PathParams, light_count) == 16 &&
+                  offsetof(PathParams, rr_depth) == 40,
+              "PathParams layout");
 static_assert(sizeof(Hit) == 16 && offsetof(Hit, prim) == 12, "Hit layout");
 static_assert(sizeof(FilmParams) == 16 && offsetof(FilmParams, max_contribution) == 4, "FilmParams layout");
 static_assert(sizeof(FilmAccumulate) == 16 && offsetof(FilmAccumulate, inv_scale) == 12, "FilmAccumulate layout");

@@ -56,10 +56,9 @@ std::string integrator_program_file(RenderMode mode) {
   switch (mode) {
     case RenderMode::Binary: return "integrator_binary.cl";
     case RenderMode::Phong: return "integrator_phong.cl";
-    case RenderMode::Path: break;
+    case RenderMode::Path: return "integrator_path.cl";
   }
-  throw Error("path tracing (rendermode \"pathtracer\" / --mode path) is not available yet; "
-              "render with --mode binary or --mode phong");
+  throw Error("unknown render mode");
 }
 
 std::unique_ptr<Integrator> make_integrator(RenderMode mode, StageLauncher& launcher, const DeviceScene& scene,
@@ -67,10 +66,9 @@ std::unique_ptr<Integrator> make_integrator(RenderMode mode, StageLauncher& laun
   switch (mode) {
     case RenderMode::Binary: return make_binary_integrator(launcher, scene, program, settings);
     case RenderMode::Phong: return make_phong_integrator(launcher, scene, program, settings);
-    case RenderMode::Path: break;
+    case RenderMode::Path: return make_path_integrator(launcher, scene, program, settings);
   }
-  integrator_program_file(mode);  // throws the message for modes not built yet
-  throw Error("no integrator for this mode");
+  throw Error("unknown render mode");
 }
 
 }  // namespace caustica

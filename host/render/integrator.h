@@ -40,6 +40,8 @@ struct RenderSettings {
   float queue_capacity_factor = 2.0f;
   int passes = 1;            // samples per pixel (one pass each)
   bool half_buffer = false;  // film keeps the odd-pass sum
+  uint32_t seed = 0;         // path: the sample sequences' seed (same seed, same image)
+  uint32_t path_strategy = PATH_STRATEGY_MIS;  // path: MIS, or one technique alone (tests)
 };
 
 struct RenderStats {
@@ -121,5 +123,7 @@ std::unique_ptr<Integrator> make_binary_integrator(StageLauncher& launcher, cons
                                                    const cl::Program& program, const RenderSettings& settings);
 std::unique_ptr<Integrator> make_phong_integrator(StageLauncher& launcher, const DeviceScene& scene,
                                                   const cl::Program& program, const RenderSettings& settings);
+std::unique_ptr<Integrator> make_path_integrator(StageLauncher& launcher, const DeviceScene& scene,
+                                                 const cl::Program& program, const RenderSettings& settings);
 
 }  // namespace caustica

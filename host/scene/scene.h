@@ -76,6 +76,16 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<uint16_t> texels;  // IEEE half floats, 4 per texel (linear rgb + unused)
 
+  // Path mode only (add_light_geometry, host/render/path_lights.h): the
+  // rectangle and sphere lights' own geometry, appended after the file's
+  // shapes so that BSDF-sampled rays can hit them. Rectangle light k is
+  // triangles first_triangle + 2k and + 2k + 1; sphere light k is sphere
+  // first_sphere + k.
+  struct LightGeometry {
+    bool added = false;
+    size_t first_triangle = 0, first_sphere = 0;
+  } light_geometry;
+
   struct MeshInfo {
     std::string file;
     size_t triangles = 0;         // added to the scene

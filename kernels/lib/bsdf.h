@@ -18,7 +18,8 @@
  *     layer (a mirror when smooth) of normal reflectance `specular` (Schlick
  *     Fresnel) by Ashikhmin & Shirley's energy-conserving diffuse term
  *     (2000), so the total reflectance stays <= 1 when diffuse and specular
- *     are <= 1 per channel;
+ *     are <= 1 per channel. Without a layer (specular = 0) it is exactly
+ *     Lambertian: albedo `diffuse` at every angle;
  *   BSDF_CONDUCTOR: GGX (or smooth mirror) with Schlick reflectance
  *     `specular`;
  *   BSDF_DIELECTRIC: smooth or rough (Walter et al. 2007) glass of relative
@@ -85,6 +86,7 @@ inline float ggx_reflection_pdf(float alpha, float3 wo, float3 wi) {
 }
 
 inline float3 plastic_diffuse(Bsdf b, float3 wo, float3 wi) {
+  if (!(bsdf_max3(b.specular) > 0.0f)) return b.diffuse * M_1_PI_F; /* no layer: Lambert */
   /* Ashikhmin-Shirley: 28/(23 pi) Rd (1 - Rs) (1 - (1 - cos_i/2)^5)(1 - (1 - cos_o/2)^5) */
   const float a = 1.0f - 0.5f * wi.z, c = 1.0f - 0.5f * wo.z;
   const float a5 = a * a * a * a * a, c5 = c * c * c * c * c;
@@ -109,7 +111,7 @@ inline float3 bsdf_eval(Bsdf b, float3 wo, float3 wi) {
   if (b.kind == BSDF_PLASTIC) {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return (float3)(0.0f);
     float3 f = plastic_diffuse(b, wo, wi);
-    if (!bsdf_is_smooth(b)) f += ggx_reflection(b.specular, b.alpha, wo, wi);
+    if (!bsdf_is_smooth(b) && bsdf_max3(b.specular) > 0.0f) f += ggx_reflection(b.specular, b.alpha, wo, wi);
     return f;
   }
   if (bsdf_is_smooth(b)) return (float3)(0.0f); /* delta lobes only */

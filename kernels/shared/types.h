@@ -232,6 +232,22 @@ typedef struct {
   cs_uint pad0, pad1, pad2, pad3;
 } ShadeParams; /* 64 bytes */
 
+/* Per-launch constants of the path tracer's stages. */
+#define PATH_STRATEGY_MIS 0u  /* light sampling and BSDF sampling, power-heuristic weights */
+#define PATH_STRATEGY_NEE 1u  /* light sampling only (emission found by BSDF rays ignored where sampleable) */
+#define PATH_STRATEGY_BSDF 2u /* BSDF sampling only (no shadow rays; point lights unreachable) */
+typedef struct {
+  cs_float4 background; /* rgb radiance of rays that leave the scene */
+  cs_uint light_count;
+  cs_uint max_depth;    /* nbounces: most scattering events of a path */
+  cs_uint ray_capacity; /* of the next-wave queue */
+  cs_uint sample_index; /* the pass: index into each pixel's sample sequence */
+  cs_uint seed;
+  cs_uint strategy;     /* PATH_STRATEGY_* */
+  cs_uint rr_depth;     /* Russian roulette from this many scattering events on */
+  cs_uint pad0;
+} PathParams; /* 48 bytes */
+
 /* The film's pass in progress: contributions are added as 64-bit fixed point
  * (value * scale, rounded) with integer atomics, so that the sum does not
  * depend on the order in which work-items add (the same bits on any device,

@@ -1,0 +1,30 @@
+// The scene's lights as the path tracer samples them (PathLight,
+// kernels/shared/types.h; kernels/lib/path_lights.h samples them).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "host/scene/scene.h"
+
+namespace caustica {
+
+// Appends the geometry of every rectangle light (two triangles) and sphere
+// light (a sphere), with an emissive material that reflects nothing, so that
+// BSDF-sampled rays hit the lights they could have sampled (MIS needs both
+// ways to reach a light). Path mode only; before the BVH is built.
+void add_light_geometry(Scene& scene);
+
+struct PathLightTable {
+  std::vector<PathLight> lights;            // selection probability by power
+  std::vector<uint32_t> light_of_sphere;    // per sphere: its light, or LIGHT_NONE
+  std::vector<uint32_t> light_of_triangle;  // per triangle: its light, or LIGHT_NONE
+  float max_radiance = 0.0f;                // largest emitted component (film scale)
+};
+
+// Point lights; rectangle and sphere lights (their geometry added first);
+// every other emissive triangle (two-sided) and emissive sphere. Emissive
+// cylinders are not sampled: only BSDF-sampled rays find them.
+PathLightTable build_path_lights(const Scene& scene);
+
+}  // namespace caustica

@@ -1,0 +1,152 @@
+#line 2 "kernels/integrator/shade_surface_path.cl"
+/* Stage (path mode): one vertex of every path in the queue.
+ *
+ * Rules: a path's throughput scales everything it adds. At a hit it adds
+ * the emission it sees (weighted by MIS against light sampling unless it
+ * arrived by a delta lobe or from the camera); then, if it may scatter again
+ * (depth < max_depth: depth counts scattering events, so nbounces is the
+ * most scattering events of a path), it samples one light (next-event
+ * estimation: an unoccluded contribution, MIS-weighted, in its shadow slot,
+ * slot i = path i) and one BSDF direction for its continuation, which
+ * survives Russian roulette from rr_depth scattering events on. A miss
+ * adds the background. Samples: pixel sequence dimension pairs 2 + 3 depth
+ * (light position), 3 + 3 depth (BSDF direction), 4 + 3 depth (light pick,
+ * lobe pick); roulette uses an independent hash. Opaque surfaces are
+ * two-sided (the frame turns toward the path); dielectrics keep the outward
+ * normal so that the side tells inside from outside. No direction below the
+ * geometric surface of an opaque material is followed (no light leaks
+ * through shading normals). */
+
+#include "lib/film.h"
+#include "lib/material.h"
+#include "lib/path_lights.h"
+#include "lib/queue.h"
+#include "lib/rng.h"
+#include "lib/surface.h"
+#include "lib/texture.h"
+
+inline float max3_of(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
+
+inline float power_heuristic(float a, float b) {
+  const float a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
+}
+
+inline uint light_of_hit(__global const uint* light_of_sphere, __global const uint* light_of_triangle, uint prim) {
+  const uint type = prim_ref_type(prim), index = prim_ref_index(prim);
+  if (type == PRIM_SPHERE) return light_of_sphere[index];
+  if (type == PRIM_TRIANGLE) return light_of_triangle[index];
+  return LIGHT_NONE;
+}
+
+__kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight* restrict lights,
+                                 __global const uint* restrict light_of_sphere,
+                                 __global const uint* restrict light_of_triangle, PathParams params,
+                                 PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits, FILM_PARAMS,
+                                 PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)) {
+  const uint i = get_global_id(0);
+  if (i >= *in_count) return;
+  shadow_mark_empty(SHADOW_QUEUE_ARGS(shadow), i);
+  const Hit hit = hits[i];
+  const PathRecord ray = path_load(PATH_QUEUE_ARGS(in), i);
+  const float3 throughput = ray.throughput.xyz;
+  const float3 d = ray.dir.xyz;
+  if (hit.prim == PRIM_NONE) {
+    film_add(FILM_ARGS, ray.pixel, throughput * params.background.xyz);
+    return;
+  }
+  const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, ray.origin.xyz, d);
+  __global const Material* mat = &materials[sp.material];
+
+  /* Emission seen by this path. */
+  const bool arrived_by_delta = (ray.flags & PATH_SPECULAR) != 0u;
+  const uint light_index = params.light_count > 0u ? light_of_hit(light_of_sphere, light_of_triangle, hit.prim)
+                                                    : LIGHT_NONE;
+  if (light_index != LIGHT_NONE) {
+    __global const PathLight* light = &lights[light_index];
+    float weight = 1.0f;
+    if (!arrived_by_delta) {
+      if (params.strategy == PATH_STRATEGY_NEE) weight = 0.0f;
+      else if (params.strategy == PATH_STRATEGY_MIS)
+        weight = power_heuristic(ray.bsdf_pdf, light_pdf(light, light->select_probability, ray.origin.xyz,
+                                                         sp.position, d));
+    }
+    if (weight > 0.0f) film_add(FILM_ARGS, ray.pixel, throughput * light_emitted_toward(light, d) * weight);
+  } else if (max3_of(mat->emission.xyz) > 0.0f) {
+    film_add(FILM_ARGS, ray.pixel, throughput * mat->emission.xyz); /* not sampled: BSDF rays find it alone */
+  }
+  if (ray.depth >= params.max_depth) return;
+
+  float3 diffuse_colour = mat->diffuse.xyz;
+#ifdef HAS_TEXTURES
+  if (mat->texture >= 0) diffuse_colour = texture_lookup(textures, (__global const half*)texels, mat->texture, sp.uv);
+#endif
+  const Bsdf bsdf = bsdf_of_material(mat, diffuse_colour);
+  const bool opaque = bsdf.kind != BSDF_DIELECTRIC;
+  float3 n = sp.shading_normal, ng = sp.normal;
+  if (opaque && dot(ng, d) > 0.0f) { /* turn the two-sided surface toward the path */
+    n = -n;
+    ng = -ng;
+  }
+  if (opaque && dot(n, ng) < 0.0f) n = ng;
+  float3 t, b;
+  frame_from_normal(n, &t, &b);
+  const float3 wo = frame_to_local(-d, t, b, n);
+  const uint pixel_seed = hash3(ray.pixel, 0u, params.seed);
+  const uint pair = 2u + 3u * ray.depth;
+  const float2 picks = sobol_burley_2d(params.sample_index, pair + 2u, pixel_seed);
+
+  /* Next-event estimation toward one light. */
+  const bool delta_only = bsdf_is_smooth(bsdf) && bsdf.kind != BSDF_PLASTIC;
+  if (params.light_count > 0u && params.strategy != PATH_STRATEGY_BSDF && !delta_only) {
+    const uint li = pick_light(lights, params.light_count, picks.x);
+    __global const PathLight* light = &lights[li];
+    LightSample ls;
+    if (sample_light(light, light->select_probability, sp.position,
+                     sobol_burley_2d(params.sample_index, pair, pixel_seed), &ls)) {
+      const float3 wi = frame_to_local(ls.wi, t, b, n);
+      const float side = dot(ls.wi, ng);
+      if (!opaque || side > 0.0f) {
+        const float3 f = bsdf_eval(bsdf, wo, wi);
+        if (max3_of(f) > 0.0f) {
+          const float weight = ls.delta || params.strategy == PATH_STRATEGY_NEE
+                                   ? 1.0f
+                                   : power_heuristic(ls.pdf, bsdf_pdf(bsdf, wo, wi));
+          const float3 contribution = throughput * f * fabs(wi.z) * ls.radiance * (weight / ls.pdf);
+          const float3 origin = spawn_point(sp, dot(sp.normal, ls.wi) > 0.0f ? sp.normal : -sp.normal);
+          ShadowRecord s;
+          s.origin = (float4)(origin, ls.distance * (1.0f - 1e-4f));
+          s.dir = (float4)(ls.wi, 0.0f);
+          s.contribution = (float4)(contribution, 0.0f);
+          s.pixel = ray.pixel;
+          shadow_store(SHADOW_QUEUE_ARGS(shadow), i, s);
+        }
+      }
+    }
+  }
+
+  /* The continuation, by BSDF sampling. */
+  const float2 u_dir = sobol_burley_2d(params.sample_index, pair + 1u, pixel_seed);
+  float3 wi_local, weight;
+  float pdf;
+  uint flags;
+  if (!bsdf_sample(bsdf, wo, (float3)(u_dir, picks.y), &wi_local, &weight, &pdf, &flags)) return;
+  const float3 wi = frame_to_world(wi_local, t, b, n);
+  if (opaque && dot(wi, ng) <= 0.0f) return;
+  float3 continued_throughput = throughput * weight;
+  if (ray.depth + 1u >= params.rr_depth) {
+    const float survive = fmin(0.95f, max3_of(continued_throughput));
+    if (!(random_float(hash3(ray.pixel, params.sample_index, params.seed), ray.depth) < survive)) return;
+    continued_throughput /= survive;
+  }
+  if (!(max3_of(continued_throughput) > 0.0f)) return;
+  PathRecord child;
+  child.origin = (float4)(spawn_point(sp, dot(wi, sp.normal) > 0.0f ? sp.normal : -sp.normal), 0.0f);
+  child.dir = (float4)(wi, 0.0f);
+  child.throughput = (float4)(continued_throughput, 0.0f);
+  child.pixel = ray.pixel;
+  child.depth = ray.depth + 1u;
+  child.bsdf_pdf = (flags & BSDF_SAMPLED_SPECULAR) ? 0.0f : pdf;
+  child.flags = (flags & BSDF_SAMPLED_SPECULAR) ? PATH_SPECULAR : 0u;
+  path_push(PATH_QUEUE_ARGS(next), params.ray_capacity, child);
+}

@@ -1,0 +1,51 @@
+#line 2 "kernels/lib/material.h"
+/* The coursework material (Material, shared/types.h) as the path tracer's
+ * scattering model (lib/bsdf.h). The mapping, documented for users in
+ * scenes/FORMAT.md ("Path mode"):
+ *   isrefractive: dielectric of index `ior`, smooth unless `roughness`;
+ *   isreflective: conductor of reflectance reflectivity x specularcolor,
+ *     a mirror unless `roughness`;
+ *   otherwise plastic: diffuse albedo kd x diffusecolor (x texture), a GGX
+ *     layer of normal reflectance ks x specularcolor with
+ *     alpha = sqrt(2 / (specularexponent + 2)) unless `roughness` is given;
+ *     `metallic` m moves it toward a conductor: specular = mix(specular,
+ *     diffuse, m), diffuse x (1 - m), a pure conductor at m = 1.
+ * Colours are clamped to [0, 1]; emission is added where a path hits the
+ * surface, not here. */
+#ifndef CAUSTICA_LIB_MATERIAL_H
+#define CAUSTICA_LIB_MATERIAL_H
+
+#include "lib/bsdf.h"
+#include "shared/types.h"
+
+inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour) {
+  Bsdf b;
+  b.ior = m->ior;
+  b.diffuse = (float3)(0.0f);
+  b.specular = (float3)(0.0f);
+  const bool given = m->roughness >= 0.0f;
+  if (m->flags & MATERIAL_REFRACTIVE) {
+    b.kind = BSDF_DIELECTRIC;
+    b.alpha = given ? m->roughness : 0.0f;
+  } else if (m->flags & MATERIAL_REFLECTIVE) {
+    b.kind = BSDF_CONDUCTOR;
+    b.specular = clamp(m->reflectivity * m->specular.xyz, 0.0f, 1.0f);
+    b.alpha = given ? m->roughness : 0.0f;
+  } else {
+    b.alpha = given ? m->roughness : sqrt(2.0f / (fmax(m->specular_exponent, 0.0f) + 2.0f));
+    const float3 diffuse = clamp(m->diffuse.w * diffuse_colour, 0.0f, 1.0f);
+    const float3 specular = clamp(m->specular.w * m->specular.xyz, 0.0f, 1.0f);
+    const float metallic = clamp(m->metallic, 0.0f, 1.0f);
+    if (metallic >= 1.0f) {
+      b.kind = BSDF_CONDUCTOR;
+      b.specular = diffuse;
+    } else {
+      b.kind = BSDF_PLASTIC;
+      b.specular = mix(specular, diffuse, metallic);
+      b.diffuse = diffuse * (1.0f - metallic);
+    }
+  }
+  return b;
+}
+
+#endif /* CAUSTICA_LIB_MATERIAL_H */

@@ -1,0 +1,129 @@
+#line 2 "kernels/lib/path_lights.h"
+/* Sampling the path tracer's lights (PathLight, shared/types.h) from a
+ * shading point, and the density with which that sampling would have
+ * picked a direction that a BSDF-sampled ray found (for MIS).
+ *
+ * Rules: densities are per unit solid angle at the shading point and
+ * include the probability of picking the light; a point light is a delta
+ * (its density is the pick probability alone, and MIS never weights it).
+ * Radiance conventions (scenes/FORMAT.md): a point light's intensity I gives
+ * radiance I / d^2; rectangles, spheres and emissive triangles emit their
+ * radiance `emitted` (rectangles on the side of cross(u, v) only). */
+#ifndef CAUSTICA_LIB_PATH_LIGHTS_H
+#define CAUSTICA_LIB_PATH_LIGHTS_H
+
+#include "lib/sampling.h"
+#include "shared/types.h"
+
+typedef struct {
+  float3 wi;       /* unit direction toward the light */
+  float distance;  /* to the sampled point (the shadow ray's extent) */
+  float3 radiance; /* arriving along -wi, before visibility */
+  float pdf;       /* solid angle x pick probability; the pick probability alone for a point */
+  bool delta;
+} LightSample;
+
+/* The light whose prefix probability first exceeds u (binary search). */
+inline uint pick_light(__global const PathLight* lights, uint count, float u) {
+  uint lo = 0u, hi = count - 1u;
+  while (lo < hi) {
+    const uint mid = (lo + hi) / 2u;
+    if (u < lights[mid].select_cdf) hi = mid;
+    else lo = mid + 1u;
+  }
+  return lo;
+}
+
+inline float3 light_normal(__global const PathLight* l) {
+  if (l->kind == LIGHT_RECT) return normalize(cross(l->p1.xyz, l->p2.xyz));
+  return normalize(cross(l->p1.xyz - l->p0.xyz, l->p2.xyz - l->p0.xyz));
+}
+
+/* Solid-angle density (without the pick probability) of reaching point q
+ * with normal n_l on an area light of the given area from p. */
+inline float area_to_solid_angle(float3 p, float3 q, float3 wi, float area, float3 n_l) {
+  const float cos_l = fabs(dot(wi, n_l));
+  if (!(cos_l > 0.0f) || !(area > 0.0f)) return 0.0f;
+  const float3 d = q - p;
+  return dot(d, d) / (cos_l * area);
+}
+
+/* One-sided rectangles: does a light at q facing n_l shine toward -wi? */
+inline bool light_faces(__global const PathLight* l, float3 wi, float3 n_l) {
+  return l->kind != LIGHT_RECT || dot(wi, n_l) < 0.0f;
+}
+
+inline bool sample_light(__global const PathLight* l, float pick_probability, float3 p, float2 u, LightSample* s) {
+  s->delta = false;
+  if (l->kind == LIGHT_POINT) {
+    const float3 d = l->p0.xyz - p;
+    const float d2 = dot(d, d);
+    if (!(d2 > 0.0f)) return false;
+    s->distance = sqrt(d2);
+    s->wi = d / s->distance;
+    s->radiance = l->emitted.xyz / d2;
+    s->pdf = pick_probability;
+    s->delta = true;
+    return true;
+  }
+  if (l->kind == LIGHT_SPHERE) {
+    const float3 c = l->p0.xyz;
+    const float r = l->p0.w;
+    const float3 to_c = c - p;
+    const float d2 = dot(to_c, to_c);
+    if (!(d2 > r * r)) return false; /* inside the light: it is hit, not sampled */
+    const float one_minus_cos_max = sphere_cone_one_minus_cos(d2, r * r);
+    const float dist_c = sqrt(d2);
+    const float3 axis = to_c / dist_c;
+    float3 t, b;
+    frame_from_normal(axis, &t, &b);
+    const float3 wi = frame_to_world(sample_uniform_cone(u, one_minus_cos_max), t, b, axis);
+    /* Nearest intersection with the sphere along wi (it exists up to rounding). */
+    const float proj = dot(to_c, wi);
+    const float h2 = fmax(0.0f, r * r - (d2 - proj * proj));
+    s->distance = fmax(proj - sqrt(h2), 0.0f);
+    s->wi = wi;
+    s->radiance = l->emitted.xyz;
+    s->pdf = pick_probability * pdf_uniform_cone(one_minus_cos_max);
+    return s->pdf > 0.0f;
+  }
+  float3 q;
+  if (l->kind == LIGHT_RECT) {
+    q = sample_rectangle(l->p0.xyz, l->p1.xyz, l->p2.xyz, u);
+  } else {
+    const float2 bc = sample_triangle_barycentrics(u);
+    q = l->p0.xyz + bc.x * (l->p1.xyz - l->p0.xyz) + bc.y * (l->p2.xyz - l->p0.xyz);
+  }
+  const float3 d = q - p;
+  const float d2 = dot(d, d);
+  if (!(d2 > 0.0f)) return false;
+  s->distance = sqrt(d2);
+  s->wi = d / s->distance;
+  const float3 n_l = light_normal(l);
+  if (!light_faces(l, s->wi, n_l)) return false;
+  s->radiance = l->emitted.xyz;
+  s->pdf = pick_probability * area_to_solid_angle(p, q, s->wi, l->emitted.w, n_l);
+  return s->pdf > 0.0f;
+}
+
+/* What sample_light's density would have been for the direction wi from p
+ * that reached point q of light l (a BSDF-sampled ray's hit). */
+inline float light_pdf(__global const PathLight* l, float pick_probability, float3 p, float3 q, float3 wi) {
+  if (l->kind == LIGHT_POINT) return 0.0f;
+  if (l->kind == LIGHT_SPHERE) {
+    const float3 to_c = l->p0.xyz - p;
+    const float d2 = dot(to_c, to_c);
+    const float r = l->p0.w;
+    if (!(d2 > r * r)) return 0.0f;
+    return pick_probability * pdf_uniform_cone(sphere_cone_one_minus_cos(d2, r * r));
+  }
+  return pick_probability * area_to_solid_angle(p, q, wi, l->emitted.w, light_normal(l));
+}
+
+/* Radiance leaving light l at a point hit from direction wi (travelling). */
+inline float3 light_emitted_toward(__global const PathLight* l, float3 wi) {
+  if (l->kind == LIGHT_RECT && !light_faces(l, wi, light_normal(l))) return (float3)(0.0f);
+  return l->emitted.xyz;
+}
+
+#endif /* CAUSTICA_LIB_PATH_LIGHTS_H */

@@ -1,0 +1,180 @@
+// The path tracer end to end, on scenes whose answer is known:
+// - furnace: a Lambertian sphere of albedo rho under a uniform background of
+//   radiance 1 is rho everywhere on it and 1 elsewhere;
+// - a point light of intensity pi at the centre of a closed Lambertian
+//   sphere of radius 1 and albedo 0.5 gives radiance 1 on the whole inner
+//   surface (0.5 direct, doubled by the interreflections: 0.5 / (1 - 0.5));
+// - light sampling alone, BSDF sampling alone and their MIS combination
+//   agree on an area-lit scene within their standard errors;
+// - the same seed gives the same bits for any work-group size and for one
+//   or two PoCL threads.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string>
+
+#include "host/app/session.h"
+#include "host/render/renderer.h"
+#include "tests/support/test_support.h"
+
+namespace caustica {
+namespace {
+
+std::string write_scene(const std::string& name, const std::string& text) {
+  const std::string path = test::temp_dir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+struct PathRender {
+  ImageF image, half;  // half: the odd passes' mean
+  RenderStats stats;
+};
+
+PathRender render(const std::string& scene, int spp, uint32_t strategy = PATH_STRATEGY_MIS, size_t local = 64) {
+  SessionOptions o;
+  o.scene_path = scene;
+  o.device = test::device_spec();
+  o.mode = RenderMode::Path;
+  o.spp = spp;
+  o.local_size = local;
+  auto s = prepare_session(o);
+  RenderSettings settings = s->settings;
+  settings.path_strategy = strategy;
+  settings.half_buffer = spp >= 2;
+  Renderer r(*s->runtime, *s->device_scene, s->mode, s->program.program, settings);
+  PathRender out;
+  out.image = r.render(&out.stats);
+  if (spp >= 2) out.half = r.film().half_mean();
+  return out;
+}
+
+const char* kFurnace = R"({"nbounces": 8, "rendermode": "pathtracer",
+  "camera": {"type": "pinhole", "width": 48, "height": 48, "position": [0, 0, -4], "lookAt": [0, 0, 0],
+             "upVector": [0, 1, 0], "fov": 45},
+  "scene": {"backgroundcolor": [1, 1, 1],
+    "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                "material": {"type": "diffuse", "albedo": [0.5, 0.25, 0.75]}}]}})";
+
+TEST(PathTracer, FurnaceSphereReflectsItsAlbedo) {
+  const PathRender r = render(write_scene("furnace.json", kFurnace), 16);
+  EXPECT_EQ(r.stats.film.total(), 0u);
+  const float albedo[3] = {0.5f, 0.25f, 0.75f};
+  int on = 0, off = 0;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x) {
+      const float* p = r.image.at(x, y);
+      // Pixels well inside or well outside the sphere's disc (radius ~ 14.5
+      // pixels at this fov and distance); the rim mixes both.
+      const double dx = x + 0.5 - 24.0, dy = y + 0.5 - 24.0, d = std::sqrt(dx * dx + dy * dy);
+      if (d < 12.0) {
+        ++on;
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(p[c], albedo[c], 0.01 * albedo[c]) << x << "," << y;
+      } else if (d > 17.0) {
+        ++off;
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(p[c], 1.0f, 1e-6f) << x << "," << y;
+      }
+    }
+  EXPECT_GT(on, 300);
+  EXPECT_GT(off, 500);
+}
+
+const char* kClosedSphere = R"({"nbounces": 1000, "rendermode": "pathtracer",
+  "camera": {"type": "pinhole", "width": 32, "height": 32, "position": [0, 0, -0.5], "lookAt": [0, 0.2, 1],
+             "upVector": [0, 1, 0], "fov": 60},
+  "scene": {"backgroundcolor": [0, 0, 0],
+    "lightsources": [{"type": "pointlight", "position": [0, 0, 0], "intensity": [3.14159265, 3.14159265, 3.14159265]}],
+    "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                "material": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}}]}})";
+
+TEST(PathTracer, PointLightInAClosedSphereGivesRadianceOne) {
+  const PathRender r = render(write_scene("closed.json", kClosedSphere), 64);
+  EXPECT_EQ(r.stats.film.total(), 0u);
+  double sum = 0.0, sum2 = 0.0;
+  const size_t n = r.image.pixel_count();
+  for (size_t i = 0; i < n; ++i) {
+    const double v = r.image.rgb[3 * i];
+    sum += v;
+    sum2 += v * v;
+    EXPECT_FLOAT_EQ(r.image.rgb[3 * i], r.image.rgb[3 * i + 1]);
+  }
+  const double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+  std::printf("[measure] closed sphere: mean %.5f, per-pixel sd %.4f at 64 spp\n", mean, sd);
+  EXPECT_NEAR(mean, 1.0, 0.01);
+  EXPECT_LT(sd, 0.1);
+}
+
+// A Lambertian floor and a glossy sphere under a rectangle light and a
+// sphere light: NEE alone, BSDF sampling alone and MIS estimate one image.
+const char* kAreaLit = R"({"nbounces": 3, "rendermode": "pathtracer",
+  "camera": {"type": "pinhole", "width": 32, "height": 24, "position": [0, 2, -4], "lookAt": [0, 0, 0],
+             "upVector": [0, 1, 0], "fov": 50},
+  "scene": {"backgroundcolor": [0.05, 0.05, 0.05],
+    "lightsources": [{"type": "arealight", "position": [0, 1.5, 0], "u": [1.2, 0, 0], "v": [0, 0, -1.2],
+                      "intensity": [4, 4, 4]},
+                     {"type": "spherelight", "position": [1.5, 0.8, 1], "radius": 0.3, "intensity": [3, 2, 1]}],
+    "shapes": [
+      {"type": "triangle", "v0": [-4, 0, -4], "v1": [-4, 0, 4], "v2": [4, 0, 4],
+       "material": {"type": "diffuse", "albedo": [0.7, 0.7, 0.7]}},
+      {"type": "triangle", "v0": [-4, 0, -4], "v1": [4, 0, 4], "v2": [4, 0, -4],
+       "material": {"type": "diffuse", "albedo": [0.7, 0.7, 0.7]}},
+      {"type": "sphere", "center": [-0.6, 0.5, 0.2], "radius": 0.5,
+       "material": {"diffusecolor": [0.8, 0.3, 0.2], "kd": 0.9, "ks": 0.1, "specularexponent": 40}}]}})";
+
+TEST(PathTracer, LightSamplingBsdfSamplingAndMisAgree) {
+  const std::string scene = write_scene("arealit.json", kAreaLit);
+  double mean[3] = {0, 0, 0}, se[3] = {0, 0, 0};
+  const uint32_t strategies[3] = {PATH_STRATEGY_MIS, PATH_STRATEGY_NEE, PATH_STRATEGY_BSDF};
+  for (int k = 0; k < 3; ++k) {
+    const PathRender r = render(scene, 256, strategies[k]);
+    EXPECT_EQ(r.stats.film.total(), 0u);
+    // The image mean (red + green) and its standard error: per pixel, the
+    // mean of all passes M and of the odd ones B differ by E[(M - B)^2] =
+    // Var(M) (independent halves), so SE^2 = sum (M - B)^2 / pixels^2.
+    double sum = 0.0, var = 0.0;
+    const size_t n = r.image.pixel_count();
+    for (size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 2; ++c) {
+        sum += r.image.rgb[3 * i + c];
+        const double d = r.image.rgb[3 * i + c] - r.half.rgb[3 * i + c];
+        var += d * d;
+      }
+    mean[k] = sum / n;
+    se[k] = std::sqrt(var) / n;
+  }
+  std::printf("[measure] area-lit mean (r+g): MIS %.5f +- %.5f, NEE %.5f +- %.5f, BSDF %.5f +- %.5f\n", mean[0],
+              se[0], mean[1], se[1], mean[2], se[2]);
+  EXPECT_NEAR(mean[1], mean[0], 4.0 * std::hypot(se[0], se[1]));
+  EXPECT_NEAR(mean[2], mean[0], 4.0 * std::hypot(se[0], se[2]));
+  // MIS is never much noisier than either technique alone.
+  EXPECT_LT(se[0], 1.2 * std::min(se[1], se[2]));
+}
+
+// The CLI's .pfm output for one or two PoCL threads, and renders with two
+// work-group sizes: the same bits.
+TEST(PathTracer, SameBitsForAnyThreadCountAndWorkGroupSize) {
+  const std::string scene = write_scene("arealit.json", kAreaLit);
+  const std::string dir = test::temp_dir();
+  std::string outputs[2];
+  for (int k = 0; k < 2; ++k) {
+    const std::string out = dir + "/out" + std::to_string(k) + ".pfm";
+    const std::string cmd = "POCL_MAX_PTHREAD_COUNT=" + std::to_string(k + 1) + " " + test::binary_path() +
+                            " render " + scene + " --mode path --spp 8 --device " + test::device_spec() + " -q -o " +
+                            out;
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    std::ifstream f(out, std::ios::binary);
+    outputs[k].assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  }
+  ASSERT_FALSE(outputs[0].empty());
+  EXPECT_EQ(outputs[0], outputs[1]);
+  const PathRender a = render(scene, 8, PATH_STRATEGY_MIS, 16), b = render(scene, 8, PATH_STRATEGY_MIS, 64);
+  ASSERT_EQ(a.image.rgb.size(), b.image.rgb.size());
+  EXPECT_EQ(0, std::memcmp(a.image.rgb.data(), b.image.rgb.data(), a.image.rgb.size() * sizeof(float)));
+}
+
+}  // namespace
+}  // namespace caustica
