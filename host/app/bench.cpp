@@ -107,6 +107,7 @@ int run_bench(BenchArgs& a) {
   // build into a 50 ms cache hit. An explicit POCL_KERNEL_CACHE wins.
   a.session.use_kernel_cache = false;
   a.session.profile_stages = true;
+  if (a.session.spp == 0) a.session.spp = 16;  // path: a timed render of 16 passes
   setenv("POCL_KERNEL_CACHE", "0", /*overwrite=*/0);
   const auto session = prepare_session(a.session);
   const Scene& s = session->scene;
@@ -188,6 +189,12 @@ int run_bench(BenchArgs& a) {
   }
   std::printf("               device time per stage (ms): %s; host and transfers %.1f ms\n", stages.c_str(),
               render_median - device_ms);
+  const bool path = session->mode == RenderMode::Path;
+  const double samples_per_s = double(width) * height * last.passes / (render_median * 1e-3);
+  const double render_mrays = double(last.rays()) / (render_median * 1e3);
+  if (path)
+    std::printf("path           %.3g samples/s, %.2f Mrays/s (%d spp, %llu rays: camera, continuation and shadow)\n",
+                samples_per_s, render_mrays, last.passes, (unsigned long long)last.rays());
   nlohmann::json j = {{"scene", s.source_path},
                       {"device", session->runtime->device_info().name},
                       {"width", width},
@@ -216,6 +223,11 @@ int run_bench(BenchArgs& a) {
                       {"render_launches", last.launches},
                       {"render_blocking_transfers", last.blocking_transfers},
                       {"render_stage_ms", last.stage_ms}};
+  if (path) {
+    j["path_samples_per_s"] = samples_per_s;
+    j["path_mrays"] = render_mrays;
+    j["path_spp"] = last.passes;
+  }
   std::printf("%s\n", j.dump().c_str());
   return 0;
 }

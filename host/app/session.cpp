@@ -78,6 +78,7 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   if (options.spp < 0) throw Error("--spp must be positive");
   session->settings.passes = session->mode == RenderMode::Path ? (options.spp > 0 ? options.spp : kDefaultPathSpp) : 1;
   session->settings.seed = options.seed;
+  session->settings.sampler = options.independent_samples ? SAMPLER_INDEPENDENT : SAMPLER_SOBOL_BURLEY;
   t0 = std::chrono::steady_clock::now();
   session->device_scene =
       std::make_unique<DeviceScene>(session->runtime->context(), scene, session->wide, session->features);

@@ -21,6 +21,8 @@ namespace caustica {
 // coursework handout's own renders (see tests/test_official_scenes.cpp): the
 // handout maps the 0.25 background to 87/255, a gentle lift, not sRGB.
 inline constexpr float kCourseworkDisplayGamma = 1.22f;
+// Path mode renders physical radiance: shown with the usual display gamma.
+inline constexpr float kPathDisplayGamma = 2.2f;
 
 struct SessionOptions {
   std::string scene_path;
@@ -34,6 +36,7 @@ struct SessionOptions {
   bool profile_stages = false;  // device time per stage kernel in RenderStats::stage_ms (bench)
   int spp = 0;                  // path: samples per pixel (passes); 0: the default (kDefaultPathSpp)
   uint32_t seed = 0;            // path: sample sequence seed
+  bool independent_samples = false;  // path: independent uniforms instead of Sobol-Burley (comparisons)
   // --bvh: spatial splits (SBVH) by default; "fast" for huge scenes.
   BvhBuildOptions::Quality bvh_quality = BvhBuildOptions::Quality::Spatial;
 };

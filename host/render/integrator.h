@@ -42,6 +42,7 @@ struct RenderSettings {
   bool half_buffer = false;  // film keeps the odd-pass sum
   uint32_t seed = 0;         // path: the sample sequences' seed (same seed, same image)
   uint32_t path_strategy = PATH_STRATEGY_MIS;  // path: MIS, or one technique alone (tests)
+  uint32_t sampler = SAMPLER_SOBOL_BURLEY;     // path: low-discrepancy or independent samples
 };
 
 struct RenderStats {

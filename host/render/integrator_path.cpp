@@ -63,6 +63,7 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
   params.seed = settings_.seed;
   params.strategy = settings_.path_strategy;
   params.rr_depth = 3;
+  params.sampler = settings_.sampler;
 
   CameraGPU camera = camera_for_image(scene.camera, settings_.width, settings_.height);
   camera.pixel_offset = cl_uint(first_pixel);

@@ -17,7 +17,7 @@ __kernel void generate_camera_samples(CameraGPU camera, PathParams params, PATH_
   if (i >= camera.pixel_count) return;
   const uint pixel = camera.pixel_offset + i;
   const uint pixel_seed = hash3(pixel, 0u, params.seed);
-  const float2 jitter = sobol_burley_2d(params.sample_index, 0u, pixel_seed);
+  const float2 jitter = pixel_sample_2d(params.sampler, params.sample_index, 0u, pixel_seed);
   float plane[3];
   camera_plane_point(&camera, (float)(pixel % camera.width) + jitter.x, (float)(pixel / camera.width) + jitter.y,
                      plane);
@@ -25,7 +25,8 @@ __kernel void generate_camera_samples(CameraGPU camera, PathParams params, PATH_
   float3 origin = camera.position.xyz;
   if (camera.lens.x > 0.0f) {
     const float3 focus = origin + dir * (camera.lens.y / dot(dir, camera.forward.xyz));
-    const float2 lens = camera.lens.x * sample_concentric_disk(sobol_burley_2d(params.sample_index, 1u, pixel_seed));
+    const float2 lens =
+        camera.lens.x * sample_concentric_disk(pixel_sample_2d(params.sampler, params.sample_index, 1u, pixel_seed));
     origin += lens.x * normalize(camera.right.xyz) + lens.y * normalize(camera.up.xyz);
     dir = normalize(focus - origin);
   }

@@ -94,7 +94,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   const float3 wo = frame_to_local(-d, t, b, n);
   const uint pixel_seed = hash3(ray.pixel, 0u, params.seed);
   const uint pair = 2u + 3u * ray.depth;
-  const float2 picks = sobol_burley_2d(params.sample_index, pair + 2u, pixel_seed);
+  const float2 picks = pixel_sample_2d(params.sampler, params.sample_index, pair + 2u, pixel_seed);
 
   /* Next-event estimation toward one light. */
   const bool delta_only = bsdf_is_smooth(bsdf) && bsdf.kind != BSDF_PLASTIC;
@@ -103,7 +103,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
     __global const PathLight* light = &lights[li];
     LightSample ls;
     if (sample_light(light, light->select_probability, sp.position,
-                     sobol_burley_2d(params.sample_index, pair, pixel_seed), &ls)) {
+                     pixel_sample_2d(params.sampler, params.sample_index, pair, pixel_seed), &ls)) {
       const float3 wi = frame_to_local(ls.wi, t, b, n);
       const float side = dot(ls.wi, ng);
       if (!opaque || side > 0.0f) {
@@ -126,7 +126,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   }
 
   /* The continuation, by BSDF sampling. */
-  const float2 u_dir = sobol_burley_2d(params.sample_index, pair + 1u, pixel_seed);
+  const float2 u_dir = pixel_sample_2d(params.sampler, params.sample_index, pair + 1u, pixel_seed);
   float3 wi_local, weight;
   float pdf;
   uint flags;

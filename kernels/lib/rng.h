@@ -17,6 +17,8 @@
 #ifndef CAUSTICA_LIB_RNG_H
 #define CAUSTICA_LIB_RNG_H
 
+#include "shared/types.h"
+
 /* A full-avalanche 32-bit mix ("lowbias32", C. Wellons): every input bit
  * flips each output bit with probability ~1/2. */
 inline uint hash_u32(uint x) {
@@ -86,6 +88,16 @@ inline float2 sobol_burley_2d(uint index, uint pair, uint pixel_seed) {
   const uint x = nested_uniform_scramble(sobol_dimension0(shuffled), hash_combine(pair_seed, 0x5ca1ab1eu));
   const uint y = nested_uniform_scramble(sobol_dimension1(shuffled), hash_combine(pair_seed, 0xdecafbadu));
   return (float2)(unit_float(x), unit_float(y));
+}
+
+/* The 2D sample of dimension pair `pair` for sample `index` of the pixel
+ * whose seed is pixel_seed, from the chosen sampler (SAMPLER_*, types.h). */
+inline float2 pixel_sample_2d(uint sampler, uint index, uint pair, uint pixel_seed) {
+  if (sampler == SAMPLER_INDEPENDENT) {
+    const uint key = hash_combine(pixel_seed, index);
+    return (float2)(random_float(key, 2u * pair), random_float(key, 2u * pair + 1u));
+  }
+  return sobol_burley_2d(index, pair, pixel_seed);
 }
 
 #endif /* CAUSTICA_LIB_RNG_H */

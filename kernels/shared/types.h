@@ -245,8 +245,11 @@ typedef struct {
   cs_uint seed;
   cs_uint strategy;     /* PATH_STRATEGY_* */
   cs_uint rr_depth;     /* Russian roulette from this many scattering events on */
-  cs_uint pad0;
+  cs_uint sampler;      /* SAMPLER_* */
 } PathParams; /* 48 bytes */
+
+#define SAMPLER_SOBOL_BURLEY 0u /* low discrepancy, the default */
+#define SAMPLER_INDEPENDENT 1u  /* independent uniforms: what the default is measured against */
 
 /* The film's pass in progress: contributions are added as 64-bit fixed point
  * (value * scale, rounded) with integer atomics, so that the sum does not
