@@ -108,8 +108,10 @@ TEST(PathTracer, PointLightInAClosedSphereGivesRadianceOne) {
   EXPECT_LT(sd, 0.1);
 }
 
-// A Lambertian floor and a glossy sphere under a rectangle light and a
-// sphere light: NEE alone, BSDF sampling alone and MIS estimate one image.
+// A Lambertian floor and a glossy sphere under every kind of area light: a
+// rectangle light, a sphere light, an emissive cylinder, a one-sided
+// emissive triangle (facing down: v0, v1, v2 clockwise seen from above) and
+// a two-sided one. NEE alone, BSDF sampling alone and MIS estimate one image.
 const char* kAreaLit = R"({"nbounces": 3, "rendermode": "pathtracer",
   "camera": {"type": "pinhole", "width": 32, "height": 24, "position": [0, 2, -4], "lookAt": [0, 0, 0],
              "upVector": [0, 1, 0], "fov": 50},
@@ -123,7 +125,13 @@ const char* kAreaLit = R"({"nbounces": 3, "rendermode": "pathtracer",
       {"type": "triangle", "v0": [-4, 0, -4], "v1": [4, 0, 4], "v2": [4, 0, -4],
        "material": {"type": "diffuse", "albedo": [0.7, 0.7, 0.7]}},
       {"type": "sphere", "center": [-0.6, 0.5, 0.2], "radius": 0.5,
-       "material": {"diffusecolor": [0.8, 0.3, 0.2], "kd": 0.9, "ks": 0.1, "specularexponent": 40}}]}})";
+       "material": {"diffusecolor": [0.8, 0.3, 0.2], "kd": 0.9, "ks": 0.1, "specularexponent": 40}},
+      {"type": "cylinder", "center": [-1.6, 0.6, 1.2], "axis": [0, 1, 0], "radius": 0.1, "height": 0.3,
+       "material": {"type": "emissive", "color": [1, 2, 3], "intensity": 1.5}},
+      {"type": "triangle", "v0": [0.8, 1.2, -0.6], "v1": [1.6, 1.2, -0.6], "v2": [1.6, 1.2, 0.2],
+       "material": {"emission": [2, 1, 0.5], "kd": 0}},
+      {"type": "triangle", "v0": [-1.0, 1.0, 1.0], "v1": [-1.0, 1.0, 1.6], "v2": [-0.4, 1.0, 1.6],
+       "material": {"emission": [0.5, 1, 2], "kd": 0, "twosided": true}}]}})";
 
 TEST(PathTracer, LightSamplingBsdfSamplingAndMisAgree) {
   const std::string scene = write_scene("arealit.json", kAreaLit);

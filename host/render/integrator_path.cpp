@@ -30,6 +30,7 @@ class PathIntegrator final : public Integrator {
     light_count_ = table.lights.size();
     lights_ = upload_buffer(ctx, table.lights);
     light_of_sphere_ = upload_buffer(ctx, table.light_of_sphere);
+    light_of_cylinder_ = upload_buffer(ctx, table.light_of_cylinder);
     light_of_triangle_ = upload_buffer(ctx, table.light_of_triangle);
     chunk_pixels_ = std::min(size_t(settings.width) * size_t(settings.height), settings.chunk_pixels);
     // One path's sample can carry far more than the scene's radiance
@@ -48,7 +49,7 @@ class PathIntegrator final : public Integrator {
  private:
   StageKernel generate_, intersect_, shade_, shadow_stage_;
   size_t light_count_ = 0;
-  cl::Buffer lights_, light_of_sphere_, light_of_triangle_, hits_, shadow_traced_;
+  cl::Buffer lights_, light_of_sphere_, light_of_cylinder_, light_of_triangle_, hits_, shadow_traced_;
   DeviceQueue rays_[2], shadow_;
 };
 
@@ -87,6 +88,7 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
     scene_.bind_surfaces(shade)
         .arg("lights", lights_)
         .arg("light_of_sphere", light_of_sphere_)
+        .arg("light_of_cylinder", light_of_cylinder_)
         .arg("light_of_triangle", light_of_triangle_)
         .arg("params", params)
         .queue("in", *current)

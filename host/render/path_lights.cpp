@@ -66,6 +66,7 @@ void add_light_geometry(Scene& scene) {
 PathLightTable build_path_lights(const Scene& scene) {
   PathLightTable t;
   t.light_of_sphere.assign(scene.spheres.size(), LIGHT_NONE);
+  t.light_of_cylinder.assign(scene.cylinders.size(), LIGHT_NONE);
   t.light_of_triangle.assign(scene.triangles.size(), LIGHT_NONE);
   std::vector<float> power;
   auto add = [&](PathLight l, float p, const glm::vec3& emitted) {
@@ -123,9 +124,12 @@ PathLightTable build_path_lights(const Scene& scene) {
     l.p0 = tri.v0;
     l.p1 = tri.v1;
     l.p2 = tri.v2;
+    const bool two_sided = scene.materials[tri.material].flags & MATERIAL_TWO_SIDED;
+    l.flags = two_sided ? LIGHT_TWO_SIDED : 0u;
     const float area = 0.5f * glm::length(glm::cross(b - a, c - a));
     l.emitted.w = area;
-    if (add(l, 2.0f * kPi * area * luminance(e), e)) t.light_of_triangle[i] = uint32_t(t.lights.size() - 1);
+    if (add(l, (two_sided ? 2.0f : 1.0f) * kPi * area * luminance(e), e))
+      t.light_of_triangle[i] = uint32_t(t.lights.size() - 1);
   }
   for (size_t i = 0; i < scene.spheres.size(); ++i) {
     if (t.light_of_sphere[i] != LIGHT_NONE || (g.added && i >= g.first_sphere)) continue;
@@ -138,6 +142,19 @@ PathLightTable build_path_lights(const Scene& scene) {
     const float area = 4.0f * kPi * s.center_radius.w * s.center_radius.w;
     l.emitted.w = area;
     if (add(l, kPi * area * luminance(e), e)) t.light_of_sphere[i] = uint32_t(t.lights.size() - 1);
+  }
+  for (size_t i = 0; i < scene.cylinders.size(); ++i) {
+    const Cylinder& c = scene.cylinders[i];
+    const glm::vec3 e = to_vec3(scene.materials[c.material].emission);
+    if (!(max3(e) > 0.0f)) continue;
+    PathLight l{};
+    l.kind = LIGHT_CYLINDER;
+    l.p0 = c.center_radius;
+    l.p1 = c.axis_half;
+    const float r = c.center_radius.w, h = c.axis_half.w;
+    const float area = 4.0f * kPi * r * h + 2.0f * kPi * r * r;
+    l.emitted.w = area;
+    if (add(l, kPi * area * luminance(e), e)) t.light_of_cylinder[i] = uint32_t(t.lights.size() - 1);
   }
   double total = 0.0;
   for (float p : power) total += p;

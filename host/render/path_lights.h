@@ -18,13 +18,14 @@ void add_light_geometry(Scene& scene);
 struct PathLightTable {
   std::vector<PathLight> lights;            // selection probability by power
   std::vector<uint32_t> light_of_sphere;    // per sphere: its light, or LIGHT_NONE
+  std::vector<uint32_t> light_of_cylinder;  // per cylinder
   std::vector<uint32_t> light_of_triangle;  // per triangle: its light, or LIGHT_NONE
   float max_radiance = 0.0f;                // largest emitted component (film scale)
 };
 
 // Point lights; rectangle and sphere lights (their geometry added first);
-// every other emissive triangle (two-sided) and emissive sphere. Emissive
-// cylinders are not sampled: only BSDF-sampled rays find them.
+// every other emissive triangle (front side, or both with "twosided"),
+// sphere and cylinder (outward).
 PathLightTable build_path_lights(const Scene& scene);
 
 }  // namespace caustica

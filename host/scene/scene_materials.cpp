@@ -15,7 +15,7 @@ const KeyList kMaterialKeys = {"ks",           "kd",          "specularexponent"
                                "basecolor",    "type",        "albedo",           "ior",          "colour",
                                "color",        "intensity",   "emission",         "emissioncolor", "texture",
                                "texture_file", "texturefile", "textureFilename",  "hasTexture",   "texturepath",
-                               "hastexture",   "roughness",   "metallic"};
+                               "hastexture",   "roughness",   "metallic",         "twosided"};
 // Path-tracing parameters of some authors' BRDFs: nothing in the phong model
 // or in Material corresponds, and they do not change what the scene is.
 const KeyList kMaterialIgnored = {"transmittance", "transmittancecolor", "fresnelreflectance", "fuzz"};
@@ -95,6 +95,7 @@ Material read_material_object(LoadContext& ctx, const json& m, const std::string
                 : kind == Kind::Dielectric ? 1.5f : 1.0f;
   if (!(out.ior > 0.0f)) out.ior = 1.0f;
   out.roughness = r.read_number(m, "roughness", path, Range::NonNegative, -1.0f);
+  if (r.read_bool(m, "twosided", path, false)) out.flags |= MATERIAL_TWO_SIDED;
   out.metallic = r.read_number(m, "metallic", path, Range::NonNegative, 0.0f);
   if (out.metallic > 1.0f) r.expected(path + "/metallic", "a number in [0, 1]", m["metallic"]);
 

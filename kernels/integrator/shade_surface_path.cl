@@ -32,15 +32,17 @@ inline float power_heuristic(float a, float b) {
   return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
 }
 
-inline uint light_of_hit(__global const uint* light_of_sphere, __global const uint* light_of_triangle, uint prim) {
+inline uint light_of_hit(__global const uint* light_of_sphere, __global const uint* light_of_cylinder,
+                         __global const uint* light_of_triangle, uint prim) {
   const uint type = prim_ref_type(prim), index = prim_ref_index(prim);
   if (type == PRIM_SPHERE) return light_of_sphere[index];
-  if (type == PRIM_TRIANGLE) return light_of_triangle[index];
-  return LIGHT_NONE;
+  if (type == PRIM_CYLINDER) return light_of_cylinder[index];
+  return light_of_triangle[index];
 }
 
 __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight* restrict lights,
                                  __global const uint* restrict light_of_sphere,
+                                 __global const uint* restrict light_of_cylinder,
                                  __global const uint* restrict light_of_triangle, PathParams params,
                                  PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits, FILM_PARAMS,
                                  PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)) {
@@ -58,11 +60,16 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, ray.origin.xyz, d);
   __global const Material* mat = &materials[sp.material];
 
-  /* Emission seen by this path. */
+  /* Emission seen by this path: from the front side (sp.normal is the
+   * outward / counter-clockwise normal), or either side of a two-sided one. */
   const bool arrived_by_delta = (ray.flags & PATH_SPECULAR) != 0u;
-  const uint light_index = params.light_count > 0u ? light_of_hit(light_of_sphere, light_of_triangle, hit.prim)
-                                                    : LIGHT_NONE;
-  if (light_index != LIGHT_NONE) {
+  const bool sees_front = dot(d, sp.normal) < 0.0f || (mat->flags & MATERIAL_TWO_SIDED) != 0u;
+  const uint light_index = params.light_count > 0u
+                               ? light_of_hit(light_of_sphere, light_of_cylinder, light_of_triangle, hit.prim)
+                               : LIGHT_NONE;
+  if (!sees_front) {
+    /* the dark back of an emitter (its reflectance still scatters below) */
+  } else if (light_index != LIGHT_NONE) {
     __global const PathLight* light = &lights[light_index];
     float weight = 1.0f;
     if (!arrived_by_delta) {
@@ -71,7 +78,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
         weight = power_heuristic(ray.bsdf_pdf, light_pdf(light, light->select_probability, ray.origin.xyz,
                                                          sp.position, d));
     }
-    if (weight > 0.0f) film_add(FILM_ARGS, ray.pixel, throughput * light_emitted_toward(light, d) * weight);
+    if (weight > 0.0f) film_add(FILM_ARGS, ray.pixel, throughput * light->emitted.xyz * weight);
   } else if (max3_of(mat->emission.xyz) > 0.0f) {
     film_add(FILM_ARGS, ray.pixel, throughput * mat->emission.xyz); /* not sampled: BSDF rays find it alone */
   }

@@ -7,8 +7,10 @@
  * include the probability of picking the light; a point light is a delta
  * (its density is the pick probability alone, and MIS never weights it).
  * Radiance conventions (scenes/FORMAT.md): a point light's intensity I gives
- * radiance I / d^2; rectangles, spheres and emissive triangles emit their
- * radiance `emitted` (rectangles on the side of cross(u, v) only). */
+ * radiance I / d^2; area lights emit their radiance `emitted` from their
+ * front side (rectangles: cross(u, v); triangles: counter-clockwise;
+ * spheres and cylinders: outward), both sides with LIGHT_TWO_SIDED. Which
+ * side a hit sees is decided by the shade stage from the surface normal. */
 #ifndef CAUSTICA_LIB_PATH_LIGHTS_H
 #define CAUSTICA_LIB_PATH_LIGHTS_H
 
@@ -34,8 +36,16 @@ inline uint pick_light(__global const PathLight* lights, uint count, float u) {
   return lo;
 }
 
-inline float3 light_normal(__global const PathLight* l) {
+/* The emitting side's normal at point q of a rectangle, triangle or
+ * cylinder light. */
+inline float3 light_normal(__global const PathLight* l, float3 q) {
   if (l->kind == LIGHT_RECT) return normalize(cross(l->p1.xyz, l->p2.xyz));
+  if (l->kind == LIGHT_CYLINDER) {
+    const float3 rel = q - l->p0.xyz, axis = l->p1.xyz;
+    const float z = dot(rel, axis), h = l->p1.w;
+    if (fabs(z) >= h * (1.0f - 1e-4f)) return z > 0.0f ? axis : -axis;
+    return normalize(rel - z * axis);
+  }
   return normalize(cross(l->p1.xyz - l->p0.xyz, l->p2.xyz - l->p0.xyz));
 }
 
@@ -48,9 +58,28 @@ inline float area_to_solid_angle(float3 p, float3 q, float3 wi, float area, floa
   return dot(d, d) / (cos_l * area);
 }
 
-/* One-sided rectangles: does a light at q facing n_l shine toward -wi? */
+/* Does the light's surface at q, with emitting-side normal n_l, shine
+ * toward the point that wi (from that point toward q) comes from? */
 inline bool light_faces(__global const PathLight* l, float3 wi, float3 n_l) {
-  return l->kind != LIGHT_RECT || dot(wi, n_l) < 0.0f;
+  return (l->flags & LIGHT_TWO_SIDED) != 0u || dot(wi, n_l) < 0.0f;
+}
+
+/* A point on the cylinder's side or caps, uniform by area. */
+inline float3 sample_cylinder_surface(__global const PathLight* l, float2 u) {
+  const float r = l->p0.w, h = l->p1.w;
+  const float side = 4.0f * M_PI_F * r * h, cap = M_PI_F * r * r;
+  const float3 axis = l->p1.xyz;
+  float3 t, b;
+  frame_from_normal(axis, &t, &b);
+  float pick = u.x * (side + 2.0f * cap);
+  if (pick < side) {
+    const float phi = 2.0f * M_PI_F * (pick / side);
+    return l->p0.xyz + (2.0f * u.y - 1.0f) * h * axis + r * (cos(phi) * t + sin(phi) * b);
+  }
+  pick -= side;
+  const float sgn = pick < cap ? 1.0f : -1.0f;
+  const float2 d = r * sample_concentric_disk((float2)(fmod(pick, cap) / cap, u.y));
+  return l->p0.xyz + sgn * h * axis + d.x * t + d.y * b;
 }
 
 inline bool sample_light(__global const PathLight* l, float pick_probability, float3 p, float2 u, LightSample* s) {
@@ -90,6 +119,8 @@ inline bool sample_light(__global const PathLight* l, float pick_probability, fl
   float3 q;
   if (l->kind == LIGHT_RECT) {
     q = sample_rectangle(l->p0.xyz, l->p1.xyz, l->p2.xyz, u);
+  } else if (l->kind == LIGHT_CYLINDER) {
+    q = sample_cylinder_surface(l, u);
   } else {
     const float2 bc = sample_triangle_barycentrics(u);
     q = l->p0.xyz + bc.x * (l->p1.xyz - l->p0.xyz) + bc.y * (l->p2.xyz - l->p0.xyz);
@@ -99,7 +130,7 @@ inline bool sample_light(__global const PathLight* l, float pick_probability, fl
   if (!(d2 > 0.0f)) return false;
   s->distance = sqrt(d2);
   s->wi = d / s->distance;
-  const float3 n_l = light_normal(l);
+  const float3 n_l = light_normal(l, q);
   if (!light_faces(l, s->wi, n_l)) return false;
   s->radiance = l->emitted.xyz;
   s->pdf = pick_probability * area_to_solid_angle(p, q, s->wi, l->emitted.w, n_l);
@@ -117,13 +148,7 @@ inline float light_pdf(__global const PathLight* l, float pick_probability, floa
     if (!(d2 > r * r)) return 0.0f;
     return pick_probability * pdf_uniform_cone(sphere_cone_one_minus_cos(d2, r * r));
   }
-  return pick_probability * area_to_solid_angle(p, q, wi, l->emitted.w, light_normal(l));
-}
-
-/* Radiance leaving light l at a point hit from direction wi (travelling). */
-inline float3 light_emitted_toward(__global const PathLight* l, float3 wi) {
-  if (l->kind == LIGHT_RECT && !light_faces(l, wi, light_normal(l))) return (float3)(0.0f);
-  return l->emitted.xyz;
+  return pick_probability * area_to_solid_angle(p, q, wi, l->emitted.w, light_normal(l, q));
 }
 
 #endif /* CAUSTICA_LIB_PATH_LIGHTS_H */

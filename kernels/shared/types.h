@@ -161,6 +161,7 @@ typedef struct {
 
 #define MATERIAL_REFLECTIVE 1u
 #define MATERIAL_REFRACTIVE 2u
+#define MATERIAL_TWO_SIDED 4u /* path mode: emission leaves both sides ("twosided") */
 
 typedef struct {
   cs_float4 diffuse;  /* rgb diffuse colour, w = kd */
@@ -188,10 +189,14 @@ typedef struct {
  *   LIGHT_SPHERE: p0.xyz = centre, p0.w = radius; radiance `emitted`
  *     outward;
  *   LIGHT_TRIANGLE: p0, p1, p2 = vertices (an emissive triangle of the
- *     scene); radiance `emitted` on both sides.
+ *     scene); radiance `emitted` on the side of cross(p1 - p0, p2 - p0),
+ *     or both with LIGHT_TWO_SIDED;
+ *   LIGHT_CYLINDER: p0 = centre, radius; p1 = unit axis, half length;
+ *     radiance `emitted` outward from the side and both caps.
  * Area lights are also scene geometry (so BSDF-sampled rays hit them); a
  * hit primitive's light is found through the per-primitive light indices
- * (light_of_sphere, light_of_triangle; LIGHT_NONE for none). Lights are
+ * (light_of_sphere, light_of_cylinder, light_of_triangle; LIGHT_NONE for
+ * none). Lights are
  * picked in proportion to power: select_cdf is the inclusive prefix sum of
  * select_probability. */
 #define LIGHT_NONE 0xFFFFFFFFu
@@ -199,6 +204,8 @@ typedef struct {
 #define LIGHT_RECT 1u
 #define LIGHT_SPHERE 2u
 #define LIGHT_TRIANGLE 3u
+#define LIGHT_CYLINDER 4u
+#define LIGHT_TWO_SIDED 1u /* PathLight.flags */
 
 typedef struct {
   cs_float4 p0, p1, p2;
@@ -206,7 +213,7 @@ typedef struct {
   cs_uint kind;
   float select_probability;
   float select_cdf;
-  cs_uint pad0;
+  cs_uint flags; /* LIGHT_TWO_SIDED */
 } PathLight; /* 80 bytes */
 
 /* Pinhole camera (host: camera_for_image; the ray: shared/camera.h). */
