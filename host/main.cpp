@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <optional>
 
 #include "host/app/bench.h"
@@ -32,16 +33,22 @@ class ProgressReporter {
   void update(const PassProgress& p) {
     if (!enabled_) return;
     const double s = seconds();
-    const size_t total = p.pixels_total * size_t(p.passes);
-    const size_t done = p.pixels_total * size_t(p.pass) + p.pixels_done;
+    const double samples = double(p.pixels_total) * p.pass + double(p.pixels_done);  // pixel samples done
+    const bool open_ended = p.passes == std::numeric_limits<int>::max();
+    const double total = double(p.pixels_total) * p.passes;
     const uint64_t rays = p.stats ? p.stats->rays() : 0;
-    if (s < 1.0 || (!tty_ && s - last_ < 1.0 && done < total)) return;
+    if (s < 1.0 || (!tty_ && s - last_ < 1.0 && samples < total)) return;
     last_ = s;
-    const double frac = double(done) / double(total);
-    const double left = frac > 0 ? s * (1.0 - frac) / frac : 0.0;
-    std::fprintf(stderr, "%s[caustica] pass %d/%d, %5.1f%% of %zu pixels, %.2f Mrays/s, %.1f s elapsed, %.1f s left%s",
-                 tty_ ? "\r" : "", p.pass + 1, p.passes, 100.0 * frac, p.pixels_total, rays / s * 1e-6, s, left,
-                 tty_ ? "" : "\n");
+    // Time left: to the sample target at the current rate, or to the time
+    // limit, whichever comes first.
+    double left = samples > 0 && !open_ended ? s * (total - samples) / samples : 1e300;
+    if (p.time_limit_s > 0.0) left = std::min(left, std::max(0.0, p.time_limit_s - p.seconds));
+    char target[32];
+    if (open_ended) std::snprintf(target, sizeof target, "%s", "-");
+    else std::snprintf(target, sizeof target, "%d", p.passes);
+    std::fprintf(stderr, "%s[caustica] %.2f/%s spp, %.3g samples/s, %.2f Mrays/s, %.1f s elapsed, %.1f s left%s",
+                 tty_ ? "\r" : "", samples / double(p.pixels_total), target, samples / s, rays / s * 1e-6, s,
+                 left < 1e299 ? left : 0.0, tty_ ? "" : "\n");
     printed_ = true;
   }
   void finish() {
@@ -74,10 +81,11 @@ int run_devices() {
 
 struct RenderArgs {
   SessionOptions session;
-  std::string mode, output, tonemap = "linear";
+  std::string mode, output, tonemap;  // tonemap default: linear, or aces in path mode
   std::optional<float> exposure;
   std::optional<float> gamma;  // default: kCourseworkDisplayGamma, or kPathDisplayGamma in path mode
   bool verbose = false, quiet = false;
+  double write_every_s = 0.0;  // path: also write the image while rendering
 };
 
 int run_render(RenderArgs& a) {
@@ -103,13 +111,20 @@ int run_render(RenderArgs& a) {
   }
   RenderStats stats;
   ProgressReporter progress(!a.quiet);
-  const ImageF image = session->renderer->render(&stats, [&](const PassProgress& p) { progress.update(p); });
-  progress.finish();
-
   DisplaySettings display;
-  display.tonemap = parse_tonemap(a.tonemap);
+  display.tonemap = parse_tonemap(!a.tonemap.empty() ? a.tonemap
+                                                     : session->mode == RenderMode::Path ? "aces" : "linear");
   display.exposure_scale = std::exp2(a.exposure ? *a.exposure : scene.camera.exposure);
   display.gamma = a.gamma ? *a.gamma : session->mode == RenderMode::Path ? kPathDisplayGamma : kCourseworkDisplayGamma;
+  double last_write = 0.0;
+  const ImageF image = session->renderer->render(
+      &stats, [&](const PassProgress& p) { progress.update(p); },
+      [&](const Film& film, double seconds) {
+        if (a.write_every_s <= 0.0 || seconds - last_write < a.write_every_s) return;
+        last_write = seconds;
+        write_image(a.output, film.mean(), display);
+      });
+  progress.finish();
   write_image(a.output, image, display);
   if (a.verbose) {
     const uint64_t rays = stats.camera_rays + stats.secondary_rays + stats.shadow_rays;
@@ -144,7 +159,7 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--mode", render.mode, "binary | phong | path (default: the scene's rendermode)");
   render_cmd->add_option("--width", render.session.width, "image width (keeps the camera's aspect unless --height)");
   render_cmd->add_option("--height", render.session.height, "image height");
-  render_cmd->add_option("--tonemap", render.tonemap, "linear | reinhard | aces");
+  render_cmd->add_option("--tonemap", render.tonemap, "linear | reinhard | aces (default linear; aces in path mode)");
   render_cmd->add_option("--exposure", render.exposure, "exposure in stops (default: the camera's \"exposure\")");
   render_cmd->add_option("--gamma", render.gamma,
                          "display gamma of 8-bit outputs (default 1.22 as the coursework handout; 2.2 in path mode)");
@@ -158,6 +173,11 @@ int main(int argc, char** argv) {
   render_cmd->add_flag("--strict", render.session.strict, "unknown scene keys are errors, not warnings");
   render_cmd->add_option("--spp", render.session.spp, "path: samples per pixel (default 64)")->check(CLI::PositiveNumber);
   render_cmd->add_option("--seed", render.session.seed, "path: seed of the sample sequences (default 0)");
+  render_cmd->add_option("--time", render.session.time_limit_s,
+                         "path: stop after the pass that reaches SECONDS (with --spp: whichever comes first)")
+      ->check(CLI::PositiveNumber);
+  render_cmd->add_option("--write-every", render.write_every_s, "path: also write the image every SECONDS")
+      ->check(CLI::PositiveNumber);
   render_cmd->add_option_function<std::string>(
       "--sampler",
       [&](const std::string& s) {

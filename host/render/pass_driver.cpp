@@ -1,6 +1,7 @@
 #include "host/render/pass_driver.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "host/error.h"
 
@@ -16,16 +17,23 @@ void PassDriver::trace_chunk(size_t first_pixel, size_t pixel_count, RenderStats
   trace_chunk(first_pixel + half, pixel_count - half, stats);
 }
 
-void PassDriver::run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress) {
+void PassDriver::run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress,
+                     const PassDoneCallback& pass_done) {
   const size_t pixels = film_.pixel_count();
   const size_t chunk = std::max<size_t>(1, integrator_.chunk_pixels());
+  const auto t0 = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   for (int pass = 0; pass < stop.passes; ++pass) {
     for (size_t first = 0; first < pixels; first += chunk) {
       trace_chunk(first, std::min(chunk, pixels - first), stats);
-      if (progress) progress(PassProgress{pass, stop.passes, std::min(pixels, first + chunk), pixels, stats});
+      if (progress)
+        progress(PassProgress{pass, stop.passes, seconds(), stop.seconds, std::min(pixels, first + chunk), pixels,
+                              stats});
     }
     film_.accumulate_pass(&launcher_, stats);
     if (stats) ++stats->passes;
+    if (pass_done) pass_done(film_, seconds());
+    if (stop.seconds > 0.0 && seconds() >= stop.seconds) break;
   }
 }
 

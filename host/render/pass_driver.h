@@ -18,15 +18,21 @@ namespace caustica {
 
 struct PassProgress {
   int pass = 0;  // 0-based pass in progress
-  int passes = 0;
+  int passes = 0;  // the target (with a time limit the render may stop before)
+  double seconds = 0.0;       // since the driver started
+  double time_limit_s = 0.0;  // 0: none
   size_t pixels_done = 0;  // of this pass
   size_t pixels_total = 0;
   const RenderStats* stats = nullptr;
 };
 using ProgressCallback = std::function<void(const PassProgress&)>;
+// After each accumulated pass (the film holds `passes` of them).
+using PassDoneCallback = std::function<void(const Film& film, double seconds)>;
 
+// The driver stops at whichever comes first.
 struct StopConditions {
   int passes = 1;
+  double seconds = 0.0;  // wall-time limit, checked after each pass (at least one pass runs); 0: none
 };
 
 class PassDriver {
@@ -34,7 +40,8 @@ class PassDriver {
   PassDriver(Integrator& integrator, Film& film, StageLauncher& launcher)
       : integrator_(integrator), film_(film), launcher_(launcher) {}
   // Adds passes to the film (it is not cleared here).
-  void run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress = {});
+  void run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress = {},
+           const PassDoneCallback& pass_done = {});
 
  private:
   void trace_chunk(size_t first_pixel, size_t pixel_count, RenderStats* stats);

@@ -26,13 +26,14 @@ Renderer::Renderer(Runtime& runtime, const DeviceScene& scene, RenderMode mode, 
   }
 }
 
-ImageF Renderer::render(RenderStats* stats, const ProgressCallback& progress) {
+ImageF Renderer::render(RenderStats* stats, const ProgressCallback& progress, const PassDoneCallback& pass_done) {
   const auto t0 = std::chrono::steady_clock::now();
   try {
     film_->clear();
     StopConditions stop;
     stop.passes = settings_.passes;
-    PassDriver(*integrator_, *film_, launcher_).run(stop, stats, progress);
+    stop.seconds = settings_.time_limit_s;
+    PassDriver(*integrator_, *film_, launcher_).run(stop, stats, progress, pass_done);
     ImageF image = film_->mean();
     launcher_.collect(stats);
     if (stats) {

@@ -17,8 +17,9 @@ class Renderer {
   Renderer(Runtime& runtime, const DeviceScene& scene, RenderMode mode, const cl::Program& program,
            const RenderSettings& settings);
 
-  // Clears the film, renders settings.passes passes, returns the mean.
-  ImageF render(RenderStats* stats, const ProgressCallback& progress = {});
+  // Clears the film, renders settings.passes passes (or until
+  // settings.time_limit_s), returns the mean.
+  ImageF render(RenderStats* stats, const ProgressCallback& progress = {}, const PassDoneCallback& pass_done = {});
 
   Integrator& integrator() { return *integrator_; }
   Film& film() { return *film_; }
