@@ -1,5 +1,7 @@
 #include "host/scene/features.h"
 
+#include <algorithm>
+
 namespace caustica {
 
 SceneFeatures analyse_scene(const Scene& scene, RenderMode mode) {
@@ -26,6 +28,15 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode) {
     if (can_bounce && (m.flags & MATERIAL_REFRACTIVE)) f.refraction = true;
     if (can_bounce && (m.flags & MATERIAL_REFLECTIVE) && !(m.flags & MATERIAL_REFRACTIVE) && m.reflectivity > 0.0f)
       f.reflection = true;
+    if (std::max(m.emission.x, std::max(m.emission.y, m.emission.z)) > 0.0f) f.area_lights = true;
+  }
+  // Path mode samples area lights (rectangles, spheres, emissive shapes);
+  // phong sees every light as a point.
+  if (mode == RenderMode::Path) {
+    f.area_lights = f.area_lights || !scene.area_lights.empty() || !scene.sphere_lights.empty();
+    f.lights = f.lights || f.area_lights;
+  } else {
+    f.area_lights = false;
   }
   return f;
 }
@@ -38,6 +49,12 @@ std::string SceneFeatures::build_options() const {
   if (lights) o += " -DHAS_LIGHTS";
   if (reflection) o += " -DHAS_REFLECTION";
   if (refraction) o += " -DHAS_REFRACTION";
+  if (mode == RenderMode::Path) {
+    // The path tracer's libraries compile everything unless told otherwise
+    // (tests include them bare); the renderer leaves out what is not there.
+    if (!refraction) o += " -DBSDF_WITH_DIELECTRIC=0";
+    if (!area_lights) o += " -DPATH_WITH_AREA_LIGHTS=0";
+  }
   if (textures) o += " -DHAS_TEXTURES";
   if (triangle_shading) o += " -DHAS_TRIANGLE_SHADING";
   return o;
@@ -57,6 +74,10 @@ std::string SceneFeatures::describe() const {
   s += std::string(" refraction=") + (refraction ? "yes" : "no");
   s += std::string(" textures=") + (textures ? "yes" : "no");
   s += std::string(" vertex-data=") + (triangle_shading ? "yes" : "no");
+  if (mode == RenderMode::Path) {
+    s += std::string(" area-light-sampling=") + (area_lights ? "compiled" : "left out");
+    s += std::string(" dielectric-bsdf=") + (refraction ? "compiled" : "left out");
+  }
   return s;
 }
 

@@ -21,6 +21,7 @@ struct SceneFeatures {
   bool reflection = false;  // phong: mirror rays spawned
   bool refraction = false;  // phong: dielectric rays spawned
   bool textures = false;    // some used material has a texture
+  bool area_lights = false; // path: rectangle, sphere or emissive-shape lights are sampled
   bool triangle_shading = false;  // vertex normals / texture coordinates on triangles
   bool secondary_rays() const { return reflection || refraction; }
 

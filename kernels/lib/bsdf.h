@@ -31,6 +31,11 @@
 #include "lib/optics.h"
 #include "lib/sampling.h"
 
+/* Programs without glass leave the dielectric out (-DBSDF_WITH_DIELECTRIC=0). */
+#ifndef BSDF_WITH_DIELECTRIC
+#define BSDF_WITH_DIELECTRIC 1
+#endif
+
 #define BSDF_PLASTIC 0u
 #define BSDF_CONDUCTOR 1u
 #define BSDF_DIELECTRIC 2u
@@ -116,6 +121,7 @@ inline float3 bsdf_eval(Bsdf b, float3 wo, float3 wi) {
   }
   if (bsdf_is_smooth(b)) return (float3)(0.0f); /* delta lobes only */
   if (b.kind == BSDF_CONDUCTOR) return ggx_reflection(b.specular, b.alpha, wo, wi);
+#if BSDF_WITH_DIELECTRIC
   /* rough dielectric */
   if (wo.z == 0.0f || wi.z == 0.0f) return (float3)(0.0f);
   const float eta = dielectric_eta(b, wo); /* transmitted side over wo's side */
@@ -136,6 +142,9 @@ inline float3 bsdf_eval(Bsdf b, float3 wo, float3 wi) {
   const float value = (1.0f - f) * ggx_d(m, b.alpha) * ggx_g2(wo_up, wi_up, b.alpha) * fabs(im) * om /
                       (fabs(wo.z) * fabs(wi.z) * denom * denom);
   return (float3)(value); /* eta^2 * (1/eta^2): radiance scaling cancels Walter's eta_t^2 */
+#else
+  return (float3)(0.0f);
+#endif
 }
 
 inline float bsdf_pdf(Bsdf b, float3 wo, float3 wi) {
@@ -147,6 +156,7 @@ inline float bsdf_pdf(Bsdf b, float3 wo, float3 wi) {
   }
   if (bsdf_is_smooth(b)) return 0.0f;
   if (b.kind == BSDF_CONDUCTOR) return ggx_reflection_pdf(b.alpha, wo, wi);
+#if BSDF_WITH_DIELECTRIC
   if (wo.z == 0.0f || wi.z == 0.0f) return 0.0f;
   const float eta = dielectric_eta(b, wo);
   const float sign = wo.z > 0.0f ? 1.0f : -1.0f;
@@ -164,6 +174,9 @@ inline float bsdf_pdf(Bsdf b, float3 wo, float3 wi) {
   const float denom = om + eta * im;
   /* dm/dwi = eta^2 |wi.m| / (wo.m + eta wi.m)^2 */
   return (1.0f - f) * ggx_pdf_visible_normal(wo_up, m, b.alpha) * eta * eta * fabs(im) / (denom * denom);
+#else
+  return 0.0f;
+#endif
 }
 
 /* Samples wi for wo with u in [0,1)^3 (u.z picks a lobe). Returns false when
@@ -201,6 +214,7 @@ inline bool bsdf_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight,
     *weight = bsdf_eval(b, wo, *wi) * (wi->z / *pdf);
     return true;
   }
+#if BSDF_WITH_DIELECTRIC
   /* dielectric */
   const float eta = dielectric_eta(b, wo);
   const float sign = wo.z > 0.0f ? 1.0f : -1.0f;
@@ -231,6 +245,9 @@ inline bool bsdf_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight,
   if (!(*pdf > 0.0f)) return false;
   *weight = bsdf_eval(b, wo, *wi) * (fabs(wi->z) / *pdf);
   return true;
+#else
+  return false;
+#endif
 }
 
 #endif /* CAUSTICA_LIB_BSDF_H */

@@ -17,6 +17,12 @@
 #include "lib/sampling.h"
 #include "shared/types.h"
 
+/* Programs whose scene has point lights only leave area-light sampling out
+ * (-DPATH_WITH_AREA_LIGHTS=0). */
+#ifndef PATH_WITH_AREA_LIGHTS
+#define PATH_WITH_AREA_LIGHTS 1
+#endif
+
 typedef struct {
   float3 wi;       /* unit direction toward the light */
   float distance;  /* to the sampled point (the shadow ray's extent) */
@@ -95,6 +101,7 @@ inline bool sample_light(__global const PathLight* l, float pick_probability, fl
     s->delta = true;
     return true;
   }
+#if PATH_WITH_AREA_LIGHTS
   if (l->kind == LIGHT_SPHERE) {
     const float3 c = l->p0.xyz;
     const float r = l->p0.w;
@@ -135,12 +142,15 @@ inline bool sample_light(__global const PathLight* l, float pick_probability, fl
   s->radiance = l->emitted.xyz;
   s->pdf = pick_probability * area_to_solid_angle(p, q, s->wi, l->emitted.w, n_l);
   return s->pdf > 0.0f;
+#else
+  return false;
+#endif
 }
 
 /* What sample_light's density would have been for the direction wi from p
  * that reached point q of light l (a BSDF-sampled ray's hit). */
 inline float light_pdf(__global const PathLight* l, float pick_probability, float3 p, float3 q, float3 wi) {
-  if (l->kind == LIGHT_POINT) return 0.0f;
+  if (l->kind == LIGHT_POINT || !PATH_WITH_AREA_LIGHTS) return 0.0f;
   if (l->kind == LIGHT_SPHERE) {
     const float3 to_c = l->p0.xyz - p;
     const float d2 = dot(to_c, to_c);
