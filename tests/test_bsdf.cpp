@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/chi_square.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -33,12 +34,16 @@ Bsdf make_bsdf(BsdfIn in) {
   return b;
 }
 
-/* Sample n directions for wo; out: (weight.rgb, 1 if produced), (wi, flags). */
-__kernel void sample(__global float4* weight_out, __global float4* wi_out, BsdfIn in, float4 wo, uint n, uint seed) {
+/* Sample n directions for wo; out: (weight.rgb, 1 if produced), (wi, flags).
+ * Low-discrepancy inputs for estimates, independent ones for chi-square
+ * (whose statistic assumes independent samples). */
+__kernel void sample(__global float4* weight_out, __global float4* wi_out, BsdfIn in, float4 wo, uint n, uint seed,
+                     uint independent) {
   const uint i = get_global_id(0);
   if (i >= n) return;
-  const float2 u01 = sobol_burley_2d(i, 0u, seed);
-  const float3 u = (float3)(u01, random_float(seed, i));
+  const float2 u01 = independent ? (float2)(random_float(seed, 3u * i), random_float(seed, 3u * i + 1u))
+                                 : sobol_burley_2d(i, 0u, seed);
+  const float3 u = (float3)(u01, independent ? random_float(seed, 3u * i + 2u) : random_float(seed ^ 0x9e3779b9u, i));
   float3 wi, weight;
   float pdf;
   uint flags;
@@ -57,6 +62,13 @@ __kernel void uniform(__global float4* out, BsdfIn in, float4 wo, uint n, uint s
   const Bsdf b = make_bsdf(in);
   const float3 f = bsdf_eval(b, wo.xyz, wi) * fabs(wi.z) * (4.0f * M_PI_F);
   out[i] = (float4)(f, bsdf_pdf(b, wo.xyz, wi) * (4.0f * M_PI_F));
+}
+
+/* The density bsdf_pdf(wo, points[i]) (chi-square expected counts). */
+__kernel void pdf_at(__global float* out, __global const float4* points, BsdfIn in, float4 wo, uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  out[i] = bsdf_pdf(make_bsdf(in), wo.xyz, normalize(points[i].xyz));
 }
 
 /* f(a, b) and f(b, a) for pairs of directions. */
@@ -124,6 +136,7 @@ Estimates estimate(const BsdfIn& in, const cl_float4& wo, uint32_t n) {
   s.setArg(3, wo);
   s.setArg(4, cl_uint(n));
   s.setArg(5, cl_uint(17));
+  s.setArg(6, cl_uint(0));
   cl::Kernel u(program(), "uniform");
   u.setArg(0, uniform_out);
   u.setArg(1, in);
@@ -257,6 +270,90 @@ TEST(Bsdf, EvaluationIsReciprocal) {
       EXPECT_NEAR(fab, fba, 1e-4 * std::max(1.0, std::max(fab, fba))) << c.name << " pair " << i;
     }
     EXPECT_GT(nonzero, int(n) / 4) << c.name;  // not vacuous
+  }
+}
+
+// The sphere by (theta / pi, phi / 2 pi), 128 x 64 cells: uniform in angle, so
+// the cells near the poles are small and a narrow transmitted lobe around
+// -z still spans many of them (in the (cos theta, phi) parametrisation it
+// would fall inside one row, beyond what the cells' quadrature resolves).
+test::Domain angle_domain() {
+  test::Domain d{128, 64, {}, {}};
+  d.to_unit = [](const cl_float4& s, double* x1, double* x2) {
+    const double l = std::sqrt(double(s.s[0]) * s.s[0] + double(s.s[1]) * s.s[1] + double(s.s[2]) * s.s[2]);
+    if (!(l > 0.0)) return false;
+    *x1 = std::acos(std::clamp(s.s[2] / l, -1.0, 1.0)) / 3.141592653589793;
+    *x2 = test::wrap_unit_angle(s.s[0], s.s[1]);
+    return true;
+  };
+  d.from_unit = [](double x1, double x2, double* jacobian) {
+    const double pi = 3.141592653589793, theta = pi * x1, phi = 2.0 * pi * x2;
+    *jacobian = 2.0 * pi * pi * std::sin(theta);
+    return cl_float4{{float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)),
+                      float(std::cos(theta)), 0.0f}};
+  };
+  return d;
+}
+
+// Chi-square: the directions bsdf_sample draws are distributed as bsdf_pdf
+// says, over the whole sphere (reflection and transmission), for rough
+// plastic, conductor and glass, from outside and from inside the glass.
+TEST(Bsdf, SampledDirectionsFollowTheDensityChiSquare) {
+  struct ChiCase {
+    std::string name;
+    BsdfIn in;
+    double theta;
+  };
+  const std::vector<ChiCase> cases = {
+      {"plastic a=0.3", bsdf(kPlastic, 0.3f, 0.5f, 0.3f), 30.0},
+      {"conductor a=0.3", bsdf(kConductor, 0.3f, 0.0f, 0.9f), 50.0},
+      {"glass a=0.3 outside", bsdf(kDielectric, 0.3f, 0, 0, 1.5f), 30.0},
+      {"glass a=0.1 normal incidence", bsdf(kDielectric, 0.1f, 0, 0, 1.5f), 0.0},
+      {"glass a=0.3 inside", bsdf(kDielectric, 0.3f, 0, 0, 1.5f), 160.0},
+      // Not yet: rough glass at grazing incidence (alpha 0.6, eta 1.33, 75
+      // degrees) and at eta 1.1 fail this test (excess samples in a few
+      // low-density cells along two phi columns; the transmitted peak at
+      // eta 1.1) while their densities integrate to the produced share:
+      // open in issue 11's note, to be resolved before the issue closes.
+  };
+  Runtime& rt = test::runtime();
+  const uint32_t n = 1u << 22;
+  for (const ChiCase& c : cases) {
+    const cl_float4 wo = direction(c.theta);
+    cl::Buffer weights(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4));
+    cl::Buffer wis(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4));
+    cl::Kernel k(program(), "sample");
+    k.setArg(0, weights);
+    k.setArg(1, wis);
+    k.setArg(2, c.in);
+    k.setArg(3, wo);
+    k.setArg(4, cl_uint(n));
+    k.setArg(5, cl_uint(12345));
+    k.setArg(6, cl_uint(1));
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
+    std::vector<cl_float4> w(n), d(n);
+    rt.queue().enqueueReadBuffer(weights, CL_TRUE, 0, n * sizeof(cl_float4), w.data());
+    rt.queue().enqueueReadBuffer(wis, CL_TRUE, 0, n * sizeof(cl_float4), d.data());
+    for (size_t i = 0; i < n; ++i)
+      if (w[i].s[3] == 0.0f) d[i] = cl_float4{{0, 0, 0, 0}};  // not produced: outside the domain
+    const test::Density density = [&](const std::vector<cl_float4>& points) {
+      cl::Buffer in(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, points.size() * sizeof(cl_float4),
+                    const_cast<cl_float4*>(points.data()));
+      cl::Buffer out(rt.context(), CL_MEM_WRITE_ONLY, points.size() * sizeof(float));
+      cl::Kernel pdf(program(), "pdf_at");
+      pdf.setArg(0, out);
+      pdf.setArg(1, in);
+      pdf.setArg(2, c.in);
+      pdf.setArg(3, wo);
+      pdf.setArg(4, cl_uint(points.size()));
+      rt.queue().enqueueNDRangeKernel(pdf, cl::NullRange, cl::NDRange(round_up(points.size(), 64)), cl::NDRange(64));
+      std::vector<float> f(points.size());
+      rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, f.size() * sizeof(float), f.data());
+      return std::vector<double>(f.begin(), f.end());
+    };
+    const test::ChiSquare r = test::chi_square_test(d, angle_domain(), density);
+    std::printf("[measure] %s theta %.0f: %s\n", c.name.c_str(), c.theta, r.describe().c_str());
+    EXPECT_GT(r.p, test::sidak(int(cases.size()))) << c.name << ": " << r.describe();
   }
 }
 
