@@ -88,20 +88,20 @@ class StageLauncher {
 class Integrator {
  public:
   virtual ~Integrator() = default;
-  virtual const char* name() const = 0;
   // One sample for pixels [first_pixel, first_pixel + pixel_count) into the
   // film's pass in progress. False when a queue overflowed: the driver then
   // clears that range of the pass and traces it again in halves.
   virtual bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) = 0;
 
+  const char* name() const { return name_; }  // the mode, as --mode spells it
   // Pixels per chunk its queues are sized for.
   size_t chunk_pixels() const { return chunk_pixels_; }
   // Largest sum one pixel can receive in one pass (sets the film's scale).
   float pass_bound() const { return pass_bound_; }
 
  protected:
-  Integrator(StageLauncher& launcher, const DeviceScene& scene, const RenderSettings& settings)
-      : launcher_(launcher), scene_(scene), settings_(settings) {}
+  Integrator(const char* name, StageLauncher& launcher, const DeviceScene& scene, const RenderSettings& settings)
+      : launcher_(launcher), scene_(scene), settings_(settings), name_(name) {}
   // generate_camera_rays for a chunk into `rays` (count set: one ray a pixel).
   void generate_camera_rays(StageKernel& generate, const DeviceQueue& rays, size_t first_pixel, size_t pixel_count,
                             RenderStats* stats);
@@ -111,6 +111,9 @@ class Integrator {
   RenderSettings settings_;
   size_t chunk_pixels_ = 0;  // set by the constructors
   float pass_bound_ = 1.0f;
+
+ private:
+  const char* name_;
 };
 
 // The kernel program of a mode ("integrator_phong.cl"); throws

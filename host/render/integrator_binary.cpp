@@ -15,7 +15,7 @@ class BinaryIntegrator final : public Integrator {
  public:
   BinaryIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                    const RenderSettings& settings)
-      : Integrator(launcher, scene, settings),
+      : Integrator("binary", launcher, scene, settings),
         generate_(program, "generate_camera_rays"),
         intersect_(program, "intersect_closest"),
         shade_(program, "shade_surface_binary") {
@@ -25,7 +25,6 @@ class BinaryIntegrator final : public Integrator {
     rays_ = DeviceQueue(context, path_record_layout(), chunk_pixels_);
     hits_ = cl::Buffer(context, CL_MEM_READ_WRITE, chunk_pixels_ * sizeof(Hit));
   }
-  const char* name() const override { return "binary"; }
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
 
  private:

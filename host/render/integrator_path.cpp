@@ -16,42 +16,45 @@
 namespace caustica {
 namespace {
 
+// Owns its light table (PathLight and the per-primitive light indices), two
+// path queues and the shadow slots, all sized for one chunk.
 class PathIntegrator final : public Integrator {
- public:
-  PathIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
-                 const RenderSettings& settings)
-      : Integrator(launcher, scene, settings),
-        generate_(program, "generate_camera_samples"),
-        intersect_(program, "intersect_closest"),
-        shade_(program, "shade_surface_path"),
-        shadow_stage_(program, "intersect_shadow") {
-    auto& ctx = launcher.runtime().context();
-    const PathLightTable table = build_path_lights(scene.scene());
-    light_count_ = table.lights.size();
-    lights_ = upload_buffer(ctx, table.lights);
-    light_of_sphere_ = upload_buffer(ctx, table.light_of_sphere);
-    light_of_cylinder_ = upload_buffer(ctx, table.light_of_cylinder);
-    light_of_triangle_ = upload_buffer(ctx, table.light_of_triangle);
-    chunk_pixels_ = std::min(size_t(settings.width) * size_t(settings.height), settings.chunk_pixels);
-    // One path's sample can carry far more than the scene's radiance
-    // (throughput / pdf); the bound only picks the fixed-point scale, and
-    // anything beyond 2^56 / scale is clamped and counted.
-    const glm::vec3 bg = scene.scene().background;
-    pass_bound_ = 1e6f * std::max(1.0f, std::max(table.max_radiance, std::max(bg.x, std::max(bg.y, bg.z))));
-    for (DeviceQueue& q : rays_) q = DeviceQueue(ctx, path_record_layout(), chunk_pixels_);
-    shadow_ = DeviceQueue(ctx, shadow_record_layout(), chunk_pixels_);
-    hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, chunk_pixels_ * sizeof(Hit));
-    shadow_traced_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
-  }
-  const char* name() const override { return "path"; }
-  bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
-
- private:
   StageKernel generate_, intersect_, shade_, shadow_stage_;
   size_t light_count_ = 0;
   cl::Buffer lights_, light_of_sphere_, light_of_cylinder_, light_of_triangle_, hits_, shadow_traced_;
   DeviceQueue rays_[2], shadow_;
+
+ public:
+  PathIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
+                 const RenderSettings& settings);
+  bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
 };
+
+PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
+                               const RenderSettings& settings)
+    : Integrator("path", launcher, scene, settings),
+      generate_(program, "generate_camera_samples"),
+      intersect_(program, "intersect_closest"),
+      shade_(program, "shade_surface_path"),
+      shadow_stage_(program, "intersect_shadow") {
+  auto& ctx = launcher.runtime().context();
+  const PathLightTable table = build_path_lights(scene.scene());
+  light_count_ = table.lights.size();
+  lights_ = upload_buffer(ctx, table.lights);
+  light_of_sphere_ = upload_buffer(ctx, table.light_of_sphere);
+  light_of_cylinder_ = upload_buffer(ctx, table.light_of_cylinder);
+  light_of_triangle_ = upload_buffer(ctx, table.light_of_triangle);
+  chunk_pixels_ = std::min(size_t(settings.width) * size_t(settings.height), settings.chunk_pixels);
+  // One path's sample can carry far more than the scene's radiance
+  // (throughput / pdf); the bound only picks the fixed-point scale, and
+  // anything beyond 2^56 / scale is clamped and counted.
+  const glm::vec3 bg = scene.scene().background;
+  pass_bound_ = 1e6f * std::max(1.0f, std::max(table.max_radiance, std::max(bg.x, std::max(bg.y, bg.z))));
+  for (DeviceQueue& q : rays_) q = DeviceQueue(ctx, path_record_layout(), chunk_pixels_);
+  shadow_ = DeviceQueue(ctx, shadow_record_layout(), chunk_pixels_);
+  hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, chunk_pixels_ * sizeof(Hit));
+  shadow_traced_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
+}
 
 bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) {
   const Scene& scene = scene_.scene();

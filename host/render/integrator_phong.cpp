@@ -21,11 +21,12 @@
 namespace caustica {
 namespace {
 
+// Owns the point-light stand-ins, two ray queues (a wave may double) and
+// the shadow slots (lights per ray), sized for one chunk.
 class PhongIntegrator final : public Integrator {
  public:
   PhongIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                   const RenderSettings& settings);
-  const char* name() const override { return "phong"; }
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
 
  private:
@@ -82,7 +83,7 @@ float phong_pass_bound(const Scene& scene, const std::vector<PointLight>& lights
 
 PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                                  const RenderSettings& settings)
-    : Integrator(launcher, scene, settings), features_(scene.features()) {
+    : Integrator("phong", launcher, scene, settings), features_(scene.features()) {
   auto& ctx = launcher.runtime().context();
   const std::vector<PointLight> lights = whitted_point_lights(scene.scene());
   lights_ = upload_buffer(ctx, lights);

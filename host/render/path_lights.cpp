@@ -112,49 +112,41 @@ PathLightTable build_path_lights(const Scene& scene) {
         t.light_of_sphere[g.first_sphere + k] = uint32_t(t.lights.size() - 1);
     }
   }
-  // Emissive shapes of the file (the light geometry above has its lights).
+  // Emissive shapes of the file (the light geometry above has its lights):
+  // one light of `kind` with corners p0..p2 and `area` per emissive shape.
+  auto add_shape = [&](uint32_t material, uint32_t kind, cs_float4 p0, cs_float4 p1, cs_float4 p2, float area,
+                       std::vector<uint32_t>& index_of_shape, size_t shape) {
+    const glm::vec3 e = to_vec3(scene.materials[material].emission);
+    if (!(max3(e) > 0.0f)) return;
+    const bool two_sided = kind == LIGHT_TRIANGLE && (scene.materials[material].flags & MATERIAL_TWO_SIDED);
+    PathLight l{};
+    l.kind = kind;
+    l.p0 = p0;
+    l.p1 = p1;
+    l.p2 = p2;
+    l.flags = two_sided ? LIGHT_TWO_SIDED : 0u;
+    l.emitted.w = area;
+    if (add(l, (two_sided ? 2.0f : 1.0f) * kPi * area * luminance(e), e))
+      index_of_shape[shape] = uint32_t(t.lights.size() - 1);
+  };
   for (size_t i = 0; i < scene.triangles.size(); ++i) {
     if (t.light_of_triangle[i] != LIGHT_NONE || (g.added && i >= g.first_triangle)) continue;
     const Triangle& tri = scene.triangles[i];
-    const glm::vec3 e = to_vec3(scene.materials[tri.material].emission);
-    if (!(max3(e) > 0.0f)) continue;
     const glm::vec3 a = to_vec3(tri.v0), b = to_vec3(tri.v1), c = to_vec3(tri.v2);
-    PathLight l{};
-    l.kind = LIGHT_TRIANGLE;
-    l.p0 = tri.v0;
-    l.p1 = tri.v1;
-    l.p2 = tri.v2;
-    const bool two_sided = scene.materials[tri.material].flags & MATERIAL_TWO_SIDED;
-    l.flags = two_sided ? LIGHT_TWO_SIDED : 0u;
-    const float area = 0.5f * glm::length(glm::cross(b - a, c - a));
-    l.emitted.w = area;
-    if (add(l, (two_sided ? 2.0f : 1.0f) * kPi * area * luminance(e), e))
-      t.light_of_triangle[i] = uint32_t(t.lights.size() - 1);
+    add_shape(tri.material, LIGHT_TRIANGLE, tri.v0, tri.v1, tri.v2, 0.5f * glm::length(glm::cross(b - a, c - a)),
+              t.light_of_triangle, i);
   }
   for (size_t i = 0; i < scene.spheres.size(); ++i) {
     if (t.light_of_sphere[i] != LIGHT_NONE || (g.added && i >= g.first_sphere)) continue;
-    const Sphere& s = scene.spheres[i];
-    const glm::vec3 e = to_vec3(scene.materials[s.material].emission);
-    if (!(max3(e) > 0.0f)) continue;
-    PathLight l{};
-    l.kind = LIGHT_SPHERE;
-    l.p0 = s.center_radius;
-    const float area = 4.0f * kPi * s.center_radius.w * s.center_radius.w;
-    l.emitted.w = area;
-    if (add(l, kPi * area * luminance(e), e)) t.light_of_sphere[i] = uint32_t(t.lights.size() - 1);
+    const float r = scene.spheres[i].center_radius.w;
+    add_shape(scene.spheres[i].material, LIGHT_SPHERE, scene.spheres[i].center_radius, {}, {}, 4.0f * kPi * r * r,
+              t.light_of_sphere, i);
   }
   for (size_t i = 0; i < scene.cylinders.size(); ++i) {
     const Cylinder& c = scene.cylinders[i];
-    const glm::vec3 e = to_vec3(scene.materials[c.material].emission);
-    if (!(max3(e) > 0.0f)) continue;
-    PathLight l{};
-    l.kind = LIGHT_CYLINDER;
-    l.p0 = c.center_radius;
-    l.p1 = c.axis_half;
     const float r = c.center_radius.w, h = c.axis_half.w;
-    const float area = 4.0f * kPi * r * h + 2.0f * kPi * r * r;
-    l.emitted.w = area;
-    if (add(l, kPi * area * luminance(e), e)) t.light_of_cylinder[i] = uint32_t(t.lights.size() - 1);
+    add_shape(c.material, LIGHT_CYLINDER, c.center_radius, c.axis_half, {}, 4.0f * kPi * r * h + 2.0f * kPi * r * r,
+              t.light_of_cylinder, i);
   }
   double total = 0.0;
   for (float p : power) total += p;

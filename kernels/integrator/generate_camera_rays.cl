@@ -13,13 +13,6 @@ __kernel void generate_camera_rays(CameraGPU camera, PATH_QUEUE_PARAMS(out)) {
   const uint pixel = camera.pixel_offset + i;
   float plane[3];
   camera_pixel_centre_point(&camera, pixel, plane);
-  PathRecord ray;
-  ray.origin = (float4)(camera.position.xyz, 0.0f);
-  ray.dir = (float4)(normalize((float3)(plane[0], plane[1], plane[2])), 0.0f);
-  ray.throughput = (float4)(1.0f, 1.0f, 1.0f, 0.0f);
-  ray.pixel = pixel;
-  ray.depth = 0u;
-  ray.bsdf_pdf = 0.0f;
-  ray.flags = PATH_SPECULAR;
-  path_store(PATH_QUEUE_ARGS(out), i, ray);
+  path_store(PATH_QUEUE_ARGS(out), i,
+             camera_path(camera.position.xyz, normalize((float3)(plane[0], plane[1], plane[2])), pixel));
 }

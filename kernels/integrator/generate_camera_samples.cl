@@ -30,13 +30,5 @@ __kernel void generate_camera_samples(CameraGPU camera, PathParams params, PATH_
     origin += lens.x * normalize(camera.right.xyz) + lens.y * normalize(camera.up.xyz);
     dir = normalize(focus - origin);
   }
-  PathRecord ray;
-  ray.origin = (float4)(origin, 0.0f);
-  ray.dir = (float4)(dir, 0.0f);
-  ray.throughput = (float4)(1.0f, 1.0f, 1.0f, 0.0f);
-  ray.pixel = pixel;
-  ray.depth = 0u;
-  ray.bsdf_pdf = 0.0f;
-  ray.flags = PATH_SPECULAR;
-  path_store(PATH_QUEUE_ARGS(out), i, ray);
+  path_store(PATH_QUEUE_ARGS(out), i, camera_path(origin, dir, pixel));
 }

@@ -36,6 +36,21 @@ inline uint queue_reserve(volatile __global uint* counter, uint capacity) {
   return slot < capacity ? slot : 0xFFFFFFFFu;
 }
 
+/* A path as the camera starts it: full throughput, no scattering yet,
+ * counted as arriving by a delta lobe (emission seen directly is not
+ * MIS-weighted). */
+inline PathRecord camera_path(float3 origin, float3 dir, uint pixel) {
+  PathRecord ray;
+  ray.origin = (float4)(origin, 0.0f);
+  ray.dir = (float4)(dir, 0.0f);
+  ray.throughput = (float4)(1.0f, 1.0f, 1.0f, 0.0f);
+  ray.pixel = pixel;
+  ray.depth = 0u;
+  ray.bsdf_pdf = 0.0f;
+  ray.flags = PATH_SPECULAR;
+  return ray;
+}
+
 inline PathRecord path_load(PATH_QUEUE_PARAMS(q), uint slot) {
   PathRecord record;
   PATH_RECORD_FIELDS(QUEUE_FIELD_LOAD, q)
