@@ -56,7 +56,7 @@ def pick_variant(mi, requested):
     return variant
 
 
-def to_mitsuba(scene, mi, width, height, spp, folder):
+def to_mitsuba(scene, mi, width, height, spp, folder, sampler):
     cam = scene["camera"]
     groups = {}
     for shape in scene["scene"]["shapes"]:
@@ -76,7 +76,7 @@ def to_mitsuba(scene, mi, width, height, spp, folder):
                 origin=cam["position"], target=cam["lookAt"], up=cam["upVector"]
             ),
             "film": {"type": "hdrfilm", "width": width, "height": height, "rfilter": {"type": "box"}},
-            "sampler": {"type": "independent", "sample_count": spp},
+            "sampler": {"type": sampler, "sample_count": spp},
         },
     }
     for i, (key, tris) in enumerate(groups.items()):
@@ -108,6 +108,8 @@ def main():
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--variant", default="", help="Mitsuba variant (default: see above)")
+    ap.add_argument("--mitsuba-sampler", default="multijitter",
+                    help="Mitsuba's sampler: multijitter (default; stratified for any count), independent, ...")
     ap.add_argument("--caustica", default=os.path.join(os.path.dirname(__file__), "..", "build", "caustica"))
     args = ap.parse_args()
 
@@ -123,12 +125,12 @@ def main():
 
     # Mitsuba: its rate from a short render, then the spp that fills the time.
     probe_spp = 4
-    m_scene = mi.load_dict(to_mitsuba(scene, mi, w, h, probe_spp, folder))
+    m_scene = mi.load_dict(to_mitsuba(scene, mi, w, h, probe_spp, folder, args.mitsuba_sampler))
     t0 = time.time()
     mi.render(m_scene, spp=probe_spp)
     rate = probe_spp / (time.time() - t0)
     spp = max(1, int(rate * args.seconds))
-    m_scene = mi.load_dict(to_mitsuba(scene, mi, w, h, spp, folder))
+    m_scene = mi.load_dict(to_mitsuba(scene, mi, w, h, spp, folder, args.mitsuba_sampler))
     t0 = time.time()
     image = mi.render(m_scene, spp=spp)
     m_seconds = time.time() - t0
@@ -157,8 +159,8 @@ def main():
     # differ a little (caustica's includes its process start and scene load).
     print("| renderer | wall s | spp | relMSE vs reference | relMSE x s |")
     print("|---|---:|---:|---:|---:|")
-    print("| Mitsuba %s (%s, %d threads) | %.2f | %d | %.3e | %.3e |" % (
-        mi.__version__, variant, args.threads, m_seconds, spp, m_err, m_err * m_seconds))
+    print("| Mitsuba %s (%s, %s, %d threads) | %.2f | %d | %.3e | %.3e |" % (
+        mi.__version__, variant, args.mitsuba_sampler, args.threads, m_seconds, spp, m_err, m_err * m_seconds))
     print("| caustica (PoCL, %d threads, --time %g) | %.2f | - | %.3e | %.3e |" % (
         args.threads, args.seconds, c_seconds, c_err, c_err * c_seconds))
     print("caustica / Mitsuba relMSE at equal time: %.2f" % ((c_err * c_seconds) / (m_err * m_seconds)))
