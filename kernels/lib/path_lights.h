@@ -79,8 +79,9 @@ inline float3 sample_cylinder_surface(__global const PathLight* l, float2 u) {
   frame_from_normal(axis, &t, &b);
   float pick = u.x * (side + 2.0f * cap);
   if (pick < side) {
-    const float phi = 2.0f * M_PI_F * (pick / side);
-    return l->p0.xyz + (2.0f * u.y - 1.0f) * h * axis + r * (cos(phi) * t + sin(phi) * b);
+    float cos_phi;
+    const float sin_phi = sincos(2.0f * M_PI_F * (pick / side), &cos_phi);
+    return l->p0.xyz + (2.0f * u.y - 1.0f) * h * axis + r * (cos_phi * t + sin_phi * b);
   }
   pick -= side;
   const float sgn = pick < cap ? 1.0f : -1.0f;
