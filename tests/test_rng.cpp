@@ -20,6 +20,23 @@ namespace {
 const char* kRngKernels = R"CL(
 #include "lib/rng.h"
 
+/* The definition: XOR of the direction numbers of the index's set bits. */
+uint sobol_dimension1_by_definition(uint index) {
+  uint result = 0u, v = 0x80000000u;
+  for (; index != 0u; index >>= 1, v ^= v >> 1)
+    if (index & 1u) result ^= v;
+  return result;
+}
+
+__kernel void sobol_check(__global uint* mismatches, uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  const uint index = hash_u32(i) ^ (i << 7);  /* spread over all 32 bits */
+  if (sobol_dimension1(index) != sobol_dimension1_by_definition(index) ||
+      sobol_dimension1(i) != sobol_dimension1_by_definition(i))
+    atomic_inc(mismatches);
+}
+
 __kernel void sobol_raw(__global uint2* out, uint n) {
   const uint i = get_global_id(0);
   if (i >= n) return;
@@ -112,6 +129,20 @@ TEST(Sobol2D, EveryPowerOfTwoPrefixIsA02Net) {
   EXPECT_EQ(raw[1].s[0], 0x80000000u);
   EXPECT_EQ(raw[1].s[1], 0x80000000u);
   EXPECT_EQ(raw[2].s[1], 0xC0000000u);  // v_2 = v_1 ^ (v_1 >> 1)
+}
+
+TEST(Sobol2D, FastSecondDimensionEqualsTheDefinition) {
+  Runtime& rt = test::runtime();
+  const cl_uint zero = 0;
+  cl::Buffer mismatches(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, 4, const_cast<cl_uint*>(&zero));
+  cl::Kernel k(program(), "sobol_check");
+  const cl_uint n = 1u << 22;
+  k.setArg(0, mismatches);
+  k.setArg(1, n);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(n), cl::NDRange(64));
+  cl_uint count = 0;
+  rt.queue().enqueueReadBuffer(mismatches, CL_TRUE, 0, 4, &count);
+  EXPECT_EQ(count, 0u);
 }
 
 TEST(SobolBurley, PrefixesStayNetsAfterShufflingAndScrambling) {
