@@ -135,9 +135,12 @@ int run_render(RenderArgs& a) {
     std::fprintf(stderr, "[caustica] host traffic: %llu kernel launches, %llu blocking transfers; film scale 2^%d\n",
                  (unsigned long long)stats.launches, (unsigned long long)stats.blocking_transfers,
                  int(std::log2(session->renderer->film().params().scale)));
+    std::fprintf(stderr, "[caustica] film: %d passes; dropped %llu NaN/Inf and %llu negative contributions, clamped %llu\n",
+                 stats.passes, (unsigned long long)stats.film.nonfinite, (unsigned long long)stats.film.negative,
+                 (unsigned long long)stats.film.clamped);
   }
   // Dropped or clamped contributions are never silent.
-  if (stats.film.total() > 0 && (a.verbose || !a.quiet))
+  if (stats.film.total() > 0 && !a.verbose && !a.quiet)
     std::fprintf(stderr, "[caustica] warning: film dropped %llu NaN/Inf and %llu negative contributions, clamped %llu\n",
                  (unsigned long long)stats.film.nonfinite, (unsigned long long)stats.film.negative,
                  (unsigned long long)stats.film.clamped);
