@@ -153,7 +153,7 @@ TEST(HostTrace, MatchesOpenClKernels) {
   const RaySet* sets[] = {&f.rays.primary, &f.rays.diffuse};
   for (const RaySet* set : sets) {
     std::vector<Hit> hits(set->size());
-    time_ray_kernel(rt, device_scene, closest, set->origin, set->dir, sizeof(Hit), 1, hits.data());
+    time_ray_kernel(rt, device_scene, closest, "hits", set->origin, set->dir, sizeof(Hit), 1, hits.data());
     const std::vector<Hit> ref = set == &f.rays.primary ? f.rays.primary_hits : host_closest_hits(tracer, *set);
     size_t differ = 0;
     for (size_t i = 0; i < set->size(); ++i) {
@@ -173,7 +173,7 @@ TEST(HostTrace, MatchesOpenClKernels) {
   }
 
   std::vector<cl_uint> occluded(f.rays.shadow.size());
-  time_ray_kernel(rt, device_scene, any, f.rays.shadow.origin, f.rays.shadow.dir, sizeof(cl_uint), 1,
+  time_ray_kernel(rt, device_scene, any, "occluded", f.rays.shadow.origin, f.rays.shadow.dir, sizeof(cl_uint), 1,
                   occluded.data());
   const std::vector<uint8_t> ref = host_occlusion(tracer, f.rays.shadow);
   size_t differ = 0, blocked = 0;

@@ -137,6 +137,7 @@ struct FilmRig {
   BuiltProgram built = rt.build_source("film_test.cl", kFilmKernel, "");
   Film film;
   StageKernel add{built.program, "add_contributions"};
+  StageLauncher launcher{rt, 64};
 
   explicit FilmRig(const FilmOptions& options) : film(rt, built.program, options) {}
 
@@ -165,7 +166,7 @@ TEST(Film, NonFiniteAndNegativeAreCountedAndDroppedHugeValuesClamped) {
   const float max = rig.film.params().max_contribution;
   rig.add_pass({{nan, 0.5f, 0, 0}, {inf, -inf, 0.25f, 0}, {-1.0f, -0.0f, 2.0f, 0}, {3.0f * max, 1.0f, 0, 0}},
                {0, 1, 2, 3});
-  rig.film.accumulate_pass();
+  rig.film.accumulate_pass(rig.launcher);
   const FilmCounts c = rig.film.counts();
   EXPECT_EQ(c.nonfinite, 3u);
   EXPECT_EQ(c.negative, 1u);  // -0 is zero, not negative
@@ -185,7 +186,7 @@ TEST(Film, ScaleKeepsTheHdrRangeOfTheBound) {
   EXPECT_EQ(film_params_for_bound(1.0f).scale, FILM_MAX_SCALE);
   FilmRig rig(film_options(2, 1, 2e10f));
   rig.add_pass({{1e10f, 1e-3f, 1.0f, 0}, {12345.678f, 0.1f, 1e9f, 0}}, {0, 1});
-  rig.film.accumulate_pass();
+  rig.film.accumulate_pass(rig.launcher);
   const ImageF img = rig.film.mean();
   EXPECT_EQ(rig.film.counts().total(), 0u);
   const float want[6] = {1e10f, 1e-3f, 1.0f, 12345.678f, 0.1f, 1e9f};
@@ -215,7 +216,7 @@ TEST(Film, AccumulationIsOrderIndependentAndPassesAverage) {
       FilmRig rig(film_options(4, 3, 1e4f, true));
       for (int pass = 0; pass < 3; ++pass)
         rig.add_pass(shuffled ? shuffled_values : values, shuffled ? shuffled_pixels : pixels, local),
-            rig.film.accumulate_pass();
+            rig.film.accumulate_pass(rig.launcher);
       const ImageF mean = rig.film.mean();
       EXPECT_EQ(rig.film.passes(), 3);
       // Three equal passes: their mean, and the one odd pass alone, equal one pass's sum.
@@ -242,10 +243,10 @@ TEST(Film, AccumulationIsOrderIndependentAndPassesAverage) {
 TEST(Film, ClearingAPassRangeKeepsFinishedPasses) {
   FilmRig rig(film_options(4, 1));
   rig.add_pass({{1, 1, 1, 0}, {1, 1, 1, 0}, {1, 1, 1, 0}, {1, 1, 1, 0}}, {0, 1, 2, 3});
-  rig.film.accumulate_pass();
+  rig.film.accumulate_pass(rig.launcher);
   rig.add_pass({{1, 1, 1, 0}, {1, 1, 1, 0}, {1, 1, 1, 0}, {1, 1, 1, 0}}, {0, 1, 2, 3});
   rig.film.clear_pass_range(1, 2);  // pixels 1 and 2 of the pass in progress
-  rig.film.accumulate_pass();
+  rig.film.accumulate_pass(rig.launcher);
   const ImageF img = rig.film.mean();  // (1 + 1) / 2 and (1 + 0) / 2
   EXPECT_EQ(img.rgb[0], 1.0f);
   EXPECT_EQ(img.rgb[3], 0.5f);
@@ -320,7 +321,7 @@ TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
   device_scene.bind_surfaces(args).arg("lights", light_buffer).arg("params", params).queue("in", in).arg("hits", hit_buffer);
   rig.film.bind(args).queue("next", next).queue("shadow", shadow).finish();
   q.enqueueNDRangeKernel(shade.kernel, cl::NullRange, cl::NDRange(64), cl::NDRange(64));
-  rig.film.accumulate_pass();
+  rig.film.accumulate_pass(rig.launcher);
   q.finish();
 
   const Material& m = scene.materials[0];

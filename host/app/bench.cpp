@@ -42,7 +42,7 @@ KindResult time_closest(Session& session, StageKernel& kernel, const char* name,
   r.rays = rays.size();
   if (rays.size() == 0) return r;
   std::vector<Hit> hits(rays.size());
-  r.ms = time_ray_kernel(*session.runtime, *session.device_scene, kernel, rays.origin, rays.dir, sizeof(Hit),
+  r.ms = time_ray_kernel(*session.runtime, *session.device_scene, kernel, "hits", rays.origin, rays.dir, sizeof(Hit),
                          repetitions, hits.data(), session.settings.local_size);
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<Hit> computed;
@@ -69,8 +69,8 @@ KindResult time_shadow(Session& session, StageKernel& kernel, const RaySet& rays
   r.rays = rays.size();
   if (rays.size() == 0) return r;
   std::vector<cl_uint> occluded(rays.size());
-  r.ms = time_ray_kernel(*session.runtime, *session.device_scene, kernel, rays.origin, rays.dir, sizeof(cl_uint),
-                         repetitions, occluded.data(), session.settings.local_size);
+  r.ms = time_ray_kernel(*session.runtime, *session.device_scene, kernel, "occluded", rays.origin, rays.dir,
+                         sizeof(cl_uint), repetitions, occluded.data(), session.settings.local_size);
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<uint8_t> ref = host_occlusion(tracer, rays);
   r.check_ms = ms_since(t0);

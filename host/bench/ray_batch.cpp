@@ -8,7 +8,7 @@
 
 namespace caustica {
 
-double time_ray_kernel(Runtime& runtime, const DeviceScene& scene, StageKernel& kernel,
+double time_ray_kernel(Runtime& runtime, const DeviceScene& scene, StageKernel& kernel, const char* result_name,
                        const std::vector<cs_float4>& origin, const std::vector<cs_float4>& dir, size_t result_bytes,
                        int repetitions, void* results, size_t local_size) {
   if (origin.size() != dir.size()) throw Error("time_ray_kernel: origin and direction counts differ");
@@ -28,7 +28,7 @@ double time_ray_kernel(Runtime& runtime, const DeviceScene& scene, StageKernel& 
         .arg("rays_count", count_buffer)
         .arg("rays_origin", origin_buffer)
         .arg("rays_dir", dir_buffer)
-        .arg(kernel.name == "intersect_closest" ? "hits" : "occluded", result_buffer)
+        .arg(result_name, result_buffer)
         .finish();
     const cl::NDRange global(round_up(n, local_size)), local(local_size);
     queue.enqueueNDRangeKernel(kernel.kernel, cl::NullRange, global, local);  // warm-up

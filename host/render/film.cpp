@@ -56,7 +56,7 @@ void Film::clear_pass_range(size_t first_pixel, size_t count) {
                                      count * 3 * sizeof(cl_ulong));
 }
 
-void Film::accumulate_pass(StageLauncher* launcher, RenderStats* stats) {
+void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats) {
   FilmAccumulate a{};
   a.value_count = cl_uint(pixel_count() * 3);
   a.half_offset = cl_uint(half_offset_);
@@ -64,10 +64,7 @@ void Film::accumulate_pass(StageLauncher* launcher, RenderStats* stats) {
   a.inv_scale = 1.0f / params_.scale;
   KernelArgs(*accumulate_).arg("film", pass_).arg("passes", accumulated_).arg("params", a).finish();
   ++passes_;
-  if (launcher) return launcher->launch(*accumulate_, a.value_count, stats);
-  const size_t local = 64;
-  runtime_.queue().enqueueNDRangeKernel(accumulate_->kernel, cl::NullRange,
-                                        cl::NDRange(round_up(a.value_count, local)), cl::NDRange(local));
+  launcher.launch(*accumulate_, a.value_count, stats);
 }
 
 ImageF Film::read_pass(size_t offset, int passes) const {

@@ -32,8 +32,8 @@ struct RenderStats;
 struct FilmOptions {
   int width = 0, height = 0;
   bool half_buffer = false;  // keep the odd-pass sum (error estimation)
-  // Largest sum one pixel can receive in one pass (radiance_bound()); picks
-  // the fixed-point scale.
+  // Largest sum one pixel can receive in one pass (Integrator::pass_bound);
+  // picks the fixed-point scale.
   float pass_bound = 1.0f;
 };
 
@@ -58,9 +58,8 @@ class Film {
 
   void clear();  // everything: accumulated passes, the pass in progress, counters
   void clear_pass_range(size_t first_pixel, size_t pixel_count);  // of the pass in progress only
-  // Adds the pass in progress to the accumulated passes and clears it
-  // (through `launcher` when given, so that it is counted and profiled).
-  void accumulate_pass(StageLauncher* launcher = nullptr, RenderStats* stats = nullptr);
+  // Adds the pass in progress to the accumulated passes and clears it.
+  void accumulate_pass(StageLauncher& launcher, RenderStats* stats = nullptr);
 
   ImageF mean() const;       // combined sum / passes
   ImageF half_mean() const;  // odd-pass sum / their count (needs half_buffer and >= 2 passes)

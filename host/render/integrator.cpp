@@ -41,12 +41,16 @@ void StageLauncher::write_count(const cl::Buffer& counter, uint32_t value, Rende
   if (stats) ++stats->blocking_transfers;
 }
 
-void Integrator::generate_camera_rays(StageKernel& generate, const DeviceQueue& rays, size_t first_pixel,
-                                      size_t pixel_count, RenderStats* stats) {
+CameraGPU Integrator::chunk_camera(size_t first_pixel, size_t pixel_count) const {
   CameraGPU camera = camera_for_image(scene_.scene().camera, settings_.width, settings_.height);
   camera.pixel_offset = cl_uint(first_pixel);
   camera.pixel_count = cl_uint(pixel_count);
-  KernelArgs(generate).arg("camera", camera).queue("out", rays).finish();
+  return camera;
+}
+
+void Integrator::generate_camera_rays(StageKernel& generate, const DeviceQueue& rays, size_t first_pixel,
+                                      size_t pixel_count, RenderStats* stats) {
+  KernelArgs(generate).arg("camera", chunk_camera(first_pixel, pixel_count)).queue("out", rays).finish();
   launcher_.launch(generate, pixel_count, stats);
   launcher_.write_count(rays.count(), cl_uint(pixel_count), stats);
   if (stats) stats->camera_rays += pixel_count;

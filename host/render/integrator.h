@@ -102,6 +102,8 @@ class Integrator {
  protected:
   Integrator(const char* name, StageLauncher& launcher, const DeviceScene& scene, const RenderSettings& settings)
       : launcher_(launcher), scene_(scene), settings_(settings), name_(name) {}
+  // The camera restricted to pixels [first_pixel, first_pixel + pixel_count).
+  CameraGPU chunk_camera(size_t first_pixel, size_t pixel_count) const;
   // generate_camera_rays for a chunk into `rays` (count set: one ray a pixel).
   void generate_camera_rays(StageKernel& generate, const DeviceQueue& rays, size_t first_pixel, size_t pixel_count,
                             RenderStats* stats);

@@ -69,12 +69,13 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
   params.rr_depth = 3;
   params.sampler = settings_.sampler;
 
-  CameraGPU camera = camera_for_image(scene.camera, settings_.width, settings_.height);
-  camera.pixel_offset = cl_uint(first_pixel);
-  camera.pixel_count = cl_uint(pixel_count);
   DeviceQueue* current = &rays_[0];
   DeviceQueue* next = &rays_[1];
-  KernelArgs(generate_).arg("camera", camera).arg("params", params).queue("out", *current).finish();
+  KernelArgs(generate_)
+      .arg("camera", chunk_camera(first_pixel, pixel_count))
+      .arg("params", params)
+      .queue("out", *current)
+      .finish();
   launcher_.launch(generate_, pixel_count, stats);
   launcher_.write_count(current->count(), cl_uint(pixel_count), stats);
   launcher_.write_count(shadow_traced_, 0, stats);

@@ -30,7 +30,7 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
         progress(PassProgress{pass, stop.passes, seconds(), stop.seconds, std::min(pixels, first + chunk), pixels,
                               stats});
     }
-    film_.accumulate_pass(&launcher_, stats);
+    film_.accumulate_pass(launcher_, stats);
     if (stats) ++stats->passes;
     if (pass_done) pass_done(film_, seconds());
     if (stop.seconds > 0.0 && seconds() >= stop.seconds) break;
