@@ -376,6 +376,31 @@ TEST(SceneWarnings, DroppedTrianglesVariantCamerasAndAreaLights) {
   EXPECT_TRUE(Contains(::testing::internal::GetCapturedStderr(), {"/scene/shapes/2: warning"}));
 }
 
+// The triangle of valid_scene() faces +z, away from the camera at the
+// origin: as a one-sided emitter it lights nothing the camera sees.
+TEST(SceneWarnings, EmitterFacingAwayFromTheCamera) {
+  auto warnings_of = [](const json& j) {
+    std::vector<std::string> warnings;
+    LoadOptions options;
+    options.warnings = &warnings;
+    parse_scene(j, "x.json", ".", options);
+    return warnings;
+  };
+  const json emissive = with(valid_scene(), "/scene/shapes/2/material", json{{"emission", {1, 1, 1}}});
+  const auto away = warnings_of(emissive);
+  ASSERT_EQ(away.size(), 1u);
+  EXPECT_TRUE(Contains(away[0], {"x.json: /scene/shapes/2: warning", "faces away from the camera", "twosided"}));
+  json toward = with(emissive, "/scene/shapes/2/v1", json{0, 1, 2});
+  toward = with(toward, "/scene/shapes/2/v2", json{1, 0, 2});
+  EXPECT_TRUE(warnings_of(toward).empty());
+  EXPECT_TRUE(warnings_of(with(emissive, "/scene/shapes/2/material/twosided", true)).empty());
+  EXPECT_TRUE(warnings_of(valid_scene()).empty());  // not emissive
+  const json rect = with(valid_scene(), "/scene/shapes/2",
+                         json{{"type", "rectangle"}, {"v0", {0, 0, 2}}, {"v1", {1, 0, 2}}, {"v2", {1, 1, 2}},
+                              {"v3", {0, 1, 2}}, {"material", {{"emission", {1, 1, 1}}}}});
+  EXPECT_EQ(warnings_of(rect).size(), 1u);
+}
+
 TEST(SceneWarnings, ManyDroppedTrianglesAreSummarised) {
   json j = valid_scene();
   for (int i = 0; i < 20; ++i)

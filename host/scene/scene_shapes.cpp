@@ -116,6 +116,20 @@ class ShapeReader {
     if (uv || normals) ctx_.any_shading = true;
   }
 
+  // Emitters are one-sided (FORMAT.md). A single emissive triangle or
+  // rectangle whose lit side faces away from the camera is nearly always a
+  // light written with the other winding (a ceiling light lighting the
+  // ceiling), which renders a dark room: say so rather than guess.
+  void warn_if_emitting_away_from_camera(const glm::vec3 p[3], cs_uint material, const std::string& path) {
+    const Material& m = out_.materials[material];
+    const glm::vec3 e = to_vec3(m.emission);
+    if (!(std::max({e.x, e.y, e.z}) > 0.0f) || (m.flags & MATERIAL_TWO_SIDED)) return;
+    if (glm::dot(geometric_normal(p), out_.camera.position - p[0]) >= 0.0f) return;
+    r_.warn(path, "emits only on its front side (v0, v1, v2 counter-clockwise), which faces away from the camera; "
+                  "if it should light what the camera sees, list its vertices in the other order or add "
+                  "\"twosided\": true to its material");
+  }
+
   bool drop_if_degenerate(const glm::vec3 p[3], const std::string& path, const char* what) {
     if (!degenerate_triangle(p[0], p[1], p[2])) return false;
     if (++dropped_ <= kWarnLimit) r_.warn(path, std::string(what) + " has zero area; dropped");
@@ -170,6 +184,7 @@ class ShapeReader {
     const cs_uint m = material(s, path);  // validated even when the triangle is dropped
     if (drop_if_degenerate(p, path, "triangle")) return;
     add_triangle(p, m, uv_count ? uv : nullptr);
+    warn_if_emitting_away_from_camera(p, m, path);
   }
 
   void rectangle(const json& s, const std::string& path) {
@@ -203,7 +218,10 @@ class ShapeReader {
     } else {
       for (int i = 0; i < 4; ++i) q[i] = r_.read_vec3(s, ("v" + std::to_string(i)).c_str(), path, Range::Any);
     }
-    add_quad(q, material(s, path), path, "rectangle");
+    const cs_uint m = material(s, path);
+    add_quad(q, m, path, "rectangle");
+    const glm::vec3 first[3] = {q[0], q[1], q[2]};
+    if (!degenerate_triangle(q[0], q[1], q[2])) warn_if_emitting_away_from_camera(first, m, path);
   }
 
   void box(const json& s, const std::string& path) {
