@@ -318,14 +318,12 @@ TEST(Bsdf, SampledDirectionsFollowTheDensityChiSquare) {
       {"glass a=0.3 outside", bsdf(kDielectric, 0.3f, 0, 0, 1.5f), 30.0},
       {"glass a=0.1 normal incidence", bsdf(kDielectric, 0.1f, 0, 0, 1.5f), 0.0},
       {"glass a=0.3 inside", bsdf(kDielectric, 0.3f, 0, 0, 1.5f), 160.0},
-      // Left out, for reasons of the test rather than of the BSDF: rough
-      // glass at grazing incidence (alpha 0.6, eta 1.33, 75 degrees) has a
-      // density with a step where the refracting micro-normal reaches the
-      // horizon (about 11 degrees below it here); a cell straddling the
-      // step is mis-integrated by its fixed Gauss nodes (the failing row
-      // moves with the cell grid: p 1e-23 at 384 x 256, 0.006 at 512 x
-      // 512). At eta 1.1 the transmitted lobe is ~1.5 degrees wide, narrower
-      // than the cells. Both pass SamplingAgreesWithEvaluationAndDensity.
+      // Rough glass at grazing incidence: the density has a step where the
+      // refracting micro-normal reaches the horizon (about 11 degrees below
+      // it here), which the adaptive cell quadrature must resolve.
+      {"glass a=0.6 eta=1.33 grazing", bsdf(kDielectric, 0.6f, 0, 0, 1.33f), 75.0},
+      // A transmitted lobe ~1.5 degrees wide, narrower than a cell.
+      {"glass a=0.3 eta=1.1", bsdf(kDielectric, 0.3f, 0, 0, 1.1f), 30.0},
   };
   Runtime& rt = test::runtime();
   const uint32_t n = 1u << 22;

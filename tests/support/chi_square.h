@@ -2,7 +2,8 @@
 // densities, in the style of pbrt-v4 and Mitsuba 3 (tests/test_sampling.cpp
 // documents the method): histogram the samples over a parametrisation of the
 // sample space mapped onto the unit square, integrate the claimed density
-// over each cell by 5 x 5-point Gauss-Legendre, pool cells expecting fewer
+// over each cell by 5 x 5-point Gauss-Legendre, split adaptively where the
+// density is not smooth over the cell (steps, narrow lobes), pool cells expecting fewer
 // than 5, and take the p-value from the regularised upper incomplete gamma
 // function. Samples that a routine failed to produce are passed as points
 // outside the domain (e.g. the zero vector): they count in the total and
