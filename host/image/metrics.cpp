@@ -19,6 +19,53 @@ void check_same_size(const Img& a, const Img& b, const char* what) {
     throw Error(std::string(what) + ": pixel buffer does not match the image size");
 }
 
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// The per-value errors of the HDR metrics, each defined once here.
+struct SquaredError {
+  double operator()(double v, double r) const { return (v - r) * (v - r); }
+};
+struct RelativeSquaredError {
+  double eps;
+  double operator()(double v, double r) const { return (v - r) * (v - r) / (r * r + eps); }
+};
+struct AbsoluteError {
+  double operator()(double v, double r) const { return std::abs(v - r); }
+};
+struct IgnorePixels {
+  void operator()(size_t, double) const {}
+};
+
+// The one walk over two HDR images that every HDR metric shares: hands each
+// pixel's channel-mean error to `pixel(index, error)` and returns the mean over
+// all values. A NaN anywhere becomes +infinity (see metrics.h).
+template <typename Err, typename PixelSink>
+double walk_errors(const ImageF& a, const ImageF& ref, const char* what, Err err, PixelSink pixel) {
+  check_same_size(a, ref, what);
+  const size_t n = a.pixel_count();
+  if (n == 0) return 0.0;
+  double sum = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const float* p = &a.rgb[3 * i];
+    const float* q = &ref.rgb[3 * i];
+    const double e = err(p[0], q[0]) + err(p[1], q[1]) + err(p[2], q[2]);
+    pixel(i, std::isnan(e) ? kInfinity : e / 3.0);
+    sum += e;
+  }
+  return std::isnan(sum) ? kInfinity : sum / (3.0 * n);
+}
+
+// Calls fn with the per-value error of metric m (relMSE with the default eps).
+template <typename Fn>
+double with_metric(ErrorMetric m, Fn fn) {
+  switch (m) {
+    case ErrorMetric::Mse: return fn(SquaredError{});
+    case ErrorMetric::RelMse: return fn(RelativeSquaredError{kRelMseEpsilon});
+    case ErrorMetric::Mae: return fn(AbsoluteError{});
+  }
+  throw Error("unknown ErrorMetric value " + std::to_string(static_cast<int>(m)));
+}
+
 }  // namespace
 
 double binary_agreement(const Image8& a, const Image8& b) {
@@ -85,29 +132,55 @@ int max_abs_diff(const Image8& a, const Image8& b) {
   return m;
 }
 
-double mse(const ImageF& a, const ImageF& ref) {
-  check_same_size(a, ref, "mse");
-  if (a.rgb.empty()) return 0.0;
-  double sum = 0;
-  for (size_t i = 0; i < a.rgb.size(); ++i) {
-    const double d = double(a.rgb[i]) - double(ref.rgb[i]);
-    sum += d * d;
+const char* error_metric_name(ErrorMetric m) {
+  switch (m) {
+    case ErrorMetric::Mse: return "mse";
+    case ErrorMetric::RelMse: return "relmse";
+    case ErrorMetric::Mae: return "mae";
   }
-  // A NaN sum means a NaN pixel: report it as unbounded error so a threshold
-  // test fails instead of a NaN comparison silently passing as "not greater".
-  return std::isnan(sum) ? std::numeric_limits<double>::infinity() : sum / a.rgb.size();
+  return "?";
 }
 
+ErrorMetric parse_error_metric(const std::string& name) {
+  for (ErrorMetric m : {ErrorMetric::Mse, ErrorMetric::RelMse, ErrorMetric::Mae})
+    if (name == error_metric_name(m)) return m;
+  throw Error("unknown error metric '" + name + "' (expected relmse, mse or mae)");
+}
+
+double mse(const ImageF& a, const ImageF& ref) { return walk_errors(a, ref, "mse", SquaredError{}, IgnorePixels{}); }
+
 double rel_mse(const ImageF& a, const ImageF& ref, double eps) {
-  check_same_size(a, ref, "rel_mse");
-  if (a.rgb.empty()) return 0.0;
-  double sum = 0;
-  for (size_t i = 0; i < a.rgb.size(); ++i) {
-    const double r = ref.rgb[i];
-    const double d = double(a.rgb[i]) - r;
-    sum += d * d / (r * r + eps);
-  }
-  return std::isnan(sum) ? std::numeric_limits<double>::infinity() : sum / a.rgb.size();
+  return walk_errors(a, ref, "rel_mse", RelativeSquaredError{eps}, IgnorePixels{});
+}
+
+double mean_abs_error(const ImageF& a, const ImageF& ref) {
+  return walk_errors(a, ref, "mean_abs_error", AbsoluteError{}, IgnorePixels{});
+}
+
+double mean_error(const ImageF& a, const ImageF& ref, ErrorMetric m) {
+  return with_metric(m, [&](auto err) { return walk_errors(a, ref, error_metric_name(m), err, IgnorePixels{}); });
+}
+
+std::vector<double> per_pixel_error(const ImageF& a, const ImageF& ref, ErrorMetric m) {
+  std::vector<double> out(a.pixel_count());
+  with_metric(m, [&](auto err) {
+    return walk_errors(a, ref, error_metric_name(m), err, [&](size_t i, double e) { out[i] = e; });
+  });
+  return out;
+}
+
+double psnr_peak(const ImageF& ref) {
+  double peak = 0.0;
+  for (float v : ref.rgb)
+    if (std::isfinite(v)) peak = std::max(peak, double(v));
+  return peak > 0.0 ? peak : 1.0;
+}
+
+double psnr(const ImageF& a, const ImageF& ref) {
+  const double e = mse(a, ref);
+  if (e == 0.0) return std::numeric_limits<double>::infinity();
+  const double peak = psnr_peak(ref);
+  return 10.0 * std::log10(peak * peak / e);  // e = inf gives -inf
 }
 
 }  // namespace caustica
