@@ -1,4 +1,4 @@
-// caustica command line: render, devices, bench, generate.
+// caustica command line: render, devices, bench, generate, diff, plot.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -15,6 +15,8 @@
 #include <optional>
 
 #include "host/app/bench.h"
+#include "host/app/diff.h"
+#include "host/app/plot.h"
 #include "host/app/session.h"
 #include "host/error.h"
 #include "host/image/image_io.h"
@@ -217,11 +219,29 @@ int main(int argc, char** argv) {
   gen_cmd->add_option("--seed", seed, "random seed");
   gen_cmd->add_option("-o,--output", generate_out, "output JSON")->required();
 
+  DiffArgs diff;
+  auto* diff_cmd = app.add_subcommand("diff", "error of image A against reference B: MSE, relMSE, MAE, PSNR");
+  diff_cmd->add_option("image", diff.image_path, "image to judge (.pfm .exr linear; .png .ppm ... 8-bit)")->required();
+  diff_cmd->add_option("reference", diff.reference_path, "reference image, same size")->required();
+  diff_cmd->add_option("--heatmap", diff.heatmap_path, "also draw the per-pixel error with a colour bar (.png)");
+  diff_cmd->add_option("--metric", diff.metric, "error the heatmap shows: relmse (default), mse or mae");
+
+  std::vector<std::string> plot_reports;
+  std::string plot_out;
+  auto* plot_cmd = app.add_subcommand("plot", "draw error against render time from error reports (CSV)");
+  plot_cmd->add_option("reports", plot_reports, "error report CSV files")->required();
+  plot_cmd->add_option("-o,--output", plot_out, "output figure (.png or .svg)")->required();
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (app.got_subcommand(render_cmd)) return run_render(render);
     if (app.got_subcommand("devices")) return run_devices();
     if (app.got_subcommand(bench_cmd)) return run_bench(bench);
+    if (app.got_subcommand(diff_cmd)) return run_diff(diff);
+    if (app.got_subcommand(plot_cmd)) {
+      plot_error_reports(plot_reports, plot_out);
+      return 0;
+    }
     if (app.got_subcommand(gen_cmd)) {
       std::ofstream out(generate_out);
       if (!out) throw Error(generate_out + ": cannot open for writing");

@@ -1,0 +1,136 @@
+#include "host/app/gnuplot.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <vector>
+
+#include "host/error.h"
+
+extern char** environ;
+
+namespace caustica {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kInstallHint =
+    "gnuplot is not installed; caustica draws plots and heatmaps with it: "
+    "apt-get install gnuplot-nox (or run tools/setup.sh)";
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// gnuplot's messages can be long (a warning per plotted point); the last ones hold the error.
+std::string last_chars(std::string text, size_t max_chars) {
+  while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
+  if (text.size() > max_chars) text = "..." + text.substr(text.size() - max_chars);
+  return text;
+}
+
+}  // namespace
+
+TempDir::TempDir() {
+  std::string pattern = (fs::temp_directory_path() / "caustica-XXXXXX").string();
+  std::vector<char> buf(pattern.begin(), pattern.end());
+  buf.push_back('\0');
+  if (!mkdtemp(buf.data()))
+    throw Error("cannot create a temporary directory like '" + pattern + "': " + std::strerror(errno));
+  path_ = buf.data();
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  fs::remove_all(path_, ec);  // best effort: a destructor must not throw
+}
+
+bool gnuplot_available() {
+  const char* path = std::getenv("PATH");
+  std::string dirs = path ? path : "/usr/bin:/bin";
+  size_t start = 0;
+  while (start <= dirs.size()) {
+    const size_t end = std::min(dirs.find(':', start), dirs.size());
+    const std::string dir = end > start ? dirs.substr(start, end - start) : ".";
+    if (::access((dir + "/gnuplot").c_str(), X_OK) == 0) return true;
+    start = end + 1;
+  }
+  return false;
+}
+
+std::string gnuplot_quote(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) {
+    if (c == '\n' || c == '\r') throw Error("cannot pass a text with a line break to gnuplot: '" + text + "'");
+    out += c;
+    if (c == '\'') out += '\'';
+  }
+  return out + "'";
+}
+
+std::string gnuplot_output(const std::string& out_path, int width, int height) {
+  const std::string ext = lower_extension(out_path);
+  const std::string size = " size " + std::to_string(width) + "," + std::to_string(height);
+  std::string terminal;
+  if (ext == ".png") terminal = "set terminal pngcairo enhanced font 'sans,10'" + size;
+  else if (ext == ".svg") terminal = "set terminal svg enhanced font 'sans,10' background '#ffffff'" + size;
+  else throw Error("cannot draw '" + out_path + "': unknown extension '" + ext + "' (supported: .png, .svg)");
+  return terminal + "\nset output " + gnuplot_quote(out_path) + "\n";
+}
+
+void run_gnuplot(const std::string& script, const std::string& out_path) {
+  if (!gnuplot_available()) throw Error("cannot draw '" + out_path + "': " + kInstallHint);
+  TempDir dir;
+  const std::string script_path = dir.path() + "/plot.gp", log_path = dir.path() + "/gnuplot.log";
+  {
+    std::ofstream out(script_path, std::ios::binary);
+    out << script;
+    if (!out.flush()) throw Error("cannot write the gnuplot script '" + script_path + "'");
+  }
+  std::error_code ec;
+  fs::remove(out_path, ec);  // so a stale file is never mistaken for this run's output
+
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  std::string prog = "gnuplot";
+  std::vector<char*> argv = {prog.data(), const_cast<char*>(script_path.c_str()), nullptr};
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc == ENOENT) throw Error("cannot draw '" + out_path + "': " + kInstallHint);
+  if (rc != 0) throw Error("cannot draw '" + out_path + "': starting gnuplot failed: " + std::strerror(rc));
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) throw Error("cannot draw '" + out_path + "': waiting for gnuplot failed: " + std::strerror(errno));
+
+  const bool exited_ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  const bool wrote = fs::exists(out_path, ec) && fs::file_size(out_path, ec) > 0;
+  if (exited_ok && wrote) return;
+  fs::remove(out_path, ec);  // gnuplot opens the output before it fails: no empty file left behind
+  std::string why = WIFEXITED(status) ? "gnuplot exited with status " + std::to_string(WEXITSTATUS(status))
+                                      : "gnuplot was killed by signal " + std::to_string(WTERMSIG(status));
+  if (exited_ok) why = "gnuplot wrote nothing (is the directory there and writable?)";
+  const std::string log = last_chars(slurp(log_path), 2000);
+  throw Error("cannot draw '" + out_path + "': " + why + (log.empty() ? "" : ":\n" + log));
+}
+
+}  // namespace caustica
