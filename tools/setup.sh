@@ -7,6 +7,7 @@ packages=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers clinfo
   libglm-dev libstb-dev nlohmann-json3-dev libcli11-dev libtinyexr-dev libtinyobjloader-dev
   libgtest-dev libbenchmark-dev
+  gnuplot-nox
 )
 missing=()
 for p in "${packages[@]}"; do
