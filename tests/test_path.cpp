@@ -31,7 +31,7 @@ std::string write_scene(const std::string& name, const std::string& text) {
 }
 
 struct PathRender {
-  ImageF image, half;  // half: the odd passes' mean
+  ImageF image, half;  // half: the mean of the film's half buffer (the second half of the passes)
   RenderStats stats;
 };
 
@@ -141,7 +141,7 @@ TEST(PathTracer, LightSamplingBsdfSamplingAndMisAgree) {
     const PathRender r = render(scene, 256, strategies[k]);
     EXPECT_EQ(r.stats.film.total(), 0u);
     // The image mean (red + green) and its standard error: per pixel, the
-    // mean of all passes M and of the odd ones B differ by E[(M - B)^2] =
+    // mean of all passes M and of the second half B differ by E[(M - B)^2] =
     // Var(M) (independent halves), so SE^2 = sum (M - B)^2 / pixels^2.
     double sum = 0.0, var = 0.0;
     const size_t n = r.image.pixel_count();

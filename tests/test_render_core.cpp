@@ -160,6 +160,24 @@ FilmOptions film_options(int width, int height, float bound = 1.0f, bool half = 
   return o;
 }
 
+// The half buffer holds passes [P, N), P the largest power of two below N:
+// pass k adds k + 1 to pixel 0, so the half's mean is known exactly.
+TEST(Film, HalfBufferHoldsThePassesSinceTheLatestPowerOfTwo) {
+  FilmRig rig(film_options(2, 1, 64.0f, true));
+  for (int n = 1; n <= 19; ++n) {
+    rig.add_pass({{{float(n), 0.0f, 0.0f, 0.0f}}}, {0u});
+    rig.film.accumulate_pass(rig.launcher);
+    if (n < 2) continue;
+    int first = 1;
+    while (2 * first < n) first *= 2;
+    ASSERT_EQ(rig.film.half_passes(), n - first) << n << " passes";
+    double sum = 0.0;
+    for (int k = first + 1; k <= n; ++k) sum += k;
+    EXPECT_FLOAT_EQ(rig.film.half_mean().rgb[0], float(sum / (n - first))) << n << " passes";
+    EXPECT_FLOAT_EQ(rig.film.mean().rgb[0], float(n + 1) / 2.0f) << n << " passes";
+  }
+}
+
 TEST(Film, NonFiniteAndNegativeAreCountedAndDroppedHugeValuesClamped) {
   FilmRig rig(film_options(4, 1));
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
@@ -219,7 +237,7 @@ TEST(Film, AccumulationIsOrderIndependentAndPassesAverage) {
             rig.film.accumulate_pass(rig.launcher);
       const ImageF mean = rig.film.mean();
       EXPECT_EQ(rig.film.passes(), 3);
-      // Three equal passes: their mean, and the one odd pass alone, equal one pass's sum.
+      // Three equal passes: their mean, and the half (pass 2 alone), equal one pass's sum.
       const ImageF half = rig.film.half_mean();
       for (size_t i = 0; i < mean.rgb.size(); ++i) EXPECT_NEAR(mean.rgb[i], half.rgb[i], 1e-6f * half.rgb[i]);
       if (first.rgb.empty()) {

@@ -78,11 +78,13 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   session->settings.local_size = options.local_size;
   if (options.spp < 0) throw Error("--spp must be positive");
   const bool path = session->mode == RenderMode::Path;
-  // A time limit alone leaves the sample count open.
-  const int default_spp = options.time_limit_s > 0.0 ? std::numeric_limits<int>::max() : kDefaultPathSpp;
+  // A time limit or a target error alone leaves the sample count open.
+  const int default_spp =
+      options.time_limit_s > 0.0 || options.open_ended ? std::numeric_limits<int>::max() : kDefaultPathSpp;
   session->settings.passes = path ? (options.spp > 0 ? options.spp : default_spp) : 1;
   session->settings.time_limit_s = path ? options.time_limit_s : 0.0;
   session->settings.seed = options.seed;
+  session->settings.half_buffer = path && options.error_estimate;
   session->settings.sampler = options.independent_samples ? SAMPLER_INDEPENDENT : SAMPLER_SOBOL_BURLEY;
   t0 = std::chrono::steady_clock::now();
   session->device_scene =

@@ -38,6 +38,8 @@ struct SessionOptions {
   double time_limit_s = 0.0;    // path: stop at this wall time (with --spp: whichever first); 0: none
   uint32_t seed = 0;            // path: sample sequence seed
   bool independent_samples = false;  // path: independent uniforms instead of Sobol-Burley (comparisons)
+  bool error_estimate = true;   // path: the film keeps the odd-pass half buffer (self-estimated error)
+  bool open_ended = false;      // path: no default sample count (a target error decides), unless --spp
   // --bvh: spatial splits (SBVH) by default; "fast" for huge scenes.
   BvhBuildOptions::Quality bvh_quality = BvhBuildOptions::Quality::Spatial;
 };

@@ -83,10 +83,17 @@ ImageF Film::read_pass(size_t offset, int passes) const {
 
 ImageF Film::mean() const { return read_pass(0, passes_); }
 
+int Film::half_passes() const {
+  if (passes_ < 2) return 0;
+  int first = 1;
+  while (first <= (passes_ - 1) / 2) first *= 2;
+  return passes_ - first;
+}
+
 ImageF Film::half_mean() const {
   if (!options_.half_buffer) throw Error("film: no half buffer was asked for");
   if (passes_ < 2) throw Error("film: the half buffer needs at least two passes");
-  return read_pass(half_offset_, passes_ / 2);
+  return read_pass(half_offset_, half_passes());
 }
 
 FilmCounts Film::counts() const {

@@ -5,8 +5,9 @@
 // the scene's radiance bound, so any contribution the scene can produce fits
 // and the image keeps the full HDR range. A finished pass is added, as
 // floats, to the accumulated passes on the device (accumulate_film_pass.cl):
-// the combined sum, and, when asked for, the sum of the odd passes (the
-// independent half an error estimate compares against). Every step is
+// the combined sum, and, when asked for, the sum of the passes since the
+// latest power of two (the half an error estimate compares against; see
+// accumulate_film_pass.cl). Every step is
 // deterministic. Nothing is cleared unless asked: a chunk that is traced
 // again after a queue overflow clears only its range of the pass in
 // progress, never a finished pass. NaN/Inf, negative and clamped
@@ -31,7 +32,7 @@ struct RenderStats;
 
 struct FilmOptions {
   int width = 0, height = 0;
-  bool half_buffer = false;  // keep the odd-pass sum (error estimation)
+  bool half_buffer = false;  // keep the sum of passes [P, N) (error estimation)
   // Largest sum one pixel can receive in one pass (Integrator::pass_bound);
   // picks the fixed-point scale.
   float pass_bound = 1.0f;
@@ -52,6 +53,7 @@ class Film {
   size_t pixel_count() const { return size_t(options_.width) * size_t(options_.height); }
   const FilmParams& params() const { return params_; }
   int passes() const { return passes_; }  // accumulated so far: the sample index of the next pass
+  bool has_half_buffer() const { return options_.half_buffer; }
 
   // FILM_PARAMS of kernels/lib/film.h: the pass in progress, for stages.
   KernelArgs& bind(KernelArgs& args) const;
@@ -62,7 +64,10 @@ class Film {
   void accumulate_pass(StageLauncher& launcher, RenderStats* stats = nullptr);
 
   ImageF mean() const;       // combined sum / passes
-  ImageF half_mean() const;  // odd-pass sum / their count (needs half_buffer and >= 2 passes)
+  // The passes in the half buffer: [P, N) for N = passes() >= 2, P the
+  // largest power of two below N; their mean (needs half_buffer).
+  int half_passes() const;
+  ImageF half_mean() const;
   FilmCounts counts() const;
 
  private:

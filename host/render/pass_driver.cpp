@@ -32,7 +32,7 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
     }
     film_.accumulate_pass(launcher_, stats);
     if (stats) ++stats->passes;
-    if (pass_done) pass_done(film_, seconds());
+    if (pass_done && !pass_done(film_, seconds())) break;
     if (stop.seconds > 0.0 && seconds() >= stop.seconds) break;
   }
 }

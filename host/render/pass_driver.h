@@ -5,8 +5,8 @@
 // overflowed is cleared from the pass in progress, and only from it, then
 // traced again in halves, so a finished pass is never lost or counted twice.
 // After each pass the film accumulates it; progress is reported after every
-// chunk; the driver stops after the requested passes (later: a time limit
-// or a target error).
+// chunk; the driver stops after the requested passes, at the time limit, or
+// when the pass-done callback says so (a target error), whichever first.
 #pragma once
 
 #include <functional>
@@ -26,8 +26,9 @@ struct PassProgress {
   const RenderStats* stats = nullptr;
 };
 using ProgressCallback = std::function<void(const PassProgress&)>;
-// After each accumulated pass (the film holds `passes` of them).
-using PassDoneCallback = std::function<void(const Film& film, double seconds)>;
+// After each accumulated pass (the film holds film.passes() of them).
+// Returns false to end the render there (a target error reached).
+using PassDoneCallback = std::function<bool(const Film& film, double seconds)>;
 
 // The driver stops at whichever comes first.
 struct StopConditions {

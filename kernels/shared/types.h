@@ -285,7 +285,7 @@ typedef struct {
 #define FILM_PASS_ABSENT 0xFFFFFFFFu
 typedef struct {
   cs_uint value_count; /* pixels * 3 */
-  cs_uint half_offset; /* float offset of the odd-pass sum, or FILM_PASS_ABSENT */
+  cs_uint half_offset; /* float offset of the sum of passes [P, N), or FILM_PASS_ABSENT */
   cs_uint pass_index;  /* 0-based index of the pass being added */
   float inv_scale;     /* 1 / FilmParams.scale */
 } FilmAccumulate; /* 16 bytes */

@@ -1,0 +1,87 @@
+#include "host/app/error_monitor.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "host/app/plot.h"
+#include "host/image/metrics.h"
+#include "host/render/error_estimate.h"
+#include "host/render/film.h"
+
+namespace caustica {
+
+ErrorMonitor::ErrorMonitor(ErrorMonitorOptions options) : options_(std::move(options)) {
+  report_.header = options_.header;
+}
+
+bool ErrorMonitor::on_pass(const Film& film, double seconds) {
+  const int passes = film.passes();
+  const bool geometric = passes >= next_power_;
+  const bool target_check = next_target_check_ > 0 && passes >= next_target_check_;
+  if (!geometric && !target_check) return true;
+  while (next_power_ <= passes) next_power_ = next_power_ > std::numeric_limits<int>::max() / 2 ? passes + 1 : 2 * next_power_;
+  measure(film, seconds);
+  if (options_.target_error <= 0.0 || !estimate_) return true;
+  if (*estimate_ <= options_.target_error) return false;
+  // Error falls as 1 / passes: the pass where the target is projected, at
+  // least the next one. The geometric schedule bounds the jump.
+  const double projected = std::ceil(passes * (*estimate_ / options_.target_error));
+  next_target_check_ = int(std::clamp(projected, double(passes + 1), double(next_power_)));
+  return true;
+}
+
+void ErrorMonitor::finish(const Film& film, double seconds) {
+  if (film.passes() > 0 && film.passes() != measured_passes_) measure(film, seconds);
+  if (!options_.report_path.empty()) write_report();  // with the last measurement's cost
+  if (!options_.plot_path.empty()) {
+    if (options_.report_path.empty()) throw Error("--plot needs --report (the plot is drawn from the report)");
+    plot_error_reports({options_.report_path}, options_.plot_path);
+  }
+}
+
+std::optional<double> ErrorMonitor::seconds_to_target(double now) const {
+  if (options_.target_error <= 0.0 || !estimate_ || measured_passes_ == 0) return std::nullopt;
+  if (*estimate_ <= options_.target_error) return 0.0;
+  const double seconds_per_pass = measured_seconds_ / measured_passes_;
+  const double passes_needed = measured_passes_ * (*estimate_ / options_.target_error);
+  return std::max(0.0, passes_needed * seconds_per_pass - now);
+}
+
+void ErrorMonitor::measure(const Film& film, double seconds) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const int passes = film.passes();
+  ErrorReportRow row;
+  row.seconds = std::max(seconds, report_.rows.empty() ? 0.0 : report_.rows.back().seconds);
+  row.spp = passes;
+  ImageF mean = film.mean();
+  if (film.has_half_buffer() && passes >= 2) {
+    estimate_ = estimated_rel_mse(mean, film.half_mean(), passes, film.half_passes());
+    row.est_relmse = estimate_;
+  }
+  if (options_.reference) {
+    for (float& v : mean.rgb) v *= options_.exposure_scale;
+    row.mse = caustica::mse(mean, *options_.reference);
+    row.relmse = rel_mse(mean, *options_.reference);
+    row.mae = mean_abs_error(mean, *options_.reference);
+    true_rel_mse_ = row.relmse;
+  }
+  report_.rows.push_back(row);
+  measured_passes_ = passes;
+  measured_seconds_ = seconds;
+  if (!options_.report_path.empty()) write_report();
+  measurement_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void ErrorMonitor::write_report() const {
+  ErrorReport out = report_;
+  char value[64];
+  std::snprintf(value, sizeof value, "%.4f (%zu measurements, included in the rows' seconds)", measurement_s_,
+                report_.rows.size());
+  out.header.emplace_back("measurement_s", value);
+  write_error_report(options_.report_path, out);
+}
+
+}  // namespace caustica

@@ -1,0 +1,73 @@
+// Error against run time, measured while a render runs.
+//
+// Rules: measurements are taken after passes 1, 2, 4, 8, ... (so a log-log
+// plot is evenly filled and the cost stays logarithmic in the sample count)
+// and after the last pass. Each one reads the film back once (mean, and the
+// odd-pass half when the film keeps it) and records the film's own relMSE
+// estimate (host/render/error_estimate.h) and, given a reference, the true
+// MSE, relMSE and MAE of the image as it would be written (linear, times the
+// exposure scale, which is what .pfm/.exr outputs and references hold).
+// With a target error, the next measurement is also placed where the
+// estimate, falling as 1 / passes, is projected to reach the target, so the
+// render stops at or just below it rather than at the next power of two.
+// The report file is rewritten after every measurement (a stopped render
+// keeps its rows); its header carries the build times and the time spent
+// measuring, which the rows' wall seconds include.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "host/app/error_report.h"
+#include "host/image/image.h"
+
+namespace caustica {
+
+class Film;
+
+struct ErrorMonitorOptions {
+  std::string report_path;           // --report: "" none
+  std::string plot_path;             // --plot: drawn from the report at the end; "" none
+  std::optional<ImageF> reference;   // --reference, already checked against the image size
+  double target_error = 0.0;         // --target-error (estimated relMSE); 0: none
+  float exposure_scale = 1.0f;       // what HDR outputs are multiplied by
+  std::vector<std::pair<std::string, std::string>> header;  // report header lines (scene, mode, builds)
+};
+
+class ErrorMonitor {
+ public:
+  explicit ErrorMonitor(ErrorMonitorOptions options);
+
+  // After every pass (the film holds film.passes()); `seconds` since the
+  // first sample. False: the target error is reached, stop.
+  bool on_pass(const Film& film, double seconds);
+  // After the last pass: measures it unless just done, writes the report and
+  // the plot.
+  void finish(const Film& film, double seconds);
+
+  const std::optional<double>& estimate() const { return estimate_; }  // latest estimated relMSE
+  const std::optional<double>& true_rel_mse() const { return true_rel_mse_; }
+  // Seconds from `now` until the estimate is projected to reach the target
+  // (error proportional to 1 / time); nullopt without a target or an estimate.
+  std::optional<double> seconds_to_target(double now) const;
+  double measurement_seconds() const { return measurement_s_; }
+  int measurements() const { return int(report_.rows.size()); }
+  const ErrorReport& report() const { return report_; }
+
+ private:
+  void measure(const Film& film, double seconds);
+  void write_report() const;
+
+  ErrorMonitorOptions options_;
+  ErrorReport report_;
+  std::optional<double> estimate_, true_rel_mse_;
+  int next_power_ = 1;          // the next geometric measurement (passes)
+  int next_target_check_ = 0;   // the pass where the target is projected; 0: none
+  int measured_passes_ = 0;     // passes at the latest measurement
+  double measured_seconds_ = 0.0;
+  double measurement_s_ = 0.0;
+};
+
+}  // namespace caustica

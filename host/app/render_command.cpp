@@ -1,0 +1,258 @@
+#include "host/app/render_command.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+
+#include "host/app/error_monitor.h"
+#include "host/error.h"
+#include "host/image/image_io.h"
+#include "host/image/tonemap.h"
+
+namespace caustica {
+namespace {
+
+std::string format_error(double e) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", e);
+  return b;
+}
+
+std::string format_seconds(double s) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f s", s);
+  return b;
+}
+
+// Progress on stderr: a rewritten line on a terminal, one line a second
+// otherwise; silent for renders that finish within a second.
+class ProgressReporter {
+ public:
+  explicit ProgressReporter(bool enabled) : enabled_(enabled), tty_(isatty(2)) {}
+  void update(const PassProgress& p) {
+    if (!enabled_) return;
+    const double s = seconds();
+    const double samples = double(p.pixels_total) * p.pass + double(p.pixels_done);  // pixel samples done
+    const bool open_ended = p.passes == std::numeric_limits<int>::max();
+    const double total = double(p.pixels_total) * p.passes;
+    const uint64_t rays = p.stats ? p.stats->rays() : 0;
+    if (s < 1.0 || (!tty_ && s - last_ < 1.0 && samples < total)) return;
+    last_ = s;
+    // Time left: to the sample target at the current rate, or to the time
+    // limit, or to the target error as projected, whichever comes first.
+    double left = samples > 0 && !open_ended ? s * (total - samples) / samples : 1e300;
+    if (p.time_limit_s > 0.0) left = std::min(left, std::max(0.0, p.time_limit_s - p.seconds));
+    std::optional<double> to_target = monitor_ ? monitor_->seconds_to_target(p.seconds) : std::nullopt;
+    if (to_target) left = std::min(left, *to_target);
+    char target[32];
+    if (open_ended) std::snprintf(target, sizeof target, "%s", "-");
+    else std::snprintf(target, sizeof target, "%d", p.passes);
+    std::string error;
+    if (monitor_ && monitor_->estimate()) {
+      error = ", relMSE ~" + format_error(*monitor_->estimate());
+      if (to_target) error += " (target in " + format_seconds(*to_target) + ")";
+    }
+    std::fprintf(stderr, "%s[caustica] %.2f/%s spp, %.3g samples/s, %.2f Mrays/s%s, %.1f s elapsed, %s left%s",
+                 tty_ ? "\r" : "", samples / double(p.pixels_total), target, samples / s, rays / s * 1e-6,
+                 error.c_str(), s, left < 1e299 ? format_seconds(left).c_str() : "?", tty_ ? "\x1b[K" : "\n");
+    printed_ = true;
+  }
+  void finish() {
+    if (printed_ && tty_) std::fprintf(stderr, "\n");
+  }
+  void set_error_monitor(const ErrorMonitor* monitor) { monitor_ = monitor; }
+
+ private:
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  bool enabled_, tty_, printed_ = false;
+  double last_ = 0.0;
+  const ErrorMonitor* monitor_ = nullptr;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+// The report's header: what was rendered, where, and what it cost before
+// the first sample (the rows' seconds start at the first sample).
+std::vector<std::pair<std::string, std::string>> report_header(const Session& session, const RenderArgs& a) {
+  char buf[128];
+  std::vector<std::pair<std::string, std::string>> h;
+  h.emplace_back("scene", session.scene.source_path);
+  std::snprintf(buf, sizeof buf, "%s %dx%d %s seed %u", render_mode_name(session.mode), session.settings.width,
+                session.settings.height,
+                session.settings.sampler == SAMPLER_INDEPENDENT ? "independent" : "sobol", session.settings.seed);
+  h.emplace_back("mode", buf);
+  h.emplace_back("device", session.runtime->device_info().name + " (" +
+                               session.runtime->device_info().platform_name + ")");
+  std::snprintf(buf, sizeof buf, "%.3f (%s)", session.program.build_ms / 1e3,
+                session.program.from_cache ? "cached" : "cold");
+  h.emplace_back("kernel_build_s", buf);
+  std::snprintf(buf, sizeof buf, "%.3f", session.bvh.build_ms / 1e3);
+  h.emplace_back("bvh_build_s", buf);
+  if (!a.reference.empty()) h.emplace_back("reference", a.reference);
+  return h;
+}
+
+}  // namespace
+
+CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
+  CLI::App* render_cmd = app.add_subcommand("render", "render a scene to an image (.ppm .png .pfm .exr)");
+  render_cmd->add_option("scene", a.session.scene_path, "scene JSON file")->required();
+  render_cmd->add_option("-o,--output", a.output, "output image; the extension picks the format");
+  render_cmd->add_option("--mode", a.mode, "binary | phong | path (default: the scene's rendermode)");
+  render_cmd->add_option("--width", a.session.width, "image width (keeps the camera's aspect unless --height)");
+  render_cmd->add_option("--height", a.session.height, "image height");
+  render_cmd->add_option("--tonemap", a.tonemap, "linear | reinhard | aces (default linear; aces in path mode)");
+  render_cmd->add_option("--exposure", a.exposure, "exposure in stops (default: the camera's \"exposure\")");
+  render_cmd->add_option("--gamma", a.gamma,
+                         "display gamma of 8-bit outputs (default 1.22 as the coursework handout; 2.2 in path mode)");
+  render_cmd->add_option("--device", a.session.device,
+                         "OpenCL device: index, name substring, cpu or gpu (env CAUSTICA_DEVICE)");
+  render_cmd->add_flag("--no-cache", [&a](int64_t) { a.session.use_kernel_cache = false; },
+                       "rebuild kernels instead of loading cached binaries");
+  render_cmd->add_option_function<std::string>(
+      "--bvh", [&a](const std::string& q) { a.session.bvh_quality = parse_bvh_quality(q); },
+      "BVH build: spatial (SBVH, default), sah, or fast for huge scenes");
+  render_cmd->add_flag("--strict", a.session.strict, "unknown scene keys are errors, not warnings");
+  render_cmd->add_option("--spp", a.session.spp, "path: samples per pixel (default 64)")->check(CLI::PositiveNumber);
+  render_cmd->add_option("--seed", a.session.seed, "path: seed of the sample sequences (default 0)");
+  render_cmd->add_option("--time", a.session.time_limit_s,
+                         "path: stop after the pass that reaches SECONDS (with --spp: whichever comes first)")
+      ->check(CLI::PositiveNumber);
+  render_cmd->add_option("--write-every", a.write_every_s, "path: also write the image every SECONDS")
+      ->check(CLI::PositiveNumber);
+  render_cmd->add_option_function<std::string>(
+      "--sampler",
+      [&a](const std::string& s) {
+        if (s != "sobol" && s != "independent") throw CLI::ValidationError("--sampler", "expected sobol or independent");
+        a.session.independent_samples = s == "independent";
+      },
+      "path: sobol (Owen-scrambled Sobol-Burley, default) or independent");
+  render_cmd->add_flag("-v,--verbose", a.verbose, "print features, build, BVH and render times");
+  render_cmd->add_flag("-q,--quiet", a.quiet, "print nothing but errors");
+  render_cmd->add_option("--report", a.report,
+                         "write error against run time (CSV: seconds, spp, estimated and true error) to FILE");
+  render_cmd->add_option("--reference", a.reference,
+                         "linear reference image (.pfm/.exr, same size): measure true MSE, relMSE, MAE while rendering");
+  render_cmd->add_option("--plot", a.plot, "draw the --report as error against time (.png/.svg, through gnuplot)");
+  render_cmd->add_option("--target-error", a.target_error,
+                         "path: stop when the estimated relMSE reaches E (with --time/--spp: whichever first)")
+      ->check(CLI::PositiveNumber);
+  render_cmd->add_flag("--no-error-estimate", a.no_error_estimate,
+                       "path: leave out the film's half buffer (no self-estimated error)");
+  return render_cmd;
+}
+
+int run_render(RenderArgs& a) {
+  a.session.mode = parse_render_mode(a.mode);
+  if (a.output.empty()) a.output = std::filesystem::path(a.session.scene_path).stem().string() + ".png";
+  if (!a.plot.empty() && a.report.empty()) throw Error("--plot " + a.plot + ": needs --report (the plot is drawn from it)");
+  if (a.target_error > 0.0 && a.no_error_estimate)
+    throw Error("--target-error needs the error estimate that --no-error-estimate leaves out");
+  // A bad reference fails before anything is built or rendered.
+  std::optional<ImageF> reference;
+  if (!a.reference.empty()) {
+    if (!is_hdr_path(a.reference))
+      throw Error("--reference " + a.reference + ": expected a linear .pfm or .exr image");
+    try {
+      reference = read_hdr_image(a.reference);
+    } catch (const Error& e) {
+      throw Error("--reference: " + std::string(e.what()));
+    }
+  }
+  a.session.error_estimate = !a.no_error_estimate;
+  a.session.open_ended = a.target_error > 0.0;
+  const auto session = prepare_session(a.session);
+  if (reference && (reference->width != session->settings.width || reference->height != session->settings.height))
+    throw Error("--reference " + a.reference + ": the reference is " + std::to_string(reference->width) + "x" +
+                std::to_string(reference->height) + " but the render is " + std::to_string(session->settings.width) +
+                "x" + std::to_string(session->settings.height) + " (set --width/--height to match)");
+  if (a.target_error > 0.0 && session->mode != RenderMode::Path)
+    throw Error("--target-error: only path mode is stochastic; binary and phong images are exact after one pass");
+  const Scene& scene = session->scene;
+  if (a.verbose) {
+    std::fprintf(stderr, "[caustica] scene %s: %zu spheres, %zu cylinders, %zu triangles, %zu lights, %zu materials (load %.1f ms)\n",
+                 scene.source_path.c_str(), scene.spheres.size(), scene.cylinders.size(), scene.triangles.size(),
+                 scene.light_count(), scene.materials.size(), session->load_ms);
+    for (const auto& m : scene.meshes)
+      std::fprintf(stderr, "[caustica] mesh %s: %zu triangles (%zu degenerate dropped), loaded in %.1f ms\n",
+                   m.file.c_str(), m.triangles, m.dropped_degenerate, m.load_ms);
+    std::fprintf(stderr, "[caustica] features: %s\n[caustica] kernel options:%s\n", session->features.describe().c_str(),
+                 session->features.build_options().c_str());
+    std::fprintf(stderr, "[caustica] device: %s (%s)\n", session->runtime->device_info().name.c_str(),
+                 session->runtime->device_info().platform_name.c_str());
+    std::fprintf(stderr, "[caustica] kernel build: %.1f ms (%s)\n", session->program.build_ms,
+                 session->program.from_cache ? "cached" : "cold");
+    std::fprintf(stderr, "[caustica] BVH build: %.2f ms, %zu nodes, SAH cost %.2f, depth %d\n", session->bvh.build_ms,
+                 session->bvh.nodes.size(), session->bvh.sah_cost, session->bvh.max_depth);
+  }
+  RenderStats stats;
+  ProgressReporter progress(!a.quiet);
+  DisplaySettings display;
+  display.tonemap = parse_tonemap(!a.tonemap.empty() ? a.tonemap
+                                                     : session->mode == RenderMode::Path ? "aces" : "linear");
+  display.exposure_scale = std::exp2(a.exposure ? *a.exposure : scene.camera.exposure);
+  display.gamma = a.gamma ? *a.gamma : session->mode == RenderMode::Path ? kPathDisplayGamma : kCourseworkDisplayGamma;
+  ErrorMonitorOptions error_options;
+  error_options.report_path = a.report;
+  error_options.plot_path = a.plot;
+  error_options.reference = std::move(reference);
+  error_options.target_error = a.target_error;
+  error_options.exposure_scale = display.exposure_scale;
+  error_options.header = report_header(*session, a);
+  ErrorMonitor monitor(std::move(error_options));
+  progress.set_error_monitor(&monitor);
+  double last_write = 0.0, render_seconds = 0.0;
+  const ImageF image = session->renderer->render(
+      &stats, [&](const PassProgress& p) { progress.update(p); },
+      [&](const Film& film, double seconds) {
+        render_seconds = seconds;
+        const bool go_on = monitor.on_pass(film, seconds);
+        if (a.write_every_s > 0.0 && seconds - last_write >= a.write_every_s) {
+          last_write = seconds;
+          write_image(a.output, film.mean(), display);
+        }
+        return go_on;
+      });
+  progress.finish();
+  write_image(a.output, image, display);
+  monitor.finish(session->renderer->film(), render_seconds);
+  if (a.verbose) {
+    const uint64_t rays = stats.camera_rays + stats.secondary_rays + stats.shadow_rays;
+    std::fprintf(stderr, "[caustica] render: %.1f ms, %dx%d, %llu camera + %llu secondary + %llu shadow rays (%.2f Mrays/s)%s\n",
+                 stats.render_ms, image.width, image.height, (unsigned long long)stats.camera_rays,
+                 (unsigned long long)stats.secondary_rays, (unsigned long long)stats.shadow_rays,
+                 rays / (stats.render_ms * 1e3), stats.chunk_retries ? " (queue overflow: chunks split)" : "");
+    std::fprintf(stderr, "[caustica] host traffic: %llu kernel launches, %llu blocking transfers; film scale 2^%d\n",
+                 (unsigned long long)stats.launches, (unsigned long long)stats.blocking_transfers,
+                 int(std::log2(session->renderer->film().params().scale)));
+    std::fprintf(stderr, "[caustica] film: %d passes; dropped %llu NaN/Inf and %llu negative contributions, clamped %llu\n",
+                 stats.passes, (unsigned long long)stats.film.nonfinite, (unsigned long long)stats.film.negative,
+                 (unsigned long long)stats.film.clamped);
+  }
+  // Dropped or clamped contributions are never silent.
+  if (stats.film.total() > 0 && !a.verbose && !a.quiet)
+    std::fprintf(stderr, "[caustica] warning: film dropped %llu NaN/Inf and %llu negative contributions, clamped %llu\n",
+                 (unsigned long long)stats.film.nonfinite, (unsigned long long)stats.film.negative,
+                 (unsigned long long)stats.film.clamped);
+  if (!a.quiet) {
+    std::string accuracy;
+    if (monitor.estimate()) accuracy += ", estimated relMSE " + format_error(*monitor.estimate());
+    if (monitor.true_rel_mse()) accuracy += ", relMSE against the reference " + format_error(*monitor.true_rel_mse());
+    std::fprintf(stderr, "[caustica] wrote %s (%dx%d, %d spp) in %.2f s%s\n", a.output.c_str(), image.width,
+                 image.height, stats.passes, stats.render_ms / 1e3, accuracy.c_str());
+    if (!a.report.empty())
+      std::fprintf(stderr, "[caustica] wrote %s (%d measurements, %.1f ms measuring = %.2f%% of the render)%s%s\n",
+                   a.report.c_str(), monitor.measurements(), monitor.measurement_seconds() * 1e3,
+                   100.0 * monitor.measurement_seconds() / std::max(1e-9, stats.render_ms / 1e3),
+                   a.plot.empty() ? "" : " and ", a.plot.c_str());
+  }
+  return 0;
+}
+
+}  // namespace caustica

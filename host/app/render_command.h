@@ -1,0 +1,32 @@
+// `caustica render`: options, the render itself, progress on stderr, the
+// image written at the end (and while rendering with --write-every), and the
+// error against run time (--report, --reference, --plot, --target-error;
+// host/app/error_monitor.h).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+
+#include "host/app/session.h"
+
+namespace caustica {
+
+struct RenderArgs {
+  SessionOptions session;
+  std::string mode, output, tonemap;  // tonemap default: linear, or aces in path mode
+  std::optional<float> exposure;
+  std::optional<float> gamma;  // default: kCourseworkDisplayGamma, or kPathDisplayGamma in path mode
+  bool verbose = false, quiet = false;
+  double write_every_s = 0.0;  // path: also write the image while rendering
+  std::string report, reference, plot;
+  double target_error = 0.0;
+  bool no_error_estimate = false;
+};
+
+// The `render` subcommand's options, bound to `args`.
+CLI::App* add_render_command(CLI::App& app, RenderArgs& args);
+int run_render(RenderArgs& args);
+
+}  // namespace caustica
