@@ -25,6 +25,7 @@
 #include "host/render/lights.h"
 #include "host/render/renderer.h"
 #include "host/scene/load_scene.h"
+#include "kernels/shared/photon.h"
 #include "kernels/shared/records.h"
 #include "tests/support/test_support.h"
 
@@ -57,7 +58,10 @@ namespace {
   X(sizeof(Triangle)) X(sizeof(TriangleShading)) X(__builtin_offsetof(TriangleShading, u2))               \
   X(sizeof(Texture)) X(__builtin_offsetof(Texture, scale)) X(sizeof(BvhNode8))                             \
   X(__builtin_offsetof(BvhNode8, child)) X(__builtin_offsetof(BvhNode8, height)) X(sizeof(TriangleBlock4)) \
-  X(__builtin_offsetof(TriangleBlock4, ref))
+  X(__builtin_offsetof(TriangleBlock4, ref)) X(sizeof(Photon)) X(__builtin_offsetof(Photon, wi))               \
+  X(__builtin_offsetof(Photon, power)) X(sizeof(PhotonGridParams))                                           \
+  X(__builtin_offsetof(PhotonGridParams, cell_size)) X(__builtin_offsetof(PhotonGridParams, table_size))     \
+  X(__builtin_offsetof(PhotonGridParams, photon_count))
 
 #define CAUSTICA_STR(...) #__VA_ARGS__
 #define CAUSTICA_XSTR(...) CAUSTICA_STR(__VA_ARGS__)
@@ -66,7 +70,7 @@ namespace {
 
 TEST(RecordLayout, DeviceAgreesWithHost) {
   const std::vector<uint32_t> host = {LAYOUT_EXPRESSIONS(HOST_VALUE)};
-  const std::string source = std::string("#include \"shared/records.h\"\n") +
+  const std::string source = std::string("#include \"shared/records.h\"\n#include \"shared/photon.h\"\n") +
                              "__kernel void layout(__global uint* out) { uint n = 0; " +
                              CAUSTICA_XSTR(LAYOUT_EXPRESSIONS(DEVICE_VALUE)) + " }\n";
   Runtime& rt = test::runtime();

@@ -1,8 +1,9 @@
-// The device layout of kernels/shared/types.h must be the same in C++ and
+// The device layout of kernels/shared/types.h (and photon.h) must be the same in C++ and
 // OpenCL C: fixed sizes, 16-byte float4 alignment, explicit padding. These
 // asserts catch a field added on one side only, or a padding slip.
 #include <cstddef>
 
+#include "kernels/shared/photon.h"
 #include "kernels/shared/records.h"
 #include "kernels/shared/types.h"
 
@@ -51,3 +52,8 @@ static_assert(sizeof(PathRecord) == 64 && offsetof(PathRecord, throughput) == 32
 static_assert(sizeof(ShadowRecord) == 64 && offsetof(ShadowRecord, contribution) == 32 &&
                   offsetof(ShadowRecord, pixel) == 48,
               "ShadowRecord layout");
+static_assert(sizeof(Photon) == 48 && offsetof(Photon, wi) == 16 && offsetof(Photon, power) == 32, "Photon layout");
+static_assert(sizeof(PhotonGridParams) == 32 && offsetof(PhotonGridParams, cell_size) == 16 &&
+                  offsetof(PhotonGridParams, inv_cell_size) == 20 && offsetof(PhotonGridParams, table_size) == 24 &&
+                  offsetof(PhotonGridParams, photon_count) == 28,
+              "PhotonGridParams layout");
