@@ -350,12 +350,45 @@ TEST(PhotonGrid, RebuildsWithFewerAndMorePhotonsAndFromADeviceCounter) {
   expect_queries_match(rig, many, queries, "from counter");
 }
 
+TEST(PhotonGrid, SortPutsEveryBucketInIndexOrder) {
+  // sort_bucket_photons alone, on buckets of 0 to 3000 indices in scrambled
+  // order (the build's atomics scramble them only when threads race):
+  // insertion sort up to 16, heap sort above.
+  Runtime& rt = test::runtime();
+  const BuiltProgram built = rt.build_file("photon_pass.cl", "");
+  StageKernel sort(built.program, "sort_bucket_photons");
+  std::mt19937 rng(12);
+  const std::vector<uint32_t> sizes = {0, 1, 2, 3, 15, 16, 17, 18, 100, 1000, 3000, 0, 5};
+  std::vector<uint32_t> start = {0}, index;
+  for (uint32_t n : sizes) {
+    std::vector<uint32_t> bucket(n);
+    for (uint32_t& v : bucket) v = rng();
+    index.insert(index.end(), bucket.begin(), bucket.end());
+    start.push_back(uint32_t(index.size()));
+  }
+  while (start.size() < 17) start.push_back(start.back());  // table_size 16
+  PhotonGridParams grid{};
+  grid.table_size = 16;
+  grid.photon_count = cl_uint(index.size());
+  const cl::Buffer starts = upload_buffer(rt.context(), start);
+  cl::Buffer indices(rt.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, index.size() * sizeof(cl_uint),
+                     index.data());
+  KernelArgs(sort).arg("grid", grid).arg("bucket_start", starts).arg("photon_index", indices).finish();
+  StageLauncher(rt, 4).launch(sort, 16, nullptr);
+  std::vector<uint32_t> got(index.size());
+  rt.queue().enqueueReadBuffer(indices, CL_TRUE, 0, got.size() * sizeof(cl_uint), got.data());
+  for (size_t b = 0; b < 16; ++b) std::sort(index.begin() + start[b], index.begin() + start[b + 1]);
+  EXPECT_EQ(got, index);
+}
+
 // ------------------------------------------------------------------ determinism
 
 // Clustered photons, so that buckets hold many and the atomics' arrival
-// order has something to scramble.
+// order has something to scramble; enough of them that PoCL's threads run
+// at the same time (with a few thousand, one thread often takes every
+// work-group in order, and a build without the sort would pass by luck).
 std::vector<Photon> clustered_photons() {
-  std::vector<Photon> photons = random_photons(30000, 0.0f, 1.0f, 8);
+  std::vector<Photon> photons = random_photons(400000, 0.0f, 1.0f, 8);
   std::mt19937 rng(9);
   std::normal_distribution<float> n(0.5f, 0.01f);
   for (size_t i = 0; i < photons.size(); i += 2) photons[i] = photon_at(n(rng), n(rng), n(rng));
@@ -371,9 +404,9 @@ struct GridBits {
 GridBits grid_bits(size_t local) {
   GridRig rig;
   const std::vector<Photon> photons = clustered_photons();
-  rig.build(photons, shape(0.0f, 0.05f, 1u << 12), local);
+  rig.build(photons, shape(0.0f, 0.05f, 1u << 16), local);
   GridBits bits;
-  bits.start = rig.read<uint32_t>(rig.grid.bucket_start(), (1u << 12) + 1);
+  bits.start = rig.read<uint32_t>(rig.grid.bucket_start(), (1u << 16) + 1);
   bits.index = rig.read<uint32_t>(rig.grid.photon_index(), photons.size());
   bits.photons = rig.read<Photon>(rig.grid.photons(), photons.size());
   bits.queries = rig.run_queries(random_queries(2000, 0.4f, 0.6f, {0.02f, 0.05f, 0.1f}, 10), local);
