@@ -134,7 +134,11 @@ void PhotonGrid::build(StageLauncher& launcher, const cl::Buffer& photons, size_
       .finish();
   launcher.launch(*scatter_, photon_count, stats);
   if (photon_count > 1) {
-    KernelArgs(*sort_).arg("grid", params_).arg("bucket_start", bucket_start_).arg("photon_index", photon_index_).finish();
+    KernelArgs(*sort_)
+        .arg("grid", params_)
+        .arg("bucket_start", bucket_start_)
+        .arg("photon_index", photon_index_)
+        .finish();
     launcher.launch(*sort_, table_size, stats);
   }
   KernelArgs(*copy_)
