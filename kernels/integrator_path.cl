@@ -1,10 +1,20 @@
 #line 2 "kernels/integrator_path.cl"
 /* The path tracer's program: generate_camera_samples ->
  * { intersect_closest -> shade_surface_path -> intersect_shadow }* and the
- * film's pass accumulation (host/render/integrator_path.cpp drives it). */
+ * film's pass accumulation (host/render/integrator_path.cpp drives it);
+ * with -DPATH_WITH_CAUSTICS=1 also the photon pass (host/render/
+ * photon_pass.cpp): emit_photons -> { intersect_closest -> bounce_photons }*
+ * -> compact_photons -> the grid's build -> gather_photons. */
 
 #include "integrator/generate_camera_samples.cl"
 #include "integrator/intersect_closest.cl"
 #include "integrator/shade_surface_path.cl"
 #include "integrator/intersect_shadow.cl"
 #include "film/accumulate_film_pass.cl"
+#if PATH_WITH_CAUSTICS
+#include "photon/emit_photons.cl"
+#include "photon/bounce_photons.cl"
+#include "photon/compact_photons.cl"
+#include "photon_grid.cl"
+#include "photon/gather_photons.cl"
+#endif

@@ -34,7 +34,7 @@ namespace {
 // the photons found, two lanes of an order-independent checksum of their
 // indices, and an order-dependent hash of the sequence (bucket order).
 const char* kQueryKernel = R"CL(
-#include "photon_pass.cl"
+#include "photon_grid.cl"
 __kernel void query_photons(PHOTON_GRID_PARAMS, __global const uint* restrict grid_photon_index,
                             __global const float4* restrict queries, uint query_count,
                             __global uint4* restrict results) {
@@ -220,7 +220,7 @@ PhotonGridShape shape(float origin, float cell_size, uint32_t table_size = 0) {
 
 TEST(ExclusiveScan, MatchesAHostScanForAnyLengthAndWorkGroupSize) {
   Runtime& rt = test::runtime();
-  const BuiltProgram built = rt.build_file("photon_pass.cl", "");
+  const BuiltProgram built = rt.build_file("photon_grid.cl", "");
   ExclusiveScan scan(built.program);
   std::mt19937 rng(3);
   for (size_t count : {size_t(1), size_t(7), size_t(256), size_t(257), size_t(1000), size_t(65537),
@@ -355,7 +355,7 @@ TEST(PhotonGrid, SortPutsEveryBucketInIndexOrder) {
   // order (the build's atomics scramble them only when threads race):
   // insertion sort up to 16, heap sort above.
   Runtime& rt = test::runtime();
-  const BuiltProgram built = rt.build_file("photon_pass.cl", "");
+  const BuiltProgram built = rt.build_file("photon_grid.cl", "");
   StageKernel sort(built.program, "sort_bucket_photons");
   std::mt19937 rng(12);
   const std::vector<uint32_t> sizes = {0, 1, 2, 3, 15, 16, 17, 18, 100, 1000, 3000, 0, 5};

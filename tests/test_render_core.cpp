@@ -61,7 +61,9 @@ namespace {
   X(__builtin_offsetof(TriangleBlock4, ref)) X(sizeof(Photon)) X(__builtin_offsetof(Photon, wi))               \
   X(__builtin_offsetof(Photon, power)) X(sizeof(PhotonGridParams))                                           \
   X(__builtin_offsetof(PhotonGridParams, cell_size)) X(__builtin_offsetof(PhotonGridParams, table_size))     \
-  X(__builtin_offsetof(PhotonGridParams, photon_count))
+  X(__builtin_offsetof(PhotonGridParams, photon_count)) X(sizeof(PhotonPassParams))                            \
+  X(__builtin_offsetof(PhotonPassParams, alpha)) X(sizeof(VisiblePoint)) X(__builtin_offsetof(VisiblePoint, beta)) \
+  X(__builtin_offsetof(VisiblePoint, kind)) X(sizeof(SppmPixel)) X(__builtin_offsetof(SppmPixel, radius2))
 
 #define CAUSTICA_STR(...) #__VA_ARGS__
 #define CAUSTICA_XSTR(...) CAUSTICA_STR(__VA_ARGS__)

@@ -143,6 +143,14 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option("--target-error", a.target_error,
                          "path: stop when the estimated relMSE reaches E (with --time/--spp: whichever first)")
       ->check(CLI::PositiveNumber);
+  render_cmd->add_option_function<std::string>(
+      "--caustics", [&a](const std::string& m) { a.session.caustics = parse_caustics_mode(m); },
+      "path: photon-mapped caustics: auto (default: when the scene has smooth metal or glass), on, off");
+  render_cmd->add_option("--photons", a.session.photons, "path: photons emitted per pass (default 262144)")
+      ->check(CLI::Range(1u, 1u << 26));
+  render_cmd->add_option("--caustic-radius", a.session.caustic_radius,
+                         "path: initial photon gather radius (default: from the scene's size and --photons)")
+      ->check(CLI::PositiveNumber);
   render_cmd->add_flag("--no-error-estimate", a.no_error_estimate,
                        "path: leave out the film's half buffer (no self-estimated error)");
   return render_cmd;

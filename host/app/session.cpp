@@ -63,7 +63,7 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   // The path tracer hits the lights it samples: their geometry joins the scene.
   if (session->mode == RenderMode::Path) add_light_geometry(scene);
 
-  session->features = analyse_scene(scene, session->mode);
+  session->features = analyse_scene(scene, session->mode, options.caustics);
   session->runtime = std::make_unique<Runtime>(select_device(options.device), options.profile_stages);
   session->runtime->set_cache_enabled(options.use_kernel_cache);
   session->program = session->runtime->build_file(program_file, session->features.build_options());
@@ -85,6 +85,9 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   session->settings.time_limit_s = path ? options.time_limit_s : 0.0;
   session->settings.seed = options.seed;
   session->settings.half_buffer = path && options.error_estimate;
+  session->settings.caustics = session->features.caustics;
+  if (options.photons > 0) session->settings.photons_per_pass = options.photons;
+  if (options.caustic_radius > 0.0f) session->settings.caustic_radius = options.caustic_radius;
   session->settings.sampler = options.independent_samples ? SAMPLER_INDEPENDENT : SAMPLER_SOBOL_BURLEY;
   t0 = std::chrono::steady_clock::now();
   session->device_scene =

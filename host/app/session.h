@@ -39,6 +39,9 @@ struct SessionOptions {
   uint32_t seed = 0;            // path: sample sequence seed
   bool independent_samples = false;  // path: independent uniforms instead of Sobol-Burley (comparisons)
   bool error_estimate = true;   // path: the film keeps the odd-pass half buffer (self-estimated error)
+  CausticsMode caustics = CausticsMode::Auto;  // path: the photon pass
+  uint32_t photons = 0;         // path: photons per pass; 0: RenderSettings' default
+  float caustic_radius = 0.0f;  // path: initial gather radius; 0: from the scene's size
   bool open_ended = false;      // path: no default sample count (a target error decides), unless --spp
   // --bvh: spatial splits (SBVH) by default; "fast" for huge scenes.
   BvhBuildOptions::Quality bvh_quality = BvhBuildOptions::Quality::Spatial;

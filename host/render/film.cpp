@@ -81,7 +81,11 @@ ImageF Film::read_pass(size_t offset, int passes) const {
   return image;
 }
 
-ImageF Film::mean() const { return read_pass(0, passes_); }
+ImageF Film::mean() const {
+  ImageF image = read_pass(0, passes_);
+  if (separate_ && passes_ > 0) separate_->add_to(image, passes_);
+  return image;
+}
 
 int Film::half_passes() const {
   if (passes_ < 2) return 0;
@@ -93,7 +97,9 @@ int Film::half_passes() const {
 ImageF Film::half_mean() const {
   if (!options_.half_buffer) throw Error("film: no half buffer was asked for");
   if (passes_ < 2) throw Error("film: the half buffer needs at least two passes");
-  return read_pass(half_offset_, half_passes());
+  ImageF image = read_pass(half_offset_, half_passes());
+  if (separate_) separate_->add_to(image, passes_);
+  return image;
 }
 
 FilmCounts Film::counts() const {

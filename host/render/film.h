@@ -43,6 +43,16 @@ struct FilmCounts {
   uint64_t total() const { return nonfinite + negative + clamped; }
 };
 
+// An estimate kept apart from the film's passes and added to its image (the
+// photon pass's caustics: SPPM's per-pixel statistics are not a mean of
+// passes). It is added to mean() and to half_mean() alike, so the error
+// estimate's difference of the two sees the passes' noise only.
+class SeparateEstimate {
+ public:
+  virtual ~SeparateEstimate() = default;
+  virtual void add_to(ImageF& image, int passes) const = 0;
+};
+
 class Film {
  public:
   Film(Runtime& runtime, const cl::Program& program, const FilmOptions& options);
@@ -63,6 +73,8 @@ class Film {
   // Adds the pass in progress to the accumulated passes and clears it.
   void accumulate_pass(StageLauncher& launcher, RenderStats* stats = nullptr);
 
+  // Adds `estimate` to every image read from now on (nullptr: none).
+  void set_separate_estimate(const SeparateEstimate* estimate) { separate_ = estimate; }
   ImageF mean() const;       // combined sum / passes
   // The passes in the half buffer: [P, N) for N = passes() >= 2, P the
   // largest power of two below N; their mean (needs half_buffer).
@@ -80,6 +92,7 @@ class Film {
   cl::Buffer pass_, accumulated_, counters_;
   std::unique_ptr<StageKernel> accumulate_;
   size_t half_offset_ = FILM_PASS_ABSENT;
+  const SeparateEstimate* separate_ = nullptr;
 };
 
 // Fixed-point parameters for a pass whose per-pixel sum is at most

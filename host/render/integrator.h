@@ -44,6 +44,11 @@ struct RenderSettings {
   uint32_t seed = 0;         // path: the sample sequences' seed (same seed, same image)
   uint32_t path_strategy = PATH_STRATEGY_MIS;  // path: MIS, or one technique alone (tests)
   uint32_t sampler = SAMPLER_SOBOL_BURLEY;     // path: low-discrepancy or independent samples
+  // Path: the photon pass for caustics (host/render/photon_pass.h); the
+  // program must have been built with it (SceneFeatures::caustics).
+  bool caustics = false;
+  uint32_t photons_per_pass = 1u << 18;
+  float caustic_radius = 0.0f;  // initial gather radius; 0: default_caustic_radius
 };
 
 struct RenderStats {
@@ -51,6 +56,7 @@ struct RenderStats {
   int passes = 0;
   uint64_t camera_rays = 0;
   uint64_t secondary_rays = 0;
+  uint64_t photon_rays = 0;  // photon pass: photon path segments traced
   uint64_t shadow_rays = 0;   // traced: slots holding a ray (counted per work-group on the device)
   uint64_t shadow_slots = 0;  // addressed shadow slots, traced or empty
   int chunk_retries = 0;  // chunks traced again in halves after a queue overflow
@@ -60,7 +66,7 @@ struct RenderStats {
   FilmCounts film;  // contributions dropped or clamped
   // Device time per stage kernel, ms (only on a profiling runtime).
   std::map<std::string, double> stage_ms;
-  uint64_t rays() const { return camera_rays + secondary_rays + shadow_rays; }
+  uint64_t rays() const { return camera_rays + secondary_rays + shadow_rays + photon_rays; }
 };
 
 // Every stage launch and queue-count transfer of a render goes through one
@@ -92,6 +98,10 @@ class Integrator {
   // film's pass in progress. False when a queue overflowed: the driver then
   // clears that range of the pass and traces it again in halves.
   virtual bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) = 0;
+  // Around each pass's chunks: work that spans the whole image (the photon
+  // pass traces its photons before and gathers after).
+  virtual void begin_pass(Film& /*film*/, RenderStats* /*stats*/) {}
+  virtual void end_pass(Film& /*film*/, RenderStats* /*stats*/) {}
 
   const char* name() const { return name_; }  // the mode, as --mode spells it
   // Pixels per chunk its queues are sized for.

@@ -5,6 +5,8 @@
 // ping-pong path queues (each path pushes at most one continuation, so a
 // queue never holds more than the chunk) and one addressed shadow slot per
 // path. Every pass is one sample per pixel; the film averages the passes.
+// With caustics, a PhotonPass traces photons before each pass's chunks and
+// gathers them after (host/render/photon_pass.h).
 #include <algorithm>
 
 #include "host/cl/runtime.h"
@@ -12,6 +14,7 @@
 #include "host/render/integrator.h"
 #include "host/render/kernel_args.h"
 #include "host/render/path_lights.h"
+#include "host/render/photon_pass.h"
 
 namespace caustica {
 namespace {
@@ -23,11 +26,21 @@ class PathIntegrator final : public Integrator {
   size_t light_count_ = 0;
   cl::Buffer lights_, light_of_sphere_, light_of_cylinder_, light_of_triangle_, hits_, shadow_traced_;
   DeviceQueue rays_[2], shadow_;
+  std::unique_ptr<PhotonPass> photons_;  // only with the caustics feature
 
  public:
   PathIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                  const RenderSettings& settings);
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
+  void begin_pass(Film& film, RenderStats* stats) override {
+    if (!photons_) return;
+    if (film.passes() == 0) photons_->clear();
+    film.set_separate_estimate(photons_.get());
+    photons_->trace(uint32_t(film.passes()), stats);
+  }
+  void end_pass(Film& film, RenderStats* stats) override {
+    if (photons_) photons_->gather(uint32_t(film.passes()), stats);
+  }
 };
 
 PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
@@ -54,6 +67,8 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
   shadow_ = DeviceQueue(ctx, shadow_record_layout(), chunk_pixels_);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, chunk_pixels_ * sizeof(Hit));
   shadow_traced_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
+  if (settings.caustics && light_count_ > 0)
+    photons_ = std::make_unique<PhotonPass>(launcher, scene, program, lights_, uint32_t(light_count_), settings);
 }
 
 bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) {
@@ -97,7 +112,9 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
         .arg("params", params)
         .queue("in", *current)
         .arg("hits", hits_);
-    film.bind(shade).queue("next", *next).queue("shadow", shadow_).finish();
+    film.bind(shade).queue("next", *next).queue("shadow", shadow_);
+    if (photons_) photons_->bind_visible_points(shade);
+    shade.finish();
     launcher_.launch(shade_, ray_count, stats);
 
     if (light_count_ > 0 && settings_.path_strategy != PATH_STRATEGY_BSDF) {

@@ -24,12 +24,14 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
   const auto t0 = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   for (int pass = 0; pass < stop.passes; ++pass) {
+    integrator_.begin_pass(film_, stats);
     for (size_t first = 0; first < pixels; first += chunk) {
       trace_chunk(first, std::min(chunk, pixels - first), stats);
       if (progress)
         progress(PassProgress{pass, stop.passes, seconds(), stop.seconds, std::min(pixels, first + chunk), pixels,
                               stats});
     }
+    integrator_.end_pass(film_, stats);
     film_.accumulate_pass(launcher_, stats);
     if (stats) ++stats->passes;
     if (pass_done && !pass_done(film_, seconds())) break;

@@ -2,7 +2,7 @@
 // sorted into hash buckets of cubic cells, for the gather to query
 // (kernels/lib/photon_grid.h).
 //
-// Rules: the grid is built on the device by the stages of photon_pass.cl,
+// Rules: the grid is built on the device by the stages of photon_grid.cl,
 // launched through the render's StageLauncher; the host reads at most one
 // value per build (the photon counter) and never a photon. Buffers are
 // allocated on the first build and grow only when a pass has more photons
@@ -66,7 +66,7 @@ uint32_t photon_grid_table_size(size_t photon_count);
 
 class PhotonGrid {
  public:
-  // `program`: photon_pass.cl (or a program including its grid stages).
+  // `program`: photon_grid.cl (or a program including its grid stages).
   // Allocates nothing yet.
   PhotonGrid(Runtime& runtime, const cl::Program& program);
   ~PhotonGrid();

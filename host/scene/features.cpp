@@ -1,10 +1,30 @@
 #include "host/scene/features.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include "host/error.h"
+#include "kernels/shared/photon.h"
 
 namespace caustica {
 
-SceneFeatures analyse_scene(const Scene& scene, RenderMode mode) {
+CausticsMode parse_caustics_mode(const std::string& name) {
+  if (name == "auto") return CausticsMode::Auto;
+  if (name == "on") return CausticsMode::On;
+  if (name == "off") return CausticsMode::Off;
+  throw Error("--caustics " + name + ": expected auto, on or off");
+}
+
+bool material_casts_caustics(const Material& m) {
+  const bool given = m.roughness >= 0.0f;
+  float alpha;
+  if (m.flags & (MATERIAL_REFRACTIVE | MATERIAL_REFLECTIVE)) alpha = given ? m.roughness : 0.0f;
+  else if (m.metallic >= 1.0f) alpha = given ? m.roughness : std::sqrt(2.0f / (std::max(m.specular_exponent, 0.0f) + 2.0f));
+  else return false;  // plastic: a receiver
+  return alpha < CAUSTIC_CASTER_ALPHA;
+}
+
+SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode caustics) {
   SceneFeatures f;
   f.mode = mode;
   f.spheres = !scene.spheres.empty();
@@ -21,6 +41,7 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode) {
   for (const auto& c : scene.cylinders) used[c.material] = true;
   for (const auto& t : scene.triangles) used[t.material] = true;
   const bool can_bounce = scene.nbounces > 0;
+  bool casters = false, receivers = false;
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     if (!used[i]) continue;
     const Material& m = scene.materials[i];
@@ -29,6 +50,7 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode) {
     if (can_bounce && (m.flags & MATERIAL_REFLECTIVE) && !(m.flags & MATERIAL_REFRACTIVE) && m.reflectivity > 0.0f)
       f.reflection = true;
     if (std::max(m.emission.x, std::max(m.emission.y, m.emission.z)) > 0.0f) f.area_lights = true;
+    (material_casts_caustics(m) ? casters : receivers) = true;
   }
   // Path mode samples area lights (rectangles, spheres, emissive shapes);
   // phong sees every light as a point.
@@ -37,6 +59,23 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode) {
     f.lights = f.lights || f.area_lights;
   } else {
     f.area_lights = false;
+  }
+  // Caustics need light -> caster -> receiver -> camera: at least two
+  // scattering events, a light, a caster and a receiver.
+  if (mode != RenderMode::Path) {
+    f.caustics_reason = "path mode only";
+  } else if (caustics == CausticsMode::Off) {
+    f.caustics_reason = "--caustics off";
+  } else if (!f.lights) {
+    f.caustics_reason = "no lights";
+  } else if (caustics == CausticsMode::On) {
+    f.caustics = true;
+    f.caustics_reason = "--caustics on";
+  } else if (scene.nbounces < 2 || !casters || !receivers) {
+    f.caustics_reason = scene.nbounces < 2 ? "nbounces < 2" : !casters ? "no smooth metal or glass" : "no receiving surface";
+  } else {
+    f.caustics = true;
+    f.caustics_reason = "metal or glass, and surfaces to receive";
   }
   return f;
 }
@@ -54,6 +93,7 @@ std::string SceneFeatures::build_options() const {
     // (tests include them bare); the renderer leaves out what is not there.
     if (!refraction) o += " -DBSDF_WITH_DIELECTRIC=0";
     if (!area_lights) o += " -DPATH_WITH_AREA_LIGHTS=0";
+    if (caustics) o += " -DPATH_WITH_CAUSTICS=1";
   }
   if (textures) o += " -DHAS_TEXTURES";
   if (triangle_shading) o += " -DHAS_TRIANGLE_SHADING";
@@ -77,6 +117,7 @@ std::string SceneFeatures::describe() const {
   if (mode == RenderMode::Path) {
     s += std::string(" area-light-sampling=") + (area_lights ? "compiled" : "left out");
     s += std::string(" dielectric-bsdf=") + (refraction ? "compiled" : "left out");
+    s += std::string(" photon-pass=") + (caustics ? "compiled" : "left out") + " (" + caustics_reason + ")";
   }
   return s;
 }

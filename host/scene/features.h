@@ -11,6 +11,16 @@
 
 namespace caustica {
 
+// --caustics: the photon pass (path mode) when the scene has casters
+// (auto), always, or never.
+enum class CausticsMode { Auto, On, Off };
+CausticsMode parse_caustics_mode(const std::string& name);  // auto | on | off
+
+// Does the path tracer treat this material as a caustic caster (smooth or
+// glossy metal and glass, kernels/lib/caustics.h)? The host's mirror of
+// bsdf_of_material + bsdf_casts_caustics.
+bool material_casts_caustics(const Material& m);
+
 struct SceneFeatures {
   RenderMode mode = RenderMode::Phong;
   bool spheres = false;
@@ -23,12 +33,14 @@ struct SceneFeatures {
   bool textures = false;    // some used material has a texture
   bool area_lights = false; // path: rectangle, sphere or emissive-shape lights are sampled
   bool triangle_shading = false;  // vertex normals / texture coordinates on triangles
+  bool caustics = false;  // path: the photon pass (kernels compiled, buffers allocated, stages launched)
+  std::string caustics_reason;  // why it is or is not there, for --verbose
   bool secondary_rays() const { return reflection || refraction; }
 
   std::string build_options() const;  // the -D flags
   std::string describe() const;       // one line for --verbose
 };
 
-SceneFeatures analyse_scene(const Scene& scene, RenderMode mode);
+SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode caustics = CausticsMode::Auto);
 
 }  // namespace caustica

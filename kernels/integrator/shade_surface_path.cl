@@ -15,8 +15,15 @@
  * two-sided (the frame turns toward the path); dielectrics keep the outward
  * normal so that the side tells inside from outside. No direction below the
  * geometric surface of an opaque material is followed (no light leaks
- * through shading normals). */
+ * through shading normals). With the photon pass (PATH_WITH_CAUSTICS), the
+ * first receiving vertex records the pixel's visible point and the paths
+ * the photon map covers are dropped here (lib/caustics.h). */
 
+#ifndef PATH_WITH_CAUSTICS
+#define PATH_WITH_CAUSTICS 0
+#endif
+
+#include "lib/caustics.h"
 #include "lib/film.h"
 #include "lib/material.h"
 #include "lib/path_lights.h"
@@ -45,7 +52,11 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
                                  __global const uint* restrict light_of_cylinder,
                                  __global const uint* restrict light_of_triangle, PathParams params,
                                  PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits, FILM_PARAMS,
-                                 PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)) {
+                                 PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)
+#if PATH_WITH_CAUSTICS
+                                 , __global VisiblePoint* restrict visible_points
+#endif
+) {
   const uint i = get_global_id(0);
   if (i >= *in_count) return;
   shadow_mark_empty(SHADOW_QUEUE_ARGS(shadow), i);
@@ -63,7 +74,11 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   /* Emission seen by this path: from the front side (sp.normal is the
    * outward / counter-clockwise normal), or either side of a two-sided one. */
   const bool arrived_by_delta = (ray.flags & PATH_SPECULAR) != 0u;
-  const bool sees_front = dot(d, sp.normal) < 0.0f || (mat->flags & MATERIAL_TWO_SIDED) != 0u;
+  bool sees_front = dot(d, sp.normal) < 0.0f || (mat->flags & MATERIAL_TWO_SIDED) != 0u;
+#if PATH_WITH_CAUSTICS
+  /* light -> caster+ -> D1: the photon map's */
+  if ((ray.flags & PATH_CHAIN_FROM_D1) && (ray.flags & PATH_CASTER_AFTER_D1)) sees_front = false;
+#endif
   const uint light_index = params.light_count > 0u
                                ? light_of_hit(light_of_sphere, light_of_cylinder, light_of_triangle, hit.prim)
                                : LIGHT_NONE;
@@ -99,13 +114,32 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   float3 t, b;
   frame_from_normal(n, &t, &b);
   const float3 wo = frame_to_local(-d, t, b, n);
+#if PATH_WITH_CAUSTICS
+  const bool caster = bsdf_casts_caustics(bsdf);
+  if (!caster && !(ray.flags & PATH_PAST_RECEIVER)) {
+    VisiblePoint vp;
+    vp.position = (float4)(sp.position, 1.0f);
+    vp.normal = (float4)(n, (float)ray.depth);
+    vp.wo = (float4)(-d, 0.0f);
+    vp.beta = (float4)(throughput, 0.0f);
+    vp.diffuse = (float4)(bsdf.diffuse, bsdf.alpha);
+    vp.specular = (float4)(bsdf.specular, bsdf.ior);
+    vp.kind = bsdf.kind;
+    vp.pad0 = vp.pad1 = vp.pad2 = 0u;
+    visible_points[ray.pixel] = vp;
+  }
+  /* Light reaching a caster that leads back to D1 is the photon map's. */
+  const bool nee_is_photon_maps = caster && (ray.flags & PATH_CHAIN_FROM_D1);
+#else
+  const bool nee_is_photon_maps = false;
+#endif
   const uint pixel_seed = hash3(ray.pixel, 0u, params.seed);
   const uint pair = 2u + 3u * ray.depth;
   const float2 picks = pixel_sample_2d(params.sampler, params.sample_index, pair + 2u, pixel_seed);
 
   /* Next-event estimation toward one light. */
   const bool delta_only = bsdf_is_smooth(bsdf) && bsdf.kind != BSDF_PLASTIC;
-  if (params.light_count > 0u && params.strategy != PATH_STRATEGY_BSDF && !delta_only) {
+  if (params.light_count > 0u && params.strategy != PATH_STRATEGY_BSDF && !delta_only && !nee_is_photon_maps) {
     const uint li = pick_light(lights, params.light_count, picks.x);
     __global const PathLight* light = &lights[li];
     LightSample ls;
@@ -155,5 +189,12 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   child.depth = ray.depth + 1u;
   child.bsdf_pdf = (flags & BSDF_SAMPLED_SPECULAR) ? 0.0f : pdf;
   child.flags = (flags & BSDF_SAMPLED_SPECULAR) ? PATH_SPECULAR : 0u;
+#if PATH_WITH_CAUSTICS
+  const uint caustic_flags = PATH_PAST_RECEIVER | PATH_CHAIN_FROM_D1 | PATH_CASTER_AFTER_D1;
+  if (!caster) /* leaving D1 starts the chain; leaving a later receiver ends it */
+    child.flags |= (ray.flags & PATH_PAST_RECEIVER) ? PATH_PAST_RECEIVER : PATH_PAST_RECEIVER | PATH_CHAIN_FROM_D1;
+  else
+    child.flags |= (ray.flags & caustic_flags) | ((ray.flags & PATH_CHAIN_FROM_D1) ? PATH_CASTER_AFTER_D1 : 0u);
+#endif
   path_push(PATH_QUEUE_ARGS(next), params.ray_capacity, child);
 }

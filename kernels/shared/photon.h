@@ -18,7 +18,7 @@
 
 /* A photon stored on a diffuse surface. */
 typedef struct {
-  cs_float4 position; /* xyz; w unused (0) */
+  cs_float4 position; /* xyz; w: the specular bounces it took (the gather keeps paths within nbounces) */
   cs_float4 wi;       /* xyz unit direction toward where the photon came from; w unused */
   cs_float4 power;    /* rgb flux; w unused */
 } Photon; /* 48 bytes */
@@ -43,5 +43,52 @@ typedef struct {
 /* Cell coordinates are clamped to +-this before conversion to int, so a
  * stray point far outside the scene (or NaN) still maps to a valid cell. */
 #define PHOTON_GRID_CELL_LIMIT 1073741824.0f /* 2^30 */
+
+/* Caustic casters: the surfaces photons are traced through (smooth or
+ * glossy conductors and dielectrics with GGX alpha below this) and that the
+ * path tracer, after its first receiving vertex, leaves to the photon map.
+ * Every other surface (plastic, rougher metal and glass) receives photons.
+ * 0.1 keeps the glossy caustics of polished metal and frosted glass sharp
+ * enough for a radius-limited estimate while leaving wide lobes, which a
+ * photon map blurs, to path tracing. */
+#define CAUSTIC_CASTER_ALPHA 0.1f
+
+/* One pass of photons (kernels/photon/emit_photons.cl, bounce_photons.cl,
+ * gather_photons.cl). */
+typedef struct {
+  cs_uint photon_count; /* photon paths emitted this pass */
+  cs_uint light_count;
+  cs_uint pass_index;   /* decorrelates the passes' random numbers */
+  cs_uint seed;
+  cs_uint max_depth;    /* the scene's nbounces: scattering events of a whole path */
+  cs_uint pixel_count;  /* gather: visible points */
+  float alpha;          /* SPPM's radius reduction (2/3) */
+  float inv_passes;     /* gather: 1 / passes done, for nothing but the estimate's scale */
+} PhotonPassParams; /* 32 bytes */
+
+/* Where a camera path first reached a receiving surface in this pass (one
+ * per pixel, written by shade_surface_path, read and cleared by the
+ * gather): the point, the frame and outgoing direction, the camera path's
+ * throughput up to it, and the BSDF there (lib/bsdf.h's Bsdf, flattened). */
+typedef struct {
+  cs_float4 position; /* xyz; w: 1 when recorded this pass, else 0 */
+  cs_float4 normal;   /* the shading frame's z (turned toward wo for opaque surfaces); w: camera depth */
+  cs_float4 wo;       /* xyz unit, toward the camera along the path */
+  cs_float4 beta;     /* rgb throughput of the camera path */
+  cs_float4 diffuse;  /* Bsdf.diffuse; w: Bsdf.alpha */
+  cs_float4 specular; /* Bsdf.specular; w: Bsdf.ior */
+  cs_uint kind;       /* Bsdf.kind */
+  cs_uint pad0, pad1, pad2;
+} VisiblePoint; /* 112 bytes */
+
+/* A pixel's SPPM statistics (Hachisuka & Jensen 2009): accumulated flux tau,
+ * photon count N and squared radius. The caustic radiance is
+ * tau / (passes * pi * radius2), photon powers being per pass already. */
+typedef struct {
+  cs_float4 tau;  /* rgb; w unused */
+  float photons;  /* N */
+  float radius2;
+  cs_uint pad0, pad1;
+} SppmPixel; /* 32 bytes */
 
 #endif /* CAUSTICA_SHARED_PHOTON_H */

@@ -1,0 +1,90 @@
+// The photon pass of path mode (issue 13): stochastic progressive photon
+// mapping for the caustic paths light -> caster+ -> receiver that path
+// tracing finds badly (small lights through glass) or never (point lights).
+//
+// Rules: every pass emits a new batch of photons from all lights in
+// proportion to power, traces them through casters with the intersect
+// stage of the path tracer and its BSDF sampling, keeps those that reach a
+// receiver after a caster (packed in photon order: deterministic), and
+// sorts them into the device hash grid; after the camera chunks, every
+// pixel's visible point gathers them and updates its SPPM statistics
+// (kernels/photon/gather_photons.cl). Nothing crosses to the host but one
+// queue count per photon bounce, the stored count and the largest radius
+// (which sizes the next grid). Which paths each estimator covers:
+// kernels/lib/caustics.h. A scene without casters never builds one: no
+// kernels compiled, no buffers, no launches (SceneFeatures::caustics).
+#pragma once
+
+#include <CL/opencl.hpp>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "host/image/image.h"
+#include "host/render/film.h"
+#include "host/render/kernel_args.h"
+#include "host/render/photon_grid.h"
+
+namespace caustica {
+
+class DeviceScene;
+class StageLauncher;
+struct RenderSettings;
+struct RenderStats;
+struct Scene;
+
+// The initial gather radius when none is given: photons spread evenly over
+// the scene box's surface area A would put 32 within it, sqrt(32 A / (pi M))
+// for M photons a pass, at most 1% of the box's diagonal. Caustics
+// concentrate photons far above that average, and SPPM shrinks the radius
+// from there.
+float default_caustic_radius(const Scene& scene, uint32_t photons_per_pass);
+
+struct PhotonPassStats {
+  uint64_t emitted = 0, stored = 0;  // over the render
+  double last_cell_size = 0.0;
+};
+
+class PhotonPass final : public SeparateEstimate {
+ public:
+  // `lights`: the path tracer's light table (PathLight), light_count > 0.
+  PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program, const cl::Buffer& lights,
+             uint32_t light_count, const RenderSettings& settings);
+  ~PhotonPass() override;
+
+  void clear();  // a new render: radii back to the initial one, no photons
+  // Before pass `pass_index`'s camera chunks: this pass's photon map.
+  void trace(uint32_t pass_index, RenderStats* stats);
+  // After them: every pixel gathers.
+  void gather(uint32_t pass_index, RenderStats* stats);
+  // What shade_surface_path writes: "visible_points".
+  KernelArgs& bind_visible_points(KernelArgs& args) const { return args.arg("visible_points", visible_points_); }
+  // Adds the caustic radiance tau / (passes pi r^2) to the film's image.
+  void add_to(ImageF& image, int passes) const override;
+
+  const PhotonPassStats& stats() const { return stats_; }
+  uint32_t photons_per_pass() const { return photons_per_pass_; }
+  float initial_radius() const { return initial_radius_; }
+
+ private:
+  PhotonPassParams params(uint32_t pass_index) const;
+
+  StageLauncher& launcher_;
+  const DeviceScene& scene_;
+  const cl::Buffer& lights_;
+  uint32_t light_count_, photons_per_pass_, max_depth_, seed_;
+  size_t pixel_count_;
+  float initial_radius_;
+  std::array<float, 3> origin_{};
+  float cell_size_;
+  StageKernel emit_, intersect_, bounce_, compact_, gather_;
+  DeviceQueue queues_[2];
+  cl::Buffer hits_, candidates_, stored_, offsets_, photons_, stored_count_, visible_points_, pixels_,
+      largest_radius2_;
+  ExclusiveScan scan_;
+  PhotonGrid grid_;
+  PhotonPassStats stats_;
+};
+
+}  // namespace caustica

@@ -1,0 +1,78 @@
+#line 2 "kernels/photon/bounce_photons.cl"
+/* Stage (photon pass): one hit of every photon path in the queue.
+ *
+ * Rules: at a caster (lib/caustics.h) the photon scatters by the path
+ * tracer's own BSDF sampling, its flux carried as photons carry it
+ * (photon_weight), while the whole path stays within nbounces scattering
+ * events; at a receiver reached after at least one caster it is stored and
+ * ends; at a receiver reached straight from the light, or on a miss, it
+ * ends unstored (direct light is the path tracer's). Stored photons go to
+ * slot = photon index of `candidates` with flag 1 in `stored`, so the
+ * compaction that follows keeps them in photon order whatever order the
+ * queues ran in: the photon map is the same bits on any device. */
+
+#include "lib/caustics.h"
+#include "lib/material.h"
+#include "lib/queue.h"
+#include "lib/rng.h"
+#include "lib/surface.h"
+#include "lib/texture.h"
+
+__kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PATH_QUEUE_PARAMS(in),
+                             __global const Hit* restrict hits, PATH_QUEUE_PARAMS(next), uint ray_capacity,
+                             __global Photon* restrict candidates, __global uint* restrict stored) {
+  const uint i = get_global_id(0);
+  if (i >= *in_count) return;
+  const Hit hit = hits[i];
+  if (hit.prim == PRIM_NONE) return;
+  const PathRecord photon = path_load(PATH_QUEUE_ARGS(in), i);
+  const float3 d = photon.dir.xyz;
+  const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, photon.origin.xyz, d);
+  __global const Material* mat = &materials[sp.material];
+  float3 diffuse_colour = mat->diffuse.xyz;
+#ifdef HAS_TEXTURES
+  if (mat->texture >= 0) diffuse_colour = texture_lookup(textures, (__global const half*)texels, mat->texture, sp.uv);
+#endif
+  const Bsdf bsdf = bsdf_of_material(mat, diffuse_colour);
+  if (!bsdf_casts_caustics(bsdf)) {
+    if (photon.flags & PHOTON_AFTER_CASTER) {
+      Photon p;
+      p.position = (float4)(sp.position, (float)photon.depth);
+      p.wi = (float4)(-d, 0.0f);
+      p.power = photon.throughput;
+      candidates[photon.pixel] = p;
+      stored[photon.pixel] = 1u;
+    }
+    return;
+  }
+  /* The light path leaves this caster: 1 scattering event here, and at
+   * least one more where it is gathered. */
+  if (photon.depth + 2u > params.max_depth) return;
+  const bool opaque = bsdf.kind != BSDF_DIELECTRIC;
+  float3 n = sp.shading_normal, ng = sp.normal;
+  if (opaque && dot(ng, d) > 0.0f) {
+    n = -n;
+    ng = -ng;
+  }
+  if (opaque && dot(n, ng) < 0.0f) n = ng;
+  float3 t, b;
+  frame_from_normal(n, &t, &b);
+  const float3 wo = frame_to_local(-d, t, b, n);
+  const uint key = hash3(photon.pixel, params.pass_index, params.seed), dim = 8u + 4u * photon.depth;
+  const float3 u = (float3)(random_float(key, dim), random_float(key, dim + 1u), random_float(key, dim + 2u));
+  float3 wi_local, weight;
+  float pdf;
+  uint flags;
+  if (!bsdf_sample(bsdf, wo, u, &wi_local, &weight, &pdf, &flags)) return;
+  const float3 wi = frame_to_world(wi_local, t, b, n);
+  if (opaque && dot(wi, ng) <= 0.0f) return;
+  const float3 flux = photon.throughput.xyz * photon_weight(bsdf, wo, weight, flags);
+  if (!(fmax(flux.x, fmax(flux.y, flux.z)) > 0.0f)) return;
+  PathRecord child = photon;
+  child.origin = (float4)(spawn_point(sp, dot(wi, sp.normal) > 0.0f ? sp.normal : -sp.normal), 0.0f);
+  child.dir = (float4)(wi, 0.0f);
+  child.throughput = (float4)(flux, 0.0f);
+  child.depth = photon.depth + 1u;
+  child.flags = PHOTON_AFTER_CASTER;
+  path_push(PATH_QUEUE_ARGS(next), ray_capacity, child);
+}
