@@ -64,6 +64,7 @@ class PhotonPass final : public SeparateEstimate {
   void add_to(ImageF& image, int passes) const override;
 
   const PhotonPassStats& stats() const { return stats_; }
+  const PhotonGrid& grid() const { return grid_; }  // this pass's photon map
   uint32_t photons_per_pass() const { return photons_per_pass_; }
   float initial_radius() const { return initial_radius_; }
 
