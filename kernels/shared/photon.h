@@ -51,7 +51,7 @@ typedef struct {
  * 0.1 keeps the glossy caustics of polished metal and frosted glass sharp
  * enough for a radius-limited estimate while leaving wide lobes, which a
  * photon map blurs, to path tracing. */
-#define CAUSTIC_CASTER_ALPHA 0.1f
+#define CAUSTIC_CASTER_ALPHA 0.3f
 
 /* One pass of photons (kernels/photon/emit_photons.cl, bounce_photons.cl,
  * gather_photons.cl). */
