@@ -1,5 +1,5 @@
 // Kernel-level tests of the primitive intersection tests, surface_at and
-// offset_ray_origin: hand-made rays against analytic answers, random rays
+// spawn_ray_origin: hand-made rays against analytic answers, random rays
 // against a double-precision reference (near and 1e4 away from the origin),
 // watertightness of shared triangle edges and self-intersection avoidance.
 #include <cstring>
@@ -50,9 +50,9 @@ __kernel void probe(__global const float4* rays, __global const float4* local_di
   float3 t1 = normalize(cross(n, fabs(n.x) > 0.5f ? (float3)(0.0f, 1.0f, 0.0f) : (float3)(1.0f, 0.0f, 0.0f)));
   float3 t2 = cross(n, t1);
   float4 l = local_dirs[i];
-  Hit out_hit = brute(spheres, cylinders, triangles, refs, ref_count, spawn_point(sp, n),
+  Hit out_hit = brute(spheres, cylinders, triangles, refs, ref_count, spawn_ray_origin(sp.position, sp.p_error, sp.normal, n),
                       l.x * t1 + l.y * t2 + l.z * n, 0.0f, RAY_T_FAR);
-  Hit in_hit = brute(spheres, cylinders, triangles, refs, ref_count, spawn_point(sp, -n),
+  Hit in_hit = brute(spheres, cylinders, triangles, refs, ref_count, spawn_ray_origin(sp.position, sp.p_error, sp.normal, -n),
                      l.x * t1 + l.y * t2 - l.z * n, 0.0f, RAY_T_FAR);
   out[4 * i + 3] = (float4)(out_hit.t, as_float(out_hit.prim), in_hit.t, as_float(in_hit.prim));
 }

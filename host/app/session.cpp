@@ -58,6 +58,7 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   session->scene = load_scene(options.scene_path, load_options);
   session->load_ms = ms_since(t0);
   Scene& scene = session->scene;
+  if (options.edit_scene) options.edit_scene(scene);
   session->mode = options.mode.value_or(scene.mode);
   const std::string program_file = integrator_program_file(session->mode);
   // The path tracer hits the lights it samples: their geometry joins the scene.

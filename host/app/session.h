@@ -3,6 +3,7 @@
 // kernels -> build BVH -> upload. Shared by `render` and `bench`.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -45,6 +46,9 @@ struct SessionOptions {
   bool open_ended = false;      // path: no default sample count (a target error decides), unless --spp
   // --bvh: spatial splits (SBVH) by default; "fast" for huge scenes.
   BvhBuildOptions::Quality bvh_quality = BvhBuildOptions::Quality::Spatial;
+  // Applied to the loaded scene before anything is derived from it (tests:
+  // the stiff-case suite scales and moves whole scenes, tests/stiff/).
+  std::function<void(Scene&)> edit_scene;
 };
 
 inline constexpr int kDefaultPathSpp = 64;

@@ -113,7 +113,7 @@ BenchRays generate_bench_rays(const Scene& scene, const Bvh& bvh, int width, int
 
     // As shade_surface_phong.cl: the geometric normal turned toward the ray.
     const vec3 facing = dot3(sp.normal, d) < 0.0f ? sp.normal : -sp.normal;
-    out.diffuse.origin.push_back(to_float4(host_spawn_point(sp, facing)));
+    out.diffuse.origin.push_back(to_float4(host_spawn_ray_origin(sp, facing)));
     out.diffuse.dir.push_back(to_float4(cosine_direction(facing, options.seed, i)));
     out.diffuse_source.push_back(uint32_t(i));
 
@@ -123,7 +123,7 @@ BenchRays generate_bench_rays(const Scene& scene, const Bvh& bvh, int width, int
     // (The renderer skips those lights instead; the bench keeps one shadow
     // ray per hit so that every scene has a full set.)
     const vec3 toward = dot3(sp.normal, out.light - sp.position) >= 0.0f ? sp.normal : -sp.normal;
-    const vec3 origin = host_spawn_point(sp, toward);
+    const vec3 origin = host_spawn_ray_origin(sp, toward);
     const vec3 to_light = out.light - origin;
     const float dist = std::sqrt(dot3(to_light, to_light));
     if (!(dist > 0.0f)) continue;

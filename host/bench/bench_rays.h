@@ -7,7 +7,7 @@
 //            normal on the side the primary ray came from;
 //   shadow:  one per primary hit, a segment toward the scene's first point
 //            light that ends just short of it.
-// Secondary origins use the renderer's spawn rule (host_spawn_point). Primary
+// Secondary origins use the renderer's spawn rule (host_spawn_ray_origin). Primary
 // hits come from HostTracer, not from either tracer under test, and the
 // diffuse directions from a counter-based RNG (a hash of the ray index), so
 // the sets depend on nothing but the scene, the image size and the seed:

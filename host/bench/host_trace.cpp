@@ -1,5 +1,6 @@
 #include "host/bench/host_trace.h"
 
+#include <cfloat>
 #include <cmath>
 #include <cstring>
 #include <utility>
@@ -23,7 +24,6 @@ constexpr float kExitSlack = BVH_EXIT_SLACK;
 // OpenCL's dot is written out so that the summation order is the kernels'.
 float dot3(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 vec3 normalize3(vec3 v) { return v / std::sqrt(dot3(v, v)); }
-float max_abs3(vec3 v) { return std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z))); }
 
 bool accept_root(float t, float tmin, float* tbest) {
   if (t > tmin && t < *tbest) {
@@ -60,12 +60,15 @@ float edge_function(float px, float py, float qx, float qy) {
   return e;
 }
 
-float offset_component(float p, float n) {
-  if (std::fabs(p) < 1.0f / 32.0f) return p + (1.0f / 65536.0f) * n;
-  const int32_t ulps = int32_t(256.0f * n);
+float max_abs3(vec3 v) { return std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z))); }
+
+float error_gamma(float n) { return (n * 0x1.0p-24f) / (1.0f - n * 0x1.0p-24f); }
+
+float float_step(float x, bool up) {
+  if (x == 0.0f) return up ? FLT_MIN : -FLT_MIN;
   int32_t bits;
-  std::memcpy(&bits, &p, sizeof bits);
-  bits += p < 0.0f ? -ulps : ulps;
+  std::memcpy(&bits, &x, sizeof bits);
+  bits += ((x > 0.0f) == up) ? 1 : -1;
   float out;
   std::memcpy(&out, &bits, sizeof out);
   return out;
@@ -191,10 +194,14 @@ bool host_intersect_triangle(vec3 v0, vec3 v1, vec3 v2, vec3 o, vec3 d, float tm
   return true;
 }
 
-vec3 host_spawn_point(const HostSurfacePoint& sp, vec3 n) {
-  const vec3 p = sp.position;
-  const vec3 offset(offset_component(p.x, n.x), offset_component(p.y, n.y), offset_component(p.z, n.z));
-  return offset + n * (sp.error_scale * 0x1.0p-17f);
+vec3 host_spawn_ray_origin(vec3 p, vec3 p_error, vec3 n, vec3 dir) {
+  const float d = dot3(glm::abs(n), p_error);
+  vec3 offset = d * n;
+  if (dot3(dir, n) < 0.0f) offset = -offset;
+  vec3 po = p + offset;
+  for (int k = 0; k < 3; ++k)
+    if (offset[k] != 0.0f) po[k] = float_step(po[k], offset[k] > 0.0f);
+  return po;
 }
 
 bool HostTracer::intersect_prim(uint32_t ref, vec3 o, vec3 d, float tmin, Hit* hit) const {
@@ -318,7 +325,7 @@ HostSurfacePoint HostTracer::surface_at(const Hit& hit, vec3 o, vec3 d) const {
     const vec3 c = to_vec3(s);
     sp.normal = normalize3((o - c) + hit.t * d);
     sp.position = c + s.w * sp.normal;
-    sp.error_scale = max_abs3(c) + s.w;
+    sp.p_error = error_gamma(8.0f) * glm::abs(s.w * sp.normal) + error_gamma(1.0f) * glm::abs(sp.position);
   } else if (type == PRIM_CYLINDER) {
     const Cylinder& cyl = scene_.cylinders[index];
     const vec3 c = to_vec3(cyl.center_radius), axis = to_vec3(cyl.axis_half);
@@ -336,13 +343,15 @@ HostSurfacePoint HostTracer::surface_at(const Hit& hit, vec3 o, vec3 d) const {
       if (len > radius) radial *= radius / len;
       sp.position = c + (sgn * half_length) * axis + radial;
     }
-    sp.error_scale = max_abs3(c) + radius + half_length;
+    sp.p_error = error_gamma(2.0f) * glm::abs(sp.position) + error_gamma(8.0f) * vec3(radius + half_length);
   } else if (type == PRIM_TRIANGLE) {
     const Triangle& tri = scene_.triangles[index];
     const vec3 v0 = to_vec3(tri.v0), v1 = to_vec3(tri.v1), v2 = to_vec3(tri.v2);
     sp.position = v0 + hit.u * (v1 - v0) + hit.v * (v2 - v0);
     sp.normal = normalize3(glm::cross(v1 - v0, v2 - v0));
-    sp.error_scale = std::fmax(max_abs3(v0), std::fmax(max_abs3(v1), max_abs3(v2)));
+    const vec3 e1 = v1 - v0, e2 = v2 - v0;
+    sp.p_error = error_gamma(7.0f) * (glm::abs(v0) + glm::abs(hit.u * e1) + glm::abs(hit.v * e2)) +
+                 vec3(error_gamma(32.0f) * (max_abs3(e1) + max_abs3(e2)));
   }
   return sp;
 }

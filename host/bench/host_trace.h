@@ -35,12 +35,15 @@ bool host_intersect_triangle(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, glm::vec3
 struct HostSurfacePoint {
   glm::vec3 position{0.0f};
   glm::vec3 normal{0.0f, 0.0f, 1.0f};  // geometric, outward
-  float error_scale = 0.0f;
+  glm::vec3 p_error{0.0f};  // bound on the position's error per component (surface.h)
 };
 
-// spawn_point of surface.h: the origin of a ray leaving sp on the side
-// side_normal points to.
-glm::vec3 host_spawn_point(const HostSurfacePoint& sp, glm::vec3 side_normal);
+// spawn_ray_origin of kernels/lib/geometry.h: the origin of a ray leaving the
+// surface at p (error bound p_error, geometric normal n) on dir's side.
+glm::vec3 host_spawn_ray_origin(glm::vec3 p, glm::vec3 p_error, glm::vec3 n, glm::vec3 dir);
+inline glm::vec3 host_spawn_ray_origin(const HostSurfacePoint& sp, glm::vec3 dir) {
+  return host_spawn_ray_origin(sp.position, sp.p_error, sp.normal, dir);
+}
 
 class HostTracer {
  public:

@@ -154,9 +154,12 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
                                    ? 1.0f
                                    : power_heuristic(ls.pdf, bsdf_pdf(bsdf, wo, wi));
           const float3 contribution = throughput * f * fabs(wi.z) * ls.radiance * (weight / ls.pdf);
-          const float3 origin = spawn_point(sp, dot(sp.normal, ls.wi) > 0.0f ? sp.normal : -sp.normal);
+          const float3 origin = spawn_ray_origin(sp.position, sp.p_error, sp.normal, ls.wi);
+          /* The distance was measured from the surface point; the origin
+           * moved off it, by the offset's part along wi. */
+          const float dist = ls.distance - dot(origin - sp.position, ls.wi);
           ShadowRecord s;
-          s.origin = (float4)(origin, ls.distance * (1.0f - 1e-4f));
+          s.origin = (float4)(origin, shadow_ray_tmax(dist, ls.wi, ls.p_error));
           s.dir = (float4)(ls.wi, 0.0f);
           s.contribution = (float4)(contribution, 0.0f);
           s.pixel = ray.pixel;
@@ -182,7 +185,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   }
   if (!(max3_of(continued_throughput) > 0.0f)) return;
   PathRecord child;
-  child.origin = (float4)(spawn_point(sp, dot(wi, sp.normal) > 0.0f ? sp.normal : -sp.normal), 0.0f);
+  child.origin = (float4)(spawn_ray_origin(sp.position, sp.p_error, sp.normal, wi), 0.0f);
   child.dir = (float4)(wi, 0.0f);
   child.throughput = (float4)(continued_throughput, 0.0f);
   child.pixel = ray.pixel;

@@ -25,7 +25,7 @@ inline void shade_point_light(__global const PointLight* light, __global const M
   /* The shadow ray leaves on the geometric side the light is on; the
    * shading normal only weights the light. */
   const float3 geometric = dot(sp.normal, n_facing) >= 0.0f ? sp.normal : -sp.normal;
-  const float3 origin = spawn_point(sp, geometric);
+  const float3 origin = spawn_ray_origin(sp.position, sp.p_error, sp.normal, geometric);
   const float3 to_light = light->position.xyz - origin;
   const float dist = length(to_light);
   if (!(dist > 0.0f)) return;
@@ -40,7 +40,9 @@ inline void shade_point_light(__global const PointLight* light, __global const M
   const float3 contribution = weight * light->intensity.xyz * (diffuse + specular);
   if (max3(contribution) <= 0.0f) return;
   ShadowRecord ray;
-  ray.origin = (float4)(origin, dist * (1.0f - 1e-5f));
+  /* A point light is no surface (target error 0); the margin still keeps a
+   * surface through the light from shadowing it. */
+  ray.origin = (float4)(origin, shadow_ray_tmax(dist, l, (float3)(0.0f)));
   ray.dir = (float4)(l, 0.0f);
   ray.contribution = (float4)(contribution, 0.0f);
   ray.pixel = pixel;
@@ -136,8 +138,10 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const PointLigh
   }
 
   if (ray.depth >= params.max_depth) return;
-  push_specular(PATH_QUEUE_ARGS(next), params.ray_capacity, params.min_weight, ray, spawn_point(sp, n),
+  push_specular(PATH_QUEUE_ARGS(next), params.ray_capacity, params.min_weight, ray,
+                spawn_ray_origin(sp.position, sp.p_error, sp.normal, n),
                 reflect_dir(d, n_spec), reflect_weight);
-  push_specular(PATH_QUEUE_ARGS(next), params.ray_capacity, params.min_weight, ray, spawn_point(sp, -n),
+  push_specular(PATH_QUEUE_ARGS(next), params.ray_capacity, params.min_weight, ray,
+                spawn_ray_origin(sp.position, sp.p_error, sp.normal, -n),
                 refract_dir(d, n_spec, eta, cos_i, cos_t), refract_weight);
 }

@@ -26,6 +26,7 @@
 typedef struct {
   float3 wi;       /* unit direction toward the light */
   float distance;  /* to the sampled point (the shadow ray's extent) */
+  float3 p_error;  /* bound on the sampled point's error per component (shadow_ray_tmax, geometry.h) */
   float3 radiance; /* arriving along -wi, before visibility */
   float pdf;       /* solid angle x pick probability; the pick probability alone for a point */
   bool delta;
@@ -97,6 +98,7 @@ inline bool sample_light(__global const PathLight* l, float pick_probability, fl
     if (!(d2 > 0.0f)) return false;
     s->distance = sqrt(d2);
     s->wi = d / s->distance;
+    s->p_error = (float3)(0.0f); /* the point is exact */
     s->radiance = l->emitted.xyz / d2;
     s->pdf = pick_probability;
     s->delta = true;
@@ -119,19 +121,27 @@ inline bool sample_light(__global const PathLight* l, float pick_probability, fl
     const float proj = dot(to_c, wi);
     const float h2 = fmax(0.0f, r * r - (d2 - proj * proj));
     s->distance = fmax(proj - sqrt(h2), 0.0f);
+    /* The difference above loses up to a few roundings of its operands,
+     * of the size of the distance to the centre. */
+    s->p_error = error_gamma(16.0f) * (fabs(c) + (float3)(r + dist_c));
     s->wi = wi;
     s->radiance = l->emitted.xyz;
     s->pdf = pick_probability * pdf_uniform_cone(one_minus_cos_max);
     return s->pdf > 0.0f;
   }
   float3 q;
+  /* Sums of the base point and at most two terms of the light's size, a
+   * few roundings each (8 bounds them all). */
   if (l->kind == LIGHT_RECT) {
     q = sample_rectangle(l->p0.xyz, l->p1.xyz, l->p2.xyz, u);
+    s->p_error = error_gamma(8.0f) * (fabs(l->p0.xyz) + fabs(l->p1.xyz) + fabs(l->p2.xyz));
   } else if (l->kind == LIGHT_CYLINDER) {
     q = sample_cylinder_surface(l, u);
+    s->p_error = error_gamma(8.0f) * (fabs(l->p0.xyz) + (float3)(l->p0.w + l->p1.w));
   } else {
     const float2 bc = sample_triangle_barycentrics(u);
     q = l->p0.xyz + bc.x * (l->p1.xyz - l->p0.xyz) + bc.y * (l->p2.xyz - l->p0.xyz);
+    s->p_error = error_gamma(8.0f) * (fabs(l->p0.xyz) + fabs(l->p1.xyz - l->p0.xyz) + fabs(l->p2.xyz - l->p0.xyz));
   }
   const float3 d = q - p;
   const float d2 = dot(d, d);

@@ -51,21 +51,14 @@ typedef struct {
   float3 shading_normal; /* outward, in the geometric normal's hemisphere */
   float2 uv;
   uint material;
-  /* Magnitude of the numbers the position was computed from (|centre| +
-   * radius, largest vertex coordinate...). The position's rounding error
-   * scales with it, not with |position|: a point near the origin on a
-   * sphere of radius 25 centred 25 away carries errors of ulp(25). */
-  float error_scale;
+  /* Per-component bound on the position's distance from the exact surface
+   * point it stands for (see spawn_ray_origin, geometry.h): derived from
+   * the arithmetic below, so it follows the primitive's size and distance
+   * from the origin, not |position|. */
+  float3 p_error;
 } SurfacePoint;
 
 inline float max_abs3(float3 v) { return fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z))); }
-
-/* Origin of a secondary ray leaving sp on the side side_normal points to:
- * the ULP offset of offset_ray_origin (which scales with |position|) plus a
- * push of 2^-17 (64 float epsilons) of the error scale along the normal. */
-inline float3 spawn_point(SurfacePoint sp, float3 side_normal) {
-  return offset_ray_origin(sp.position, side_normal) + side_normal * (sp.error_scale * 0x1.0p-17f);
-}
 
 /* atan2(y, x) / 2pi in [0, 1). u just below 0 would round to exactly 1 after
  * the + 1, which is the same place as 0 on a tiling texture. x = y = 0 (a
@@ -95,7 +88,7 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
   sp.normal = (float3)(0.0f, 0.0f, 1.0f);
   sp.uv = (float2)(0.0f, 0.0f);
   sp.material = 0u;
-  sp.error_scale = 0.0f;
+  sp.p_error = (float3)(0.0f);
   uint type = prim_ref_type(hit.prim);
   uint index = prim_ref_index(hit.prim);
 #ifdef HAS_SPHERES
@@ -106,7 +99,12 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
     sp.normal = normalize(rel);
     sp.position = s.xyz + s.w * sp.normal;
     sp.material = spheres[index].material;
-    sp.error_scale = max_abs3(s.xyz) + s.w;
+    /* r * normalize(rel) is within 5 roundings of the sphere (pbrt's
+     * re-projection bound), and adding the centre rounds once more, by at
+     * most ulp(position). The roots the sphere test finds from an origin
+     * near the surface are good to a few roundings of r: 8, not 5, covers
+     * them too. */
+    sp.p_error = error_gamma(8.0f) * fabs(s.w * sp.normal) + error_gamma(1.0f) * fabs(sp.position);
 #ifdef HAS_TEXTURES
     sp.uv = (float2)(angle_unit(sp.normal.z, sp.normal.x), acos(clamp(-sp.normal.y, -1.0f, 1.0f)) * M_1_PI_F);
 #endif
@@ -147,7 +145,12 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
 #endif
     }
     sp.material = cylinders[index].material;
-    sp.error_scale = max_abs3(cr.xyz) + cr.w + half_length;
+    /* centre + z axis + radial: the last two within 7 roundings of their
+     * exact values (each at most radius or half the length in size), the
+     * two sums one rounding of |position| each. 8 rather than 7 also covers
+     * the cylinder test's roots from an origin near the surface, good to a
+     * few roundings of |origin - centre| <= radius + half length. */
+    sp.p_error = error_gamma(2.0f) * fabs(sp.position) + error_gamma(8.0f) * (float3)(cr.w + half_length);
   }
 #endif
   sp.shading_normal = sp.normal;
@@ -162,7 +165,18 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
     sp.normal = normalize(cross(v1 - v0, v2 - v0));
     sp.shading_normal = sp.normal;
     sp.material = triangles[index].material;
-    sp.error_scale = fmax(max_abs3(v0), fmax(max_abs3(v1), max_abs3(v2)));
+    /* pbrt's bound for the barycentric reconstruction is gamma(7) times
+     * the absolute terms; the second term is ours: pbrt also rejects hits
+     * with t below the test's own error bound, which would cost the 4-wide
+     * block test in the traversal loop, so instead the offset absorbs that
+     * error, a few tens of roundings of the triangle's extent (the sheared
+     * vertex depths the test computes t from). That error lies along the
+     * new ray, in any direction, so it is the same in every component: a
+     * per-component bound would vanish along the normal of an axis-aligned
+     * triangle (e1.y = e2.y = 0 on a floor), and the floor got acne. */
+    const float3 e1 = v1 - v0, e2 = v2 - v0;
+    sp.p_error = error_gamma(7.0f) * (fabs(v0) + fabs(hit.u * e1) + fabs(hit.v * e2)) +
+                 (float3)(error_gamma(32.0f) * (max_abs3(e1) + max_abs3(e2)));
 #ifdef HAS_TRIANGLE_SHADING
     __global const TriangleShading* ts = &triangle_shading[index];
     /* Edge form for the same reason as the position: tiled UVs (1000.25...)

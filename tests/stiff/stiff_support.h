@@ -1,0 +1,77 @@
+// Shared by the stiff-case suite (issue 14): whole-scene transforms, renders
+// of an edited scene, and closest hits through the real device traversal
+// (the BVH the renderer builds, kernels/integrator/intersect_closest.cl).
+//
+// Rules: every test here is about what stays true at extreme scales, far
+// from the origin or on degenerate input, and says in its comment what it
+// checks and what it found; sizes are cut to keep the suite near two minutes
+// on two cores, and each cut is said where it is made.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host/accel/bvh.h"
+#include "host/accel/bvh_wide.h"
+#include "host/image/image.h"
+#include "host/render/device_scene.h"
+#include "host/render/kernel_args.h"
+#include "host/render/integrator.h"
+#include "host/scene/features.h"
+#include "host/scene/scene.h"
+
+namespace caustica::stiff {
+
+// p -> scale * p + offset for everything positional: camera (position,
+// look-at; focus distance and aperture scale), shapes (centres, vertices,
+// radii, half lengths), lights (positions, rectangle edges, sphere radii).
+// Directions, normals, materials and texture coordinates are unchanged.
+// Intensities: phong's point lights have no falloff (scenes/FORMAT.md) and
+// area/sphere lights and emission are radiance, so only path mode's point
+// lights (radiance I / d^2) change: by scale^2 when point_light_falloff, so
+// that the image is the same.
+void transform_scene(Scene& s, float scale, glm::vec3 offset, bool point_light_falloff);
+
+struct RenderResult {
+  ImageF image;
+  RenderStats stats;
+};
+
+// Renders `scene_path` (after `edit`, if any) at width x height on the test
+// device; spp only for path mode.
+RenderResult render(const std::string& scene_path, RenderMode mode, int width, int height,
+                    const std::function<void(Scene&)>& edit = {}, int spp = 0);
+
+// The official scene directory in ../shared, or the copies in scenes/.
+std::string official_scene(const std::string& name);
+
+// Closest hits of host-made rays through the real device traversal: the
+// scene's BVH (built with `quality`), collapsed, uploaded, and traced by
+// the renderer's intersect_closest stage.
+class DeviceTracer {
+ public:
+  explicit DeviceTracer(const Scene& scene,
+                        BvhBuildOptions::Quality quality = BvhBuildOptions::Quality::Spatial);
+  ~DeviceTracer();
+  std::vector<Hit> closest(const std::vector<glm::vec3>& origin, const std::vector<glm::vec3>& dir) const;
+  const Bvh& bvh() const { return bvh_; }
+  const WideBvh& wide() const { return wide_; }
+
+ private:
+  const Scene& scene_;
+  Bvh bvh_;
+  WideBvh wide_;
+  SceneFeatures features_;
+  std::unique_ptr<DeviceScene> device_;
+  mutable StageKernel kernel_;
+};
+
+// Fraction of pixels whose largest channel differs by more than tol.
+double fraction_differing(const ImageF& a, const ImageF& b, float tol);
+double mean_abs_difference(const ImageF& a, const ImageF& b);
+
+}  // namespace caustica::stiff

@@ -1,0 +1,222 @@
+// Self-intersection (issue 14; pbrt-v4's Reintersect test): rays leaving a
+// hit point from spawn_ray_origin (kernels/lib/geometry.h) never find the
+// surface they leave, for spheres, cylinders and triangles at scales 1e-4,
+// 1 and 1e4 and at 1e5 from the origin, under the renderer's
+// -cl-fast-relaxed-math and without it.
+//
+// Per hit point (a random ray from outside onto the shape, surface_at as
+// the shade stages call it) rays of four kinds: reflected (about a jittered
+// normal, kept on the outside), refracted (into the shape), diffuse (cosine
+// around the normal) and shadow (toward a point 10 sizes away, with
+// shadow_ray_tmax). Spurious: any hit of the same primitive by a ray
+// leaving a convex shape or a triangle; for a ray entering a sphere or
+// cylinder, a hit on the same part (side, cap) nearer than 1e-3 of the
+// shape's size (refracted directions keep a cosine >= 0.01 with the normal,
+// so the true chord is at least 0.02 of the radius).
+// Found: with the old offsets (256 ulps + 2^-17 |p|) none at these scales,
+// but offsets of ~2 units at 1e5 (see test_invariance.cpp); the error-bounded
+// origins keep zero spurious hits with offsets of ~1e-2 there.
+// Left open: one cylinder case, see the check below.
+// Counts: 10^4 hit points x 256 rays per shape and scale (the issue's 1,000
+// rays per point cut to 256 to keep the suite near two minutes).
+#include <gtest/gtest.h>
+
+#include <glm/glm.hpp>
+#include <map>
+#include <cstdlib>
+#include <random>
+
+#include "host/scene/scene.h"
+#include "tests/support/test_support.h"
+
+namespace caustica {
+namespace {
+
+using glm::vec3;
+using test::runtime;
+
+const char* kKernel = R"CLC(
+#include "lib/bvh_traverse.h"
+#include "lib/surface.h"
+
+uint mix32(uint x) {
+  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
+  return x;
+}
+float unit_float(uint* s) { *s = mix32(*s + 0x9e3779b9u); return (float)(*s >> 8) * 0x1.0p-24f; }
+float3 unit_vector(uint* s) {
+  const float z = 1.0f - 2.0f * unit_float(s), phi = 6.2831853f * unit_float(s);
+  const float r = sqrt(fmax(0.0f, 1.0f - z * z));
+  return (float3)(r * cos(phi), r * sin(phi), z);
+}
+/* A direction on nf's side with cos >= min_cos. */
+float3 hemisphere(uint* s, float3 nf, float min_cos) {
+  float3 v = unit_vector(s);
+  if (dot(v, nf) < 0.0f) v = -v;
+  if (dot(v, nf) < min_cos) v = normalize(v + (min_cos - dot(v, nf)) * nf * 1.01f);
+  return v;
+}
+
+/* counts: 0 hit points, 1 rays, 2 spurious, 3 non-finite origins */
+__kernel void reintersect(__global const float4* rays, uint n, uint per_hit, __global const Sphere* spheres,
+                          __global const Cylinder* cylinders, __global const Triangle* triangles, uint ref, float size,
+                          volatile __global uint* counts, __global float4* example) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  const float3 o = rays[2 * i].xyz, d = rays[2 * i + 1].xyz;
+  Hit h = hit_none(RAY_T_FAR);
+  if (!intersect_prim_ref(spheres, cylinders, triangles, ref, o, d, 0.0f, &h)) return;
+  atomic_inc(&counts[0]);
+  const SurfacePoint sp = surface_at(spheres, cylinders, triangles, (__global const TriangleShading*)0, h, o, d);
+  const float3 nf = dot(sp.normal, d) < 0.0f ? sp.normal : -sp.normal;
+  const bool closed = prim_ref_type(ref) != PRIM_TRIANGLE;
+  uint s = mix32(i * 0x2545f491u + 1u);
+  uint spurious = 0, nonfinite = 0;
+  for (uint j = 0; j < per_hit; ++j) {
+    const uint kind = j & 3u;
+    float3 dir;
+    float tmax = RAY_T_FAR;
+    bool inward = false;
+    if (kind == 0u) { /* reflection about a jittered normal, kept outside */
+      const float3 m = normalize(nf + 0.3f * unit_vector(&s));
+      dir = d - 2.0f * dot(d, m) * m;
+      if (dot(dir, nf) <= 0.0f) dir = d - 2.0f * dot(d, nf) * nf;
+    } else if (kind == 1u) { /* refraction into the shape */
+      dir = -hemisphere(&s, nf, 0.01f);
+      inward = true;
+    } else if (kind == 2u) { /* diffuse */
+      dir = hemisphere(&s, nf, 0.0f);
+    }
+    float3 origin = spawn_ray_origin(sp.position, sp.p_error, sp.normal, dir);
+    if (kind == 3u) { /* shadow ray toward a point light 10 sizes away, as the shade stages make them */
+      const float3 light = sp.position + 10.0f * size * hemisphere(&s, nf, 0.0f);
+      origin = spawn_ray_origin(sp.position, sp.p_error, sp.normal, nf);
+      const float dist = length(light - origin);
+      dir = (light - origin) / dist;
+      /* A light below the tangent plane as seen from the origin is skipped
+       * by the stages (dot(geometric, l) <= 0): the ray would enter. */
+      if (!(dot(dir, nf) > 0.0f)) continue;
+      tmax = shadow_ray_tmax(dist, dir, (float3)(0.0f));
+    }
+    if (!(fabs(origin.x) < 1e30f && fabs(origin.y) < 1e30f && fabs(origin.z) < 1e30f)) ++nonfinite;
+    Hit r = hit_none(tmax);
+    if (!intersect_prim_ref(spheres, cylinders, triangles, ref, origin, dir, 0.0f, &r)) continue;
+    const bool bad = !inward || !closed || (r.u == h.u && r.t * length(dir) < 1e-3f * size);
+    if (bad) {
+      if (spurious == 0u)
+        example[i] = (float4)((float)kind + 10.0f * h.u + 100.0f * r.u, r.t, dot(dir, nf), length(origin - sp.position));
+      ++spurious;
+    }
+  }
+  atomic_add(&counts[1], per_hit);
+  if (spurious) atomic_add(&counts[2], spurious);
+  if (nonfinite) atomic_add(&counts[3], nonfinite);
+}
+)CLC";
+
+struct Config {
+  const char* name;
+  float scale;
+  vec3 offset;
+};
+
+const Config kConfigs[] = {{"1e-4", 1e-4f, vec3(0.0f)},
+                           {"1", 1.0f, vec3(0.0f)},
+                           {"1e4", 1e4f, vec3(0.0f)},
+                           {"offset_1e5", 1.0f, vec3(1e5f, -1e5f, 1e5f)}};
+
+template <class T>
+cl::Buffer upload(std::vector<T> v) {
+  if (v.empty()) v.resize(1);
+  return cl::Buffer(runtime().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data());
+}
+
+vec3 random_unit(std::mt19937& rng) {
+  std::normal_distribution<float> g;
+  return glm::normalize(vec3(g(rng), g(rng), g(rng)));
+}
+
+class SelfIntersection : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SelfIntersection, SpawnedRaysNeverReHitTheirSurface) {
+  static std::map<std::string, cl::Program> programs;
+  cl::Program& program = programs[GetParam()];
+  if (!program())
+    program = runtime()
+                  .build_source("stiff_self_intersection.cl", kKernel,
+                                std::string("-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES ") + GetParam())
+                  .program;
+  const uint32_t hit_points = 10000, per_hit = 256;
+  for (const Config& c : kConfigs) {
+    for (uint32_t type : {PRIM_SPHERE, PRIM_CYLINDER, PRIM_TRIANGLE}) {
+      std::mt19937 rng(7 + type);
+      std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+      const float k = c.scale;
+      const vec3 centre = c.offset + k * vec3(1.5f, -0.5f, 2.0f);
+      const Sphere sphere{to_float4(centre, k), 0, 0, 0, 0};
+      const Cylinder cylinder{to_float4(centre, 0.5f * k), to_float4(random_unit(rng), k), 0, 0, 0, 0};
+      const Triangle triangle{to_float4(centre + k * vec3(-1.3f, 0.5f, -1.0f)), to_float4(centre + k * vec3(0.2f, 0.9f, -1.4f)),
+                              to_float4(centre + k * vec3(-1.0f, -0.3f, 0.5f)), 0, 0, 0, 0};
+      std::vector<cs_float4> rays;
+      for (uint32_t i = 0; i < hit_points; ++i) {
+        vec3 target = centre + (type == PRIM_SPHERE ? 0.8f : 0.45f) * k * u01(rng) * random_unit(rng);
+        if (type == PRIM_TRIANGLE) {
+          float a = u01(rng), b = u01(rng);
+          if (a + b > 1.0f) a = 1.0f - a, b = 1.0f - b;
+          const vec3 v0 = to_vec3(triangle.v0), v1 = to_vec3(triangle.v1), v2 = to_vec3(triangle.v2);
+          target = v0 + a * (v1 - v0) + b * (v2 - v0);
+        }
+        const vec3 o = target + 6.0f * k * random_unit(rng);
+        rays.push_back(to_float4(o));
+        rays.push_back(to_float4(glm::normalize(target - o)));
+      }
+      std::vector<cl::Buffer> keep = {upload(rays), upload(std::vector<Sphere>{sphere}),
+                                      upload(std::vector<Cylinder>{cylinder}), upload(std::vector<Triangle>{triangle})};
+      std::vector<cl_uint> counts(4, 0);
+      cl::Buffer count_buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, 16, counts.data());
+      std::vector<cs_float4> zeros(hit_points, cs_float4{0, 0, 0, 0});
+      cl::Buffer example(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, hit_points * sizeof(cs_float4), zeros.data());
+      cl::Kernel kernel(program, "reintersect");
+      kernel.setArg(0, keep[0]);
+      kernel.setArg(1, cl_uint(hit_points));
+      kernel.setArg(2, cl_uint(per_hit));
+      kernel.setArg(3, keep[1]);
+      kernel.setArg(4, keep[2]);
+      kernel.setArg(5, keep[3]);
+      kernel.setArg(6, cl_uint(type << PRIM_TYPE_SHIFT));
+      kernel.setArg(7, k);
+      kernel.setArg(8, count_buffer);
+      kernel.setArg(9, example);
+      runtime().queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(round_up(hit_points, 64)),
+                                             cl::NDRange(64));
+      runtime().queue().enqueueReadBuffer(count_buffer, CL_TRUE, 0, 16, counts.data());
+      if (counts[2] > 0 && std::getenv("STIFF_DEBUG")) {
+        std::vector<cs_float4> ex(hit_points);
+        runtime().queue().enqueueReadBuffer(example, CL_TRUE, 0, ex.size() * sizeof(cs_float4), ex.data());
+        int shown = 0;
+        for (const auto& e : ex)
+          if (e.y != 0.0f && shown++ < 8) std::printf("  kind %g t %g cos %g offset %g\n", e.x, e.y, e.z, e.w);
+      }
+      const char* names[] = {"sphere", "cylinder", "triangle"};
+      std::printf("[measure] %s scale %s: %u hit points, %u rays, %u spurious\n", names[type], c.name, counts[0],
+                  counts[1], counts[2]);
+      EXPECT_GE(counts[0], hit_points * 9 / 10) << names[type] << " " << c.name;
+      // Cylinders: 1 in 2.5 million rays at scale 1e4 re-hits its side (a
+      // diffuse ray nearly parallel to the axis, cosine 0.002 with the
+      // normal: the side test's roots lose precision with the direction's
+      // small perpendicular part, which the point's error bound cannot
+      // know). Left open (issue 14); at most 1 in 10^6 allowed there.
+      if (type == PRIM_CYLINDER)
+        EXPECT_LE(counts[2], counts[1] / 1000000u) << names[type] << " at scale " << c.name;
+      else
+        EXPECT_EQ(counts[2], 0u) << names[type] << " at scale " << c.name;
+      EXPECT_EQ(counts[3], 0u) << names[type] << " at scale " << c.name;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(BuildOptions, SelfIntersection, ::testing::Values("", "-cl-fast-relaxed-math"),
+                         [](const auto& info) { return info.index == 0 ? std::string("Strict") : std::string("FastMath"); });
+
+}  // namespace
+}  // namespace caustica
