@@ -11,6 +11,8 @@
 #include "integrator/shade_surface_path.cl"
 #include "integrator/intersect_shadow.cl"
 #include "film/accumulate_film_pass.cl"
+/* Last, and only stage files: the host inlines every file once, ignoring
+ * #if, so a header first included below would be lost to anything after. */
 #if PATH_WITH_CAUSTICS
 #include "photon/emit_photons.cl"
 #include "photon/bounce_photons.cl"

@@ -1,10 +1,21 @@
 #line 2 "kernels/integrator_phong.cl"
 /* The Whitted (phong) integrator's program: generate_camera_rays ->
  * { intersect_closest -> shade_surface_phong -> intersect_shadow }* and the
- * film's pass accumulation (host/render/integrator_phong.cpp drives it). */
+ * film's pass accumulation (host/render/integrator_phong.cpp drives it);
+ * with -DPHONG_WITH_CAUSTICS=1 (--caustics on) also the photon pass's
+ * tracing and grid (emit_photons -> { intersect_closest -> bounce_photons }*
+ * -> compact_photons -> the grid), which shade_surface_phong gathers from. */
 
 #include "integrator/generate_camera_rays.cl"
 #include "integrator/intersect_closest.cl"
 #include "integrator/shade_surface_phong.cl"
 #include "integrator/intersect_shadow.cl"
 #include "film/accumulate_film_pass.cl"
+/* Last, and only stage files: the host inlines every file once, ignoring
+ * #if, so a header first included below would be lost to anything after. */
+#if PHONG_WITH_CAUSTICS
+#include "photon/emit_photons.cl"
+#include "photon/bounce_photons.cl"
+#include "photon/compact_photons.cl"
+#include "photon_grid.cl"
+#endif

@@ -85,10 +85,10 @@ double fitted_slope(const std::vector<ErrorReport>& reports) {
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
-const CornellReport& cornell() {
-  static const CornellReport r;
-  return r;
-}
+// The renders are shared by the checks below, so they run as one test (each
+// test is a process of its own under ctest).
+const CornellReport* shared_report = nullptr;
+const CornellReport& cornell() { return *shared_report; }
 
 std::string error_of(RenderArgs a) {
   try {
@@ -112,7 +112,7 @@ TEST(ErrorEstimate, MatchesTheFormulaOnHandMadeImages) {
   EXPECT_THROW(estimated_rel_mse(mean, half, 1, 1), Error);
 }
 
-TEST(ErrorReport, RowsAreMonotoneAndGeometric) {
+void check_rows_monotone_and_geometric() {
   const ErrorReport& r = cornell().sobol;
   std::vector<int64_t> spp;
   for (const auto& row : r.rows) spp.push_back(row.spp);
@@ -128,7 +128,7 @@ TEST(ErrorReport, RowsAreMonotoneAndGeometric) {
 // Sobol-Burley samples are quasi-Monte Carlo and may converge faster (on
 // the Cornell box they do, about spp^-1.5, in the light's and the edges'
 // pixels): they must do at least as well.
-TEST(ErrorReport, TrueErrorFallsAtTheMonteCarloRate) {
+void check_monte_carlo_rate() {
   const double independent = fitted_slope(cornell().independent), sobol = fitted_slope({cornell().sobol});
   std::printf("[measure] Cornell box 48x48, log-log slope of MSE against spp (4..128): independent %.3f "
               "(mean of 4 seeds), "
@@ -140,7 +140,7 @@ TEST(ErrorReport, TrueErrorFallsAtTheMonteCarloRate) {
 
 // Past 8 spp (the estimate's denominator is the noisy image itself, so it
 // runs low while fireflies dominate), for both samplers.
-TEST(ErrorReport, EstimateIsWithinTwiceTheTrueRelMse) {
+void check_estimate_within_twice_the_truth() {
   for (const ErrorReport* r : {&cornell().sobol, &cornell().independent[0]})
   for (const auto& row : r->rows) {
     if (row.spp <= 8) continue;
@@ -152,7 +152,7 @@ TEST(ErrorReport, EstimateIsWithinTwiceTheTrueRelMse) {
   }
 }
 
-TEST(ErrorReport, TargetErrorStopsAtOrJustBelowIt) {
+void check_target_error() {
   // A target between the 16- and 32-spp estimates of the shared report.
   const ErrorReport& shared = cornell().sobol;
   const double target = std::sqrt(*shared.rows[4].est_relmse * *shared.rows[5].est_relmse);
@@ -172,7 +172,7 @@ TEST(ErrorReport, TargetErrorStopsAtOrJustBelowIt) {
   for (size_t i = 1; i + 1 < r.rows.size(); ++i) EXPECT_GT(*r.rows[i].est_relmse, target) << "row " << i;
 }
 
-TEST(ErrorReport, BadReferenceIsAnErrorBeforeRendering) {
+void check_bad_reference(const CornellReport& cornell) {
   const std::string dir = test::temp_dir();
   RenderArgs a = cornell_args(dir + "/never.png", 4, 0);
   a.reference = dir + "/missing.pfm";
@@ -180,10 +180,36 @@ TEST(ErrorReport, BadReferenceIsAnErrorBeforeRendering) {
   a.reference = dir + "/reference.png";
   EXPECT_TRUE(Contains(error_of(a), {"--reference", "reference.png", ".pfm or .exr"}));
   a.reference = dir + "/reference.pfm";
-  write_image(a.reference, cornell().reference, DisplaySettings{});
+  write_image(a.reference, cornell.reference, DisplaySettings{});
   a.session.width = 64;
   EXPECT_TRUE(Contains(error_of(a), {"--reference", "48x48", "64x64"}));
   EXPECT_FALSE(std::ifstream(dir + "/never.png").good());  // nothing was rendered
+}
+
+TEST(ErrorReport, CornellBoxReportsConvergeAndEstimateTheirError) {
+  const CornellReport report;
+  shared_report = &report;
+  {
+    SCOPED_TRACE("rows monotone, geometric, complete");
+    check_rows_monotone_and_geometric();
+  }
+  {
+    SCOPED_TRACE("Monte Carlo rate");
+    check_monte_carlo_rate();
+  }
+  {
+    SCOPED_TRACE("estimate within 2x of the true relMSE");
+    check_estimate_within_twice_the_truth();
+  }
+  {
+    SCOPED_TRACE("--target-error");
+    check_target_error();
+  }
+  {
+    SCOPED_TRACE("bad references");
+    check_bad_reference(report);
+  }
+  shared_report = nullptr;
 }
 
 }  // namespace

@@ -82,8 +82,10 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   // A time limit or a target error alone leaves the sample count open.
   const int default_spp =
       options.time_limit_s > 0.0 || options.open_ended ? std::numeric_limits<int>::max() : kDefaultPathSpp;
-  session->settings.passes = path ? (options.spp > 0 ? options.spp : default_spp) : 1;
-  session->settings.time_limit_s = path ? options.time_limit_s : 0.0;
+  // Phong is one deterministic pass, unless its photon pass needs many.
+  const bool progressive = path || session->features.caustics;
+  session->settings.passes = progressive ? (options.spp > 0 ? options.spp : default_spp) : 1;
+  session->settings.time_limit_s = progressive ? options.time_limit_s : 0.0;
   session->settings.seed = options.seed;
   session->settings.half_buffer = path && options.error_estimate;
   session->settings.caustics = session->features.caustics;

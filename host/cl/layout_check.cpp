@@ -57,7 +57,7 @@ static_assert(sizeof(PhotonGridParams) == 32 && offsetof(PhotonGridParams, cell_
                   offsetof(PhotonGridParams, inv_cell_size) == 20 && offsetof(PhotonGridParams, table_size) == 24 &&
                   offsetof(PhotonGridParams, photon_count) == 28,
               "PhotonGridParams layout");
-static_assert(sizeof(PhotonPassParams) == 32 && offsetof(PhotonPassParams, alpha) == 24, "PhotonPassParams layout");
+static_assert(sizeof(PhotonPassParams) == 48 && offsetof(PhotonPassParams, alpha) == 40, "PhotonPassParams layout");
 static_assert(sizeof(VisiblePoint) == 112 && offsetof(VisiblePoint, beta) == 48 && offsetof(VisiblePoint, kind) == 96,
               "VisiblePoint layout");
 static_assert(sizeof(SppmPixel) == 32 && offsetof(SppmPixel, photons) == 16 && offsetof(SppmPixel, radius2) == 20,

@@ -69,6 +69,11 @@ const std::map<std::string, const std::string*>& embedded_index() {
   return index;
 }
 
+// Inlines kernel includes from the embedded files, each file once per
+// program. The preprocessor has not run yet: an #include inside a false
+// #if is still inlined (and then compiled away), and marks the file as
+// included; kernel files therefore keep their includes unconditional, or
+// put conditional ones last (integrator_*.cl).
 void expand_into(const std::string& name, const std::string& text, std::set<std::string>& included,
                  std::ostringstream& out) {
   out << "#line 1 \"" << name << "\"\n";

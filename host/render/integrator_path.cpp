@@ -113,7 +113,7 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
         .queue("in", *current)
         .arg("hits", hits_);
     film.bind(shade).queue("next", *next).queue("shadow", shadow_);
-    if (photons_) photons_->bind_visible_points(shade);
+    if (photons_) photons_->bind_photon_map(photons_->bind_visible_points(shade), uint32_t(film.passes()));
     shade.finish();
     launcher_.launch(shade_, ray_count, stats);
 

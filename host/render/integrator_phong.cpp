@@ -6,7 +6,9 @@
 // and one shadow queue; stages the feature set does not need are not
 // launched (no shadow stage without lights, one wave without reflection or
 // refraction). Area and sphere lights are point-light stand-ins here
-// (whitted_point_lights).
+// (whitted_point_lights). With --caustics on, a PhotonPass traces photons
+// from those lights before each pass and the shade stage gathers them
+// (lib/caustics.h); the passes are then averaged like path mode's.
 #include "host/render/device_scene.h"
 #include "host/render/integrator.h"
 #include "host/render/kernel_args.h"
@@ -17,6 +19,8 @@
 
 #include "host/cl/runtime.h"
 #include "host/render/lights.h"
+#include "host/render/path_lights.h"
+#include "host/render/photon_pass.h"
 
 namespace caustica {
 namespace {
@@ -28,6 +32,9 @@ class PhongIntegrator final : public Integrator {
   PhongIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                   const RenderSettings& settings);
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
+  void begin_pass(Film& film, RenderStats* stats) override {
+    if (photons_) photons_->trace(uint32_t(film.passes()), stats);
+  }
 
  private:
   ShadeParams shade_params() const;
@@ -38,6 +45,8 @@ class PhongIntegrator final : public Integrator {
   cl::Buffer lights_, hits_, shadow_traced_;
   DeviceQueue rays_[2], shadow_;
   StageKernel generate_, intersect_, shade_, shadow_stage_;
+  cl::Buffer photon_lights_;
+  std::unique_ptr<PhotonPass> photons_;  // --caustics on only
 };
 
 float max3(const cs_float4& v) { return std::max(v.x, std::max(v.y, v.z)); }
@@ -112,6 +121,16 @@ PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& sce
   intersect_ = StageKernel(program, "intersect_closest");
   shade_ = StageKernel(program, "shade_surface_phong");
   shadow_stage_ = StageKernel(program, "intersect_shadow");
+  if (settings.caustics) {
+    const std::vector<PathLight> photon_lights = point_path_lights(lights);
+    if (!photon_lights.empty()) {
+      photon_lights_ = upload_buffer(ctx, photon_lights);
+      photons_ = std::make_unique<PhotonPass>(launcher, scene, program, photon_lights_,
+                                              uint32_t(photon_lights.size()), settings, PhotonGather::SharedRadius);
+      // A focused caustic can exceed the direct light's bound by far.
+      pass_bound_ *= 1e4f;
+    }
+  }
 }
 
 ShadeParams PhongIntegrator::shade_params() const {
@@ -146,7 +165,9 @@ bool PhongIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_c
     if (light_count_ > 0) launcher_.write_count(shadow_.count(), shadow_count, stats);
     KernelArgs shade(shade_);
     scene_.bind_surfaces(shade).arg("lights", lights_).arg("params", params).queue("in", *current).arg("hits", hits_);
-    film.bind(shade).queue("next", *next).queue("shadow", shadow_).finish();
+    film.bind(shade).queue("next", *next).queue("shadow", shadow_);
+    if (photons_) photons_->bind_photon_map(shade, uint32_t(film.passes()));
+    shade.finish();
     launcher_.launch(shade_, ray_count, stats);
 
     if (light_count_ > 0) {

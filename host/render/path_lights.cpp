@@ -148,15 +148,36 @@ PathLightTable build_path_lights(const Scene& scene) {
     add_shape(c.material, LIGHT_CYLINDER, c.center_radius, c.axis_half, {}, 4.0f * kPi * r * h + 2.0f * kPi * r * r,
               t.light_of_cylinder, i);
   }
+  set_selection(t.lights, power);
+  return t;
+}
+
+void set_selection(std::vector<PathLight>& lights, const std::vector<float>& power) {
   double total = 0.0;
   for (float p : power) total += p;
   double prefix = 0.0;
-  for (size_t i = 0; i < t.lights.size(); ++i) {
-    t.lights[i].select_probability = float(power[i] / total);
+  for (size_t i = 0; i < lights.size(); ++i) {
+    lights[i].select_probability = float(power[i] / total);
     prefix += power[i] / total;
-    t.lights[i].select_cdf = i + 1 == t.lights.size() ? 1.0f : float(prefix);
+    lights[i].select_cdf = i + 1 == lights.size() ? 1.0f : float(prefix);
   }
-  return t;
+}
+
+std::vector<PathLight> point_path_lights(const std::vector<PointLight>& points) {
+  std::vector<PathLight> lights;
+  std::vector<float> power;
+  for (const PointLight& p : points) {
+    const glm::vec3 i = to_vec3(p.intensity);
+    if (!(luminance(i) > 0.0f)) continue;
+    PathLight l{};
+    l.kind = LIGHT_POINT;
+    l.p0 = p.position;
+    l.emitted = to_float4(i);
+    lights.push_back(l);
+    power.push_back(4.0f * kPi * luminance(i));
+  }
+  set_selection(lights, power);
+  return lights;
 }
 
 }  // namespace caustica

@@ -28,4 +28,10 @@ struct PathLightTable {
 // sphere and cylinder (outward).
 PathLightTable build_path_lights(const Scene& scene);
 
+// Point lights as path lights (phong's photon pass emits from its point
+// lights and stand-ins), picked in proportion to power.
+std::vector<PathLight> point_path_lights(const std::vector<PointLight>& points);
+// select_probability and select_cdf of `lights` from their powers.
+void set_selection(std::vector<PathLight>& lights, const std::vector<float>& power);
+
 }  // namespace caustica

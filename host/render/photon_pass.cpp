@@ -43,8 +43,10 @@ float default_caustic_radius(const Scene& scene, uint32_t photons_per_pass) {
 }
 
 PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
-                       const cl::Buffer& lights, uint32_t light_count, const RenderSettings& settings)
-    : launcher_(launcher),
+                       const cl::Buffer& lights, uint32_t light_count, const RenderSettings& settings,
+                       PhotonGather gather)
+    : gather_mode_(gather),
+      launcher_(launcher),
       scene_(scene),
       lights_(lights),
       light_count_(light_count),
@@ -55,11 +57,12 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
       initial_radius_(settings.caustic_radius > 0.0f ? settings.caustic_radius
                                                      : default_caustic_radius(scene.scene(), settings.photons_per_pass)),
       cell_size_(initial_radius_),
+      fixed_radius_(settings.caustic_radius > 0.0f),
+      image_height_(settings.height),
       emit_(program, "emit_photons"),
       intersect_(program, "intersect_closest"),
       bounce_(program, "bounce_photons"),
       compact_(program, "compact_photons"),
-      gather_(program, "gather_photons"),
       scan_(program),
       grid_(launcher.runtime(), program) {
   if (photons_per_pass_ == 0) throw Error("photon pass: --photons must be positive");
@@ -72,9 +75,12 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
   offsets_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, (n + 1) * sizeof(cl_uint));
   photons_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(Photon));
   stored_count_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
-  visible_points_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixel_count_ * sizeof(VisiblePoint));
-  pixels_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixel_count_ * sizeof(SppmPixel));
-  largest_radius2_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
+  if (gather_mode_ == PhotonGather::PerPixel) {
+    gather_ = StageKernel(program, "gather_photons");
+    visible_points_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixel_count_ * sizeof(VisiblePoint));
+    pixels_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixel_count_ * sizeof(SppmPixel));
+    largest_radius2_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
+  }
   glm::vec3 lo, hi;
   scene_box(scene.scene(), &lo, &hi);
   origin_ = {lo.x, lo.y, lo.z};
@@ -84,13 +90,23 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
 PhotonPass::~PhotonPass() = default;
 
 void PhotonPass::clear() {
-  auto& q = launcher_.runtime().queue();
-  SppmPixel start{};
-  start.radius2 = initial_radius_ * initial_radius_;
-  q.enqueueFillBuffer(pixels_, start, 0, pixel_count_ * sizeof(SppmPixel));
-  q.enqueueFillBuffer(visible_points_, cl_uint(0), 0, pixel_count_ * sizeof(VisiblePoint));
   cell_size_ = initial_radius_;
   stats_ = {};
+  if (gather_mode_ != PhotonGather::PerPixel) return;
+  auto& q = launcher_.runtime().queue();
+  SppmPixel start{};  // radius2 0: set by the pixel's first visible point
+  q.enqueueFillBuffer(pixels_, start, 0, pixel_count_ * sizeof(SppmPixel));
+  q.enqueueFillBuffer(visible_points_, cl_uint(0), 0, pixel_count_ * sizeof(VisiblePoint));
+}
+
+float PhotonPass::shared_radius(uint32_t pass_index) const {
+  double r2 = double(initial_radius_) * initial_radius_;
+  for (uint32_t i = 1; i <= pass_index; ++i) r2 *= (i + double(kSppmAlpha)) / (i + 1.0);
+  return float(std::sqrt(r2));
+}
+
+KernelArgs& PhotonPass::bind_photon_map(KernelArgs& args, uint32_t pass_index) const {
+  return grid_.bind(args).arg("caustic_radius", shared_radius(pass_index));
 }
 
 PhotonPassParams PhotonPass::params(uint32_t pass_index) const {
@@ -102,6 +118,13 @@ PhotonPassParams PhotonPass::params(uint32_t pass_index) const {
   p.max_depth = max_depth_;
   p.pixel_count = cl_uint(pixel_count_);
   p.alpha = kSppmAlpha;
+  p.radius_cap = initial_radius_;
+  // With --caustic-radius every pixel starts there; otherwise at its
+  // footprint (the camera's angle per pixel times the distance), capped.
+  const CameraDesc& cam = scene_.scene().camera;
+  p.camera = to_float4(cam.position, fixed_radius_ ? 0.0f
+                                                   : 2.0f * std::tan(glm::radians(cam.fov_y_degrees) * 0.5f) /
+                                                         float(std::max(1, image_height_)));
   return p;
 }
 
@@ -150,6 +173,7 @@ void PhotonPass::trace(uint32_t pass_index, RenderStats* stats) {
   q.enqueueCopyBuffer(offsets_, stored_count_, size_t(photons_per_pass_) * sizeof(cl_uint), 0, sizeof(cl_uint));
   PhotonGridShape shape;
   shape.origin = origin_;
+  if (gather_mode_ == PhotonGather::SharedRadius) cell_size_ = shared_radius(pass_index);
   shape.cell_size = cell_size_;
   const uint32_t stored = grid_.build(launcher_, photons_, stored_count_, photons_per_pass_, shape, stats);
   stats_.emitted += photons_per_pass_;
@@ -176,6 +200,7 @@ void PhotonPass::gather(uint32_t pass_index, RenderStats* stats) {
 }
 
 void PhotonPass::add_to(ImageF& image, int passes) const {
+  if (gather_mode_ != PhotonGather::PerPixel) return;  // phong's caustics are in the film's passes
   std::vector<SppmPixel> px(pixel_count_);
   launcher_.runtime().queue().enqueueReadBuffer(pixels_, CL_TRUE, 0, px.size() * sizeof(SppmPixel), px.data());
   for (size_t i = 0; i < pixel_count_ && i < image.pixel_count(); ++i) {

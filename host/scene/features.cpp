@@ -62,8 +62,10 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
   }
   // Caustics need light -> caster -> receiver -> camera: at least two
   // scattering events, a light, a caster and a receiver.
-  if (mode != RenderMode::Path) {
-    f.caustics_reason = "path mode only";
+  if (mode == RenderMode::Binary) {
+    f.caustics_reason = "binary mode";
+  } else if (mode == RenderMode::Phong && caustics != CausticsMode::On) {
+    f.caustics_reason = "phong: only with --caustics on";
   } else if (caustics == CausticsMode::Off) {
     f.caustics_reason = "--caustics off";
   } else if (!f.lights) {
@@ -95,6 +97,7 @@ std::string SceneFeatures::build_options() const {
     if (!area_lights) o += " -DPATH_WITH_AREA_LIGHTS=0";
     if (caustics) o += " -DPATH_WITH_CAUSTICS=1";
   }
+  if (mode == RenderMode::Phong && caustics) o += " -DPHONG_WITH_CAUSTICS=1";
   if (textures) o += " -DHAS_TEXTURES";
   if (triangle_shading) o += " -DHAS_TRIANGLE_SHADING";
   return o;
@@ -117,8 +120,9 @@ std::string SceneFeatures::describe() const {
   if (mode == RenderMode::Path) {
     s += std::string(" area-light-sampling=") + (area_lights ? "compiled" : "left out");
     s += std::string(" dielectric-bsdf=") + (refraction ? "compiled" : "left out");
-    s += std::string(" photon-pass=") + (caustics ? "compiled" : "left out") + " (" + caustics_reason + ")";
   }
+  if (mode != RenderMode::Binary)
+    s += std::string(" photon-pass=") + (caustics ? "compiled" : "left out") + " (" + caustics_reason + ")";
   return s;
 }
 

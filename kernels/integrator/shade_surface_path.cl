@@ -16,13 +16,15 @@
  * normal so that the side tells inside from outside. No direction below the
  * geometric surface of an opaque material is followed (no light leaks
  * through shading normals). With the photon pass (PATH_WITH_CAUSTICS), the
- * first receiving vertex records the pixel's visible point and the paths
- * the photon map covers are dropped here (lib/caustics.h). */
+ * first receiving vertex records the pixel's visible point, later ones
+ * gather the photon map inline, and the paths the photon map covers are
+ * dropped here (lib/caustics.h). */
 
 #ifndef PATH_WITH_CAUSTICS
 #define PATH_WITH_CAUSTICS 0
 #endif
 
+#include "lib/photon_grid.h" /* before caustics.h: its gathers need the grid */
 #include "lib/caustics.h"
 #include "lib/film.h"
 #include "lib/material.h"
@@ -54,7 +56,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
                                  PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits, FILM_PARAMS,
                                  PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)
 #if PATH_WITH_CAUSTICS
-                                 , __global VisiblePoint* restrict visible_points
+                                 , __global VisiblePoint* restrict visible_points, PHOTON_GRID_PARAMS, float caustic_radius
 #endif
 ) {
   const uint i = get_global_id(0);
@@ -76,8 +78,8 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   const bool arrived_by_delta = (ray.flags & PATH_SPECULAR) != 0u;
   bool sees_front = dot(d, sp.normal) < 0.0f || (mat->flags & MATERIAL_TWO_SIDED) != 0u;
 #if PATH_WITH_CAUSTICS
-  /* light -> caster+ -> D1: the photon map's */
-  if ((ray.flags & PATH_CHAIN_FROM_D1) && (ray.flags & PATH_CASTER_AFTER_D1)) sees_front = false;
+  /* light -> caster+ -> receiver: the photon map's */
+  if ((ray.flags & PATH_AFTER_RECEIVER) && (ray.flags & PATH_CASTER_SINCE_RECEIVER)) sees_front = false;
 #endif
   const uint light_index = params.light_count > 0u
                                ? light_of_hit(light_of_sphere, light_of_cylinder, light_of_triangle, hit.prim)
@@ -128,8 +130,12 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
     vp.pad0 = vp.pad1 = vp.pad2 = 0u;
     visible_points[ray.pixel] = vp;
   }
-  /* Light reaching a caster that leads back to D1 is the photon map's. */
-  const bool nee_is_photon_maps = caster && (ray.flags & PATH_CHAIN_FROM_D1);
+  if (!caster && (ray.flags & PATH_PAST_RECEIVER)) /* a later receiver gathers inline */
+    film_add(FILM_ARGS, ray.pixel,
+             throughput * caustic_radiance(PHOTON_GRID_ARGS, bsdf, t, b, n, wo, sp.position, caustic_radius,
+                                           (float)params.max_depth - 1.0f - (float)ray.depth));
+  /* Light reaching a caster that leads back to a receiver is the photon map's. */
+  const bool nee_is_photon_maps = caster && (ray.flags & PATH_AFTER_RECEIVER);
 #else
   const bool nee_is_photon_maps = false;
 #endif
@@ -193,11 +199,11 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   child.bsdf_pdf = (flags & BSDF_SAMPLED_SPECULAR) ? 0.0f : pdf;
   child.flags = (flags & BSDF_SAMPLED_SPECULAR) ? PATH_SPECULAR : 0u;
 #if PATH_WITH_CAUSTICS
-  const uint caustic_flags = PATH_PAST_RECEIVER | PATH_CHAIN_FROM_D1 | PATH_CASTER_AFTER_D1;
-  if (!caster) /* leaving D1 starts the chain; leaving a later receiver ends it */
-    child.flags |= (ray.flags & PATH_PAST_RECEIVER) ? PATH_PAST_RECEIVER : PATH_PAST_RECEIVER | PATH_CHAIN_FROM_D1;
+  const uint caustic_flags = PATH_PAST_RECEIVER | PATH_AFTER_RECEIVER | PATH_CASTER_SINCE_RECEIVER;
+  if (!caster) /* leaving a receiver starts a new chain */
+    child.flags |= PATH_PAST_RECEIVER | PATH_AFTER_RECEIVER;
   else
-    child.flags |= (ray.flags & caustic_flags) | ((ray.flags & PATH_CHAIN_FROM_D1) ? PATH_CASTER_AFTER_D1 : 0u);
+    child.flags |= (ray.flags & caustic_flags) | ((ray.flags & PATH_AFTER_RECEIVER) ? PATH_CASTER_SINCE_RECEIVER : 0u);
 #endif
   path_push(PATH_QUEUE_ARGS(next), params.ray_capacity, child);
 }

@@ -7,8 +7,18 @@
  * ray i's ray toward light l in slot i * light_count + l (queue.h);
  * direct terms without visibility (emission, ambient, background) go to the
  * film at once. Reflection and refraction rays go to the next queue while
- * depth < max_depth and their weight is not negligible. */
+ * depth < max_depth and their weight is not negligible. With
+ * PHONG_WITH_CAUSTICS, the local term also gathers the photon map's caustic
+ * irradiance (lib/caustics.h). */
 
+#ifndef PHONG_WITH_CAUSTICS
+#define PHONG_WITH_CAUSTICS 0
+#endif
+
+/* Unconditional: the host inlines each file once and ignores #if, so a
+ * header first met inside a false #if would be lost to later includes. */
+#include "lib/photon_grid.h"
+#include "lib/caustics.h"
 #include "lib/film.h"
 #include "lib/optics.h"
 #include "lib/queue.h"
@@ -67,7 +77,11 @@ inline void push_specular(PATH_QUEUE_PARAMS(next), uint capacity, float min_weig
 
 __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const PointLight* restrict lights,
                                   ShadeParams params, PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits,
-                                  FILM_PARAMS, PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)) {
+                                  FILM_PARAMS, PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)
+#if PHONG_WITH_CAUSTICS
+                                  , PHOTON_GRID_PARAMS, float caustic_radius
+#endif
+) {
   const uint i = get_global_id(0);
   if (i >= *in_count) return;
 #ifdef HAS_LIGHTS
@@ -130,6 +144,10 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const PointLigh
   if (local_share > 0.0f) {
     const float3 local_weight = weight * local_share;
     film_add(FILM_ARGS, pixel, local_weight * mat->ka * params.ambient_light.xyz * diffuse_colour);
+#if PHONG_WITH_CAUSTICS
+    film_add(FILM_ARGS, pixel, local_weight * mat->diffuse.w * diffuse_colour *
+                                   phong_caustic_irradiance(PHOTON_GRID_ARGS, sp.position, n, caustic_radius));
+#endif
 #ifdef HAS_LIGHTS
     for (uint l = 0; l < params.light_count; ++l)
       shade_point_light(&lights[l], mat, diffuse_colour, sp, ns, -d, local_weight, pixel, i * params.light_count + l,

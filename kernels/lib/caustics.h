@@ -7,13 +7,16 @@
  * lights, scatter only at casters, and are stored at the first receiver
  * after at least one caster: they estimate the paths
  *     light -> caster+ -> receiver,
- * gathered at the first receiving vertex of each camera path (D1, seen
- * directly or through casters). The path tracer therefore drops exactly
- * the paths that reach a light from D1 through one or more casters and no
- * receiver: the emission a BSDF-sampled ray finds after D1 -> caster+, and
- * the next-event estimates taken at those casters. Everything else (direct
- * light at D1, light through casters onto later receivers, casters seen
- * from the camera) stays with the path tracer. */
+ * gathered at every receiving vertex of each camera path: at the first (D1,
+ * seen directly or through casters) by per-pixel SPPM statistics
+ * (gather_photons.cl), at later ones (D2, ...: caustics lighting the scene
+ * indirectly) inline in shade_surface_path within the pass's shared radius
+ * (Knaus & Zwicker 2011, shrinking pass by pass). The path tracer therefore
+ * drops exactly the paths that reach a light from a receiver through one or
+ * more casters and no other receiver: the emission a BSDF-sampled ray finds
+ * after receiver -> caster+, and the next-event estimates taken at those
+ * casters. Everything else (direct light at receivers, light from casters
+ * seen from the camera before D1) stays with the path tracer. */
 #ifndef CAUSTICA_LIB_CAUSTICS_H
 #define CAUSTICA_LIB_CAUSTICS_H
 
@@ -22,10 +25,10 @@
 
 inline bool bsdf_casts_caustics(Bsdf b) { return b.kind != BSDF_PLASTIC && b.alpha < CAUSTIC_CASTER_ALPHA; }
 
-/* Path flags (PathRecord.flags) of camera paths past their first receiver. */
-#define PATH_PAST_RECEIVER 2u /* D1 is behind: its visible point is recorded */
-#define PATH_CHAIN_FROM_D1 4u /* since D1, only casters were passed */
-#define PATH_CASTER_AFTER_D1 8u /* ... and at least one of them */
+/* Path flags (PathRecord.flags) of camera paths past a receiver. */
+#define PATH_PAST_RECEIVER 2u          /* D1 is behind: its visible point is recorded */
+#define PATH_AFTER_RECEIVER 4u         /* left a receiver, and met only casters since */
+#define PATH_CASTER_SINCE_RECEIVER 8u  /* ... at least one of them */
 
 /* Photon path flags (the photon pass reuses PathRecord). */
 #define PHOTON_AFTER_CASTER 2u
@@ -48,5 +51,41 @@ inline Bsdf bsdf_of_visible_point(VisiblePoint v) {
   b.kind = v.kind;
   return b;
 }
+
+/* Phong mode (--caustics on): Whitted shading has no path to leave out, so
+ * every diffuse shading point (seen directly or through mirrors and glass)
+ * adds the photons' irradiance within a radius shared by the whole pass
+ * (Knaus & Zwicker's progressive photon mapping: the radius shrinks pass
+ * by pass, the passes are averaged). Phong lights have no distance falloff
+ * (its direct term is kd I cos), so a photon counts in phong's units: its
+ * flux times the squared length it travelled, which turns the 1/d^2 of its
+ * density back into phong's constant irradiance. */
+#ifdef CAUSTICA_LIB_PHOTON_GRID_H
+/* Path mode, receivers after D1: the caustic radiance toward wo (local
+ * frame t, b, n) from this pass's photons within `radius` whose light paths
+ * fit in the bounces left (photon bounces <= bounces_left). */
+inline float3 caustic_radiance(PHOTON_GRID_PARAMS, Bsdf bsdf, float3 t, float3 b, float3 n, float3 wo, float3 p,
+                               float radius, float bounces_left) {
+  float3 sum = (float3)(0.0f);
+  PhotonQuery query = photon_query_begin(PHOTON_GRID_ARGS, p, radius);
+  for (int slot; (slot = photon_query_next(&query, PHOTON_GRID_ARGS)) >= 0;) {
+    const Photon photon = grid_photons[slot];
+    if (photon.position.w > bounces_left) continue;
+    sum += bsdf_eval(bsdf, wo, frame_to_local(photon.wi.xyz, t, b, n)) * photon.power.xyz;
+  }
+  return sum / (M_PI_F * radius * radius);
+}
+
+inline float3 phong_caustic_irradiance(PHOTON_GRID_PARAMS, float3 p, float3 n, float radius) {
+  float3 sum = (float3)(0.0f);
+  PhotonQuery query = photon_query_begin(PHOTON_GRID_ARGS, p, radius);
+  for (int slot; (slot = photon_query_next(&query, PHOTON_GRID_ARGS)) >= 0;) {
+    const Photon photon = grid_photons[slot];
+    if (dot(photon.wi.xyz, n) <= 0.0f) continue; /* arrived on the other side */
+    sum += photon.power.xyz * (photon.wi.w * photon.wi.w);
+  }
+  return sum / (M_PI_F * radius * radius);
+}
+#endif
 
 #endif /* CAUSTICA_LIB_CAUSTICS_H */

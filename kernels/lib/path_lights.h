@@ -161,7 +161,10 @@ inline bool sample_light(__global const PathLight* l, float pick_probability, fl
 /* What sample_light's density would have been for the direction wi from p
  * that reached point q of light l (a BSDF-sampled ray's hit). */
 inline float light_pdf(__global const PathLight* l, float pick_probability, float3 p, float3 q, float3 wi) {
-  if (l->kind == LIGHT_POINT || !PATH_WITH_AREA_LIGHTS) return 0.0f;
+#if !PATH_WITH_AREA_LIGHTS
+  return 0.0f;
+#endif
+  if (l->kind == LIGHT_POINT) return 0.0f;
   if (l->kind == LIGHT_SPHERE) {
     const float3 to_c = l->p0.xyz - p;
     const float d2 = dot(to_c, to_c);

@@ -38,7 +38,7 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PATH
     if (photon.flags & PHOTON_AFTER_CASTER) {
       Photon p;
       p.position = (float4)(sp.position, (float)photon.depth);
-      p.wi = (float4)(-d, 0.0f);
+      p.wi = (float4)(-d, photon.bsdf_pdf + hit.t);
       p.power = photon.throughput;
       candidates[photon.pixel] = p;
       stored[photon.pixel] = 1u;
@@ -69,10 +69,11 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PATH
   const float3 flux = photon.throughput.xyz * photon_weight(bsdf, wo, weight, flags);
   if (!(fmax(flux.x, fmax(flux.y, flux.z)) > 0.0f)) return;
   PathRecord child = photon;
-  child.origin = (float4)(spawn_point(sp, dot(wi, sp.normal) > 0.0f ? sp.normal : -sp.normal), 0.0f);
+  child.origin = (float4)(spawn_ray_origin(sp.position, sp.p_error, sp.normal, wi), 0.0f);
   child.dir = (float4)(wi, 0.0f);
   child.throughput = (float4)(flux, 0.0f);
   child.depth = photon.depth + 1u;
+  child.bsdf_pdf = photon.bsdf_pdf + hit.t; /* length travelled (phong's gather, lib/caustics.h) */
   child.flags = PHOTON_AFTER_CASTER;
   path_push(PATH_QUEUE_ARGS(next), ray_capacity, child);
 }

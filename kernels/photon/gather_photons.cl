@@ -29,9 +29,18 @@ __kernel void gather_photons(PhotonPassParams params, PHOTON_GRID_PARAMS,
   if (i >= params.pixel_count) return;
   SppmPixel px = pixels[i];
   const VisiblePoint vp = visible_points[i];
+  if (vp.position.w > 0.0f && px.radius2 == 0.0f) {
+    /* The first visible point sets the radius: a pixel's footprint there,
+     * so the estimate starts blurred by no more than a pixel, at most the
+     * cap (the footprint is the camera's; through mirrors and glass it is
+     * only an estimate, which is all an initial radius needs). */
+    const float footprint = PHOTON_RADIUS_FOOTPRINTS * params.camera.w * length(vp.position.xyz - params.camera.xyz);
+    const float r = params.camera.w > 0.0f ? fmin(params.radius_cap, footprint) : params.radius_cap;
+    px.radius2 = r * r;
+  }
   float3 sum = (float3)(0.0f);
   float found = 0.0f;
-  if (vp.position.w > 0.0f && grid.photon_count > 0u) {
+  if (vp.position.w > 0.0f && grid.photon_count > 0u && px.radius2 > 0.0f) {
     visible_points[i].position.w = 0.0f;
     const Bsdf bsdf = bsdf_of_visible_point(vp);
     const float3 n = vp.normal.xyz;
@@ -55,7 +64,7 @@ __kernel void gather_photons(PhotonPassParams params, PHOTON_GRID_PARAMS,
     px.tau = (float4)((px.tau.xyz + vp.beta.xyz * sum) * shrink, 0.0f);
     px.photons = n_next;
     px.radius2 *= shrink;
-  } else if (px.photons == 0.0f) {
+  } else if (px.photons == 0.0f && px.radius2 > 0.0f) {
     const float k = (float)params.pass_index + 1.0f;
     px.radius2 *= (k + params.alpha) / (k + 1.0f);
   }

@@ -19,7 +19,7 @@
 /* A photon stored on a diffuse surface. */
 typedef struct {
   cs_float4 position; /* xyz; w: the specular bounces it took (the gather keeps paths within nbounces) */
-  cs_float4 wi;       /* xyz unit direction toward where the photon came from; w unused */
+  cs_float4 wi;       /* xyz unit direction toward where the photon came from; w: length travelled from the light */
   cs_float4 power;    /* rgb flux; w unused */
 } Photon; /* 48 bytes */
 
@@ -53,9 +53,16 @@ typedef struct {
  * photon map blurs, to path tracing. */
 #define CAUSTIC_CASTER_ALPHA 0.3f
 
+/* A pixel's initial gather radius, in pixel footprints at its first visible
+ * point (capped by PhotonPassParams.radius_cap): a few pixels of blur at the
+ * start keeps early passes from speckling where photons are sparse, and
+ * SPPM shrinks it from there. */
+#define PHOTON_RADIUS_FOOTPRINTS 2.0f
+
 /* One pass of photons (kernels/photon/emit_photons.cl, bounce_photons.cl,
  * gather_photons.cl). */
 typedef struct {
+  cs_float4 camera;     /* gather: xyz the camera's position, w its angle per pixel (0: radius_cap for all) */
   cs_uint photon_count; /* photon paths emitted this pass */
   cs_uint light_count;
   cs_uint pass_index;   /* decorrelates the passes' random numbers */
@@ -63,8 +70,8 @@ typedef struct {
   cs_uint max_depth;    /* the scene's nbounces: scattering events of a whole path */
   cs_uint pixel_count;  /* gather: visible points */
   float alpha;          /* SPPM's radius reduction (2/3) */
-  float inv_passes;     /* gather: 1 / passes done, for nothing but the estimate's scale */
-} PhotonPassParams; /* 32 bytes */
+  float radius_cap;     /* gather: the largest initial radius */
+} PhotonPassParams; /* 48 bytes */
 
 /* Where a camera path first reached a receiving surface in this pass (one
  * per pixel, written by shade_surface_path, read and cleared by the
@@ -82,8 +89,9 @@ typedef struct {
 } VisiblePoint; /* 112 bytes */
 
 /* A pixel's SPPM statistics (Hachisuka & Jensen 2009): accumulated flux tau,
- * photon count N and squared radius. The caustic radiance is
- * tau / (passes * pi * radius2), photon powers being per pass already. */
+ * photon count N and squared radius (0 until its first visible point sets
+ * it). The caustic radiance is tau / (passes * pi * radius2), photon powers
+ * being per pass already. */
 typedef struct {
   cs_float4 tau;  /* rgb; w unused */
   float photons;  /* N */

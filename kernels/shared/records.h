@@ -28,7 +28,8 @@
   F(q, cs_float4, throughput) /* rgb share of the pixel; w unused */ \
   F(q, cs_uint, pixel)        /* film pixel it contributes to */   \
   F(q, cs_uint, depth)        /* scattering events so far */       \
-  F(q, float, bsdf_pdf)       /* path: density of the sampled direction (MIS); 0 after a delta lobe */ \
+  F(q, float, bsdf_pdf)       /* path: density of the sampled direction (MIS); 0 after a delta lobe; \
+                                 photons: length travelled from the light */                     \
   F(q, cs_uint, flags)        /* path: PATH_* bits */
 
 /* A segment toward a light, with what it adds to the film when unoccluded. */
