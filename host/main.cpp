@@ -89,8 +89,11 @@ int main(int argc, char** argv) {
   plot_cmd->add_option("reports", plot_reports, "error report CSV files")->required();
   plot_cmd->add_option("-o,--output", plot_out, "output figure (.png or .svg)")->required();
 
-  CLI11_PARSE(app, argc, argv);
+  // Parsing runs inside the try: option callbacks (--bvh, --exposure...)
+  // throw caustica::Error for values they refuse, and an exception escaping
+  // main would abort with "terminate called" instead of a message.
   try {
+    CLI11_PARSE(app, argc, argv);
     if (app.got_subcommand(render_cmd)) return run_render(render);
     if (app.got_subcommand("devices")) return run_devices();
     if (app.got_subcommand(bench_cmd)) return run_bench(bench);
@@ -103,6 +106,8 @@ int main(int argc, char** argv) {
       std::ofstream out(generate_out);
       if (!out) throw Error(generate_out + ": cannot open for writing");
       out << generate_table1_scene(shapes, !spheres_only, seed).dump(2) << "\n";
+      out.close();  // flushes: a full disk shows here
+      if (!out) throw Error(generate_out + ": write failed (disk full?)");
       return 0;
     }
   } catch (const Error& e) {
@@ -110,6 +115,10 @@ int main(int argc, char** argv) {
     return 1;
   } catch (const cl::Error& e) {
     std::fprintf(stderr, "caustica: OpenCL error: %s (%s)\n", e.what(), cl_error_name(e.err()).c_str());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    // Every input size is bounded (host/limits.h); this is the machine's own limit.
+    std::fprintf(stderr, "caustica: error: out of memory (std::bad_alloc): this machine cannot hold the request\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "caustica: error: %s\n", e.what());

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -145,6 +146,44 @@ TEST(MeshObj, DegenerateTrianglesAreDroppedAndCounted) {
   ASSERT_EQ(m.triangles.size(), 1u);
   EXPECT_EQ(m.dropped_degenerate, 5u);
   EXPECT_EQ(m.triangles[0].p[2], glm::vec3(0, 1, 0));
+}
+
+// tinyobjloader reads "nan" as 0 and an index of 10^20 through atoi (in
+// practice the last vertex); the text is checked first, so these are errors
+// naming the file and line (issue 14).
+TEST(MeshObj, NonFiniteValuesAndHugeIndicesAreErrors) {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  const struct {
+    std::string text;
+    std::vector<std::string> parts;
+  } cases[] = {
+      {tri + "v nan 1 0\nf 1 2 4\n", {"line 4", "finite vertex coordinate", "'nan'"}},
+      {tri + "v 0 inf 0\nf 1 2 4\n", {"line 4", "'inf'"}},
+      {tri + "v 0 1e40 0\nf 1 2 4\n", {"line 4", "'1e40'"}},
+      {tri + "v 0 abc 0\nf 1 2 4\n", {"line 4", "'abc'"}},
+      {tri + "vn 0 0 nan\nf 1//1 2//1 3//1\n", {"line 4", "finite normal component"}},
+      {tri + "vt 0.5 -inf\nf 1/1 2/1 3/1\n", {"line 4", "finite texture coordinate"}},
+      {tri + "f 1 2 100000000000000000000\n", {"line 4", "face indices", "'100000000000000000000'"}},
+      {tri + "f 1 2 -3000000000\n", {"line 4", "face indices"}},
+      {tri + "f 1/x 2 3\n", {"line 4", "face indices", "'1/x'"}},
+  };
+  for (const auto& c : cases) {
+    const std::string path = write_file("bad.obj", c.text);
+    const std::string msg = error_of([&] { load_mesh(path); });
+    EXPECT_TRUE(test::Contains(msg, {path + ": "})) << c.text;
+    for (const auto& part : c.parts) EXPECT_TRUE(test::Contains(msg, {part})) << c.text;
+  }
+}
+
+// "Kd nan" or "Kd -1" would render black without a word (issue 14).
+TEST(MeshObj, BadMaterialValuesAreErrorsNamingTheLibraryAndLine) {
+  for (const char* bad : {"Kd nan 0 0", "Kd -1 0 0", "Ks 1 1", "Ns inf", "Ke 0 0 1e39", "d -0.5"}) {
+    write_file("m.mtl", "# materials\nnewmtl red\n" + std::string(bad) + "\n");
+    const std::string path =
+        write_file("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
+    EXPECT_TRUE(test::Contains(error_of([&] { load_mesh(path); }), {"m.mtl: line 3: ", "finite non-negative"}))
+        << bad;
+  }
 }
 
 TEST(MeshObj, ErrorsNameTheFile) {
@@ -308,15 +347,35 @@ TEST(MeshPly, SingularIndexNameAndStTexcoords) {
   EXPECT_EQ(m.triangles[1].uv[1], glm::vec2(1, 1));
 }
 
-TEST(MeshPly, DegenerateAndNonFiniteDropped) {
+TEST(MeshPly, DegenerateDropped) {
   const std::string ply =
       "ply\r\nformat ascii 1.0\r\nelement vertex 4\r\nproperty float x\r\nproperty float y\r\nproperty float z\r\n"
       "element face 4\r\nproperty list uchar int vertex_indices\r\nend_header\r\n"
-      "0 0 0\r\n1 0 0\r\n0 1 0\r\nnan 0 0\r\n3 0 1 2\r\n3 0 1 3\r\n3 0 0 2\r\n2 0 1\r\n";
+      "0 0 0\r\n1 0 0\r\n0 1 0\r\n2 0 0\r\n3 0 1 2\r\n3 0 1 3\r\n3 0 0 2\r\n2 0 1\r\n";
   const Mesh m = load_mesh(write_file("degenerate.ply", ply));
   EXPECT_EQ(m.source_faces, 4u);
   EXPECT_EQ(m.triangles.size(), 1u);
   EXPECT_EQ(m.dropped_degenerate, 3u);
+}
+
+// A NaN or infinite value is an error naming the item (and the line in
+// ASCII), never a silently dropped triangle (issue 14).
+TEST(MeshPly, NonFiniteVertexIsAnError) {
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const char* bad : {"nan", "inf", "-inf", "1e40"}) {
+    const std::string path =
+        write_file("nonfinite.ply", header + "0 0 0\n1 0 0\n0 " + std::string(bad) + " 0\n3 0 1 2\n");
+    EXPECT_TRUE(test::Contains(error_of([&] { load_mesh(path); }),
+                               {path, "item 3 of 3", "line 12", "expected a finite 'y'"}));
+  }
+  std::string binary = "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                       "property float z\nend_header\n";
+  const float v[3] = {0.0f, std::numeric_limits<float>::quiet_NaN(), 0.0f};
+  binary.append(reinterpret_cast<const char*>(v), sizeof v);
+  const std::string path = write_file("nonfinite_binary.ply", binary);
+  EXPECT_TRUE(test::Contains(error_of([&] { load_mesh(path); }), {path, "item 1 of 1", "expected a finite 'y'"}));
 }
 
 TEST(MeshPly, TruncatedBinaryIsAnErrorNamingTheFile) {

@@ -568,6 +568,35 @@ TEST(TextureHost, MissingOrUnreadableFileBecomesOneSharedChecker) {
   EXPECT_TRUE(s.texels.empty());
 }
 
+// Sizes are checked on the header, before any pixel is allocated (issue 14:
+// a 20-byte PPM declaring 16384 x 16384 was std::bad_alloc after 28 s).
+TEST(TextureHost, OversizedOrTruncatedHeadersAreRefusedBeforeAllocation) {
+  LinearImage img;
+  const struct {
+    std::string bytes;
+    std::vector<std::string> parts;
+  } cases[] = {
+      {"P6\n16384 16384\n255\nx", {"16384 x 16384", "texture limit of 16384 per side and 134217728 pixels"}},
+      {"P6\n1000000 1000000\n255\n", {"1000000 x 1000000", "texture limit"}},
+      {"P3\n4000 4000\n255\n1 2 3\n", {"4000 x 4000", "pixels in a file of"}},
+      {"P6\n64 64\n255\n" + std::string(100, 'x'), {"truncated PNM data", "needs 12288 bytes"}},
+      {"P2\n2 2\n255\n1 2\n", {"truncated PNM data", "needs at least 7 bytes"}},
+  };
+  for (const auto& c : cases) {
+    const std::string why = decode_texture_image(c.bytes, img);
+    for (const auto& part : c.parts) EXPECT_TRUE(test::Contains(why, {part})) << c.bytes.substr(0, 20);
+  }
+  // A PNG header declaring 10^6 x 10^6 pixels: refused on the header.
+  int w = 1, h = 1;
+  std::string png;
+  stbi_write_png_to_func([](void* ctx, void* data, int size) { static_cast<std::string*>(ctx)->append(static_cast<char*>(data), size); },
+                         &png, w, h, 3, "\x10\x20\x30", 3);
+  ASSERT_GT(png.size(), 24u);
+  const unsigned char big[8] = {0x00, 0x0F, 0x42, 0x40, 0x00, 0x0F, 0x42, 0x40};  // 1000000, 1000000
+  png.replace(16, 8, reinterpret_cast<const char*>(big), 8);
+  EXPECT_TRUE(test::Contains(decode_texture_image(png, img), {"1000000 x 1000000", "texture limit"}));
+}
+
 TEST(TextureHost, SameFileIsLoadedOnce) {
   const std::string dir = test::temp_dir();
   fs::create_directories(dir + "/textures");

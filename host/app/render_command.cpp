@@ -12,6 +12,7 @@
 #include "host/app/error_monitor.h"
 #include "host/error.h"
 #include "host/image/image_io.h"
+#include "host/limits.h"
 #include "host/image/tonemap.h"
 
 namespace caustica {
@@ -98,6 +99,25 @@ std::vector<std::pair<std::string, std::string>> report_header(const Session& se
   return h;
 }
 
+// A number option read strictly: all of the text must be one finite number
+// in [lo, hi] (CLI11 would take '' as "not given" and "nan" as a number).
+float parse_number_option(const std::string& option, const std::string& text, double lo, double hi,
+                          const std::string& what) {
+  char* end = nullptr;
+  const double d = text.empty() ? 0.0 : std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(d) || d < lo || d > hi)
+    throw Error(option + " '" + text + "': expected " + what);
+  return static_cast<float>(d);
+}
+
+// Where an output will go must exist before the render starts.
+void check_output_dir(const std::string& option, const std::string& path) {
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
+    throw Error(option + " " + path + ": the directory '" + dir.string() + "' does not exist");
+}
+
 }  // namespace
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
@@ -108,9 +128,21 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option("--width", a.session.width, "image width (keeps the camera's aspect unless --height)");
   render_cmd->add_option("--height", a.session.height, "image height");
   render_cmd->add_option("--tonemap", a.tonemap, "linear | reinhard | aces (default linear; aces in path mode)");
-  render_cmd->add_option("--exposure", a.exposure, "exposure in stops (default: the camera's \"exposure\")");
-  render_cmd->add_option("--gamma", a.gamma,
-                         "display gamma of 8-bit outputs (default 1.22 as the coursework handout; 2.2 in path mode)");
+  render_cmd->add_option_function<std::string>(
+      "--exposure",
+      [&a](const std::string& s) {
+        const double stops = limits::kMaxExposureStops;
+        a.exposure = parse_number_option("--exposure", s, -stops, stops,
+                                         "an exposure in stops, a number within [-" + std::to_string(int(stops)) +
+                                             ", " + std::to_string(int(stops)) + "] (the limit)");
+      },
+      "exposure in stops (default: the camera's \"exposure\")");
+  render_cmd->add_option_function<std::string>(
+      "--gamma",
+      [&a](const std::string& s) {
+        a.gamma = parse_number_option("--gamma", s, 1e-3, 1e3, "a display gamma, a number within [0.001, 1000]");
+      },
+      "display gamma of 8-bit outputs (default 1.22 as the coursework handout; 2.2 in path mode)");
   render_cmd->add_option("--device", a.session.device,
                          "OpenCL device: index, name substring, cpu or gpu (env CAUSTICA_DEVICE)");
   render_cmd->add_flag("--no-cache", [&a](int64_t) { a.session.use_kernel_cache = false; },
@@ -157,8 +189,27 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
 }
 
 int run_render(RenderArgs& a) {
+  // Every option is checked before the scene is read: a typo in one must not
+  // cost a render (the size against the scene's camera is checked as soon as
+  // the scene is read, in prepare_session).
   a.session.mode = parse_render_mode(a.mode);
   if (a.output.empty()) a.output = std::filesystem::path(a.session.scene_path).stem().string() + ".png";
+  check_output_image_path(a.output);
+  if (!a.tonemap.empty()) {
+    try {
+      parse_tonemap(a.tonemap);
+    } catch (const Error& e) {
+      throw Error("--tonemap: " + std::string(e.what()));
+    }
+  }
+  if (a.session.width < 0 || a.session.height < 0) throw Error("--width/--height must be positive");
+  check_image_size_limits("--width/--height", a.session.width, a.session.height);
+  if (!a.report.empty()) check_output_dir("--report", a.report);
+  if (!a.plot.empty()) {
+    const std::string ext = std::filesystem::path(a.plot).extension().string();
+    if (ext != ".png" && ext != ".svg") throw Error("--plot " + a.plot + ": expected a .png or .svg file name");
+    check_output_dir("--plot", a.plot);
+  }
   if (!a.plot.empty() && a.report.empty()) throw Error("--plot " + a.plot + ": needs --report (the plot is drawn from it)");
   if (a.target_error > 0.0 && a.no_error_estimate)
     throw Error("--target-error needs the error estimate that --no-error-estimate leaves out");

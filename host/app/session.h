@@ -77,6 +77,9 @@ std::optional<RenderMode> parse_render_mode(const std::string& name);
 BvhBuildOptions::Quality parse_bvh_quality(const std::string& name);
 
 // Width/height after CLI overrides: one given keeps the camera's aspect.
+// Throws, naming the limit, beyond limits::kMaxImageSide / kMaxImagePixels.
 void resolve_image_size(const CameraDesc& camera, int width_override, int height_override, int* width, int* height);
+// The same limits on a size as given (0: not given); `what` names it in the error.
+void check_image_size_limits(const std::string& what, long long width, long long height);
 
 }  // namespace caustica

@@ -163,6 +163,7 @@ std::vector<DeviceInfo> list_devices() {
       info.type = type_name(d.getInfo<CL_DEVICE_TYPE>());
       info.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
       info.global_mem_bytes = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+      info.max_alloc_bytes = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
       info.device = d;
       result.push_back(info);
     }

@@ -21,6 +21,7 @@ struct DeviceInfo {
   std::string driver_version;
   unsigned compute_units = 0;
   size_t global_mem_bytes = 0;
+  size_t max_alloc_bytes = 0;  // CL_DEVICE_MAX_MEM_ALLOC_SIZE: the largest single buffer
   cl::Device device;
 };
 

@@ -13,7 +13,11 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <memory>
+
+#include "host/limits.h"
+#include "host/read_file.h"
 
 namespace caustica {
 namespace {
@@ -65,10 +69,21 @@ void write_all(const std::string& path, FilePtr f, const std::string& bytes) {
   if (std::fclose(raw) != 0 || !ok) fail_write(path, std::string("write failed: ") + std::strerror(errno));
 }
 
+// Bounded, regular files only (host/read_file.h): its errors name the file.
 std::string read_all(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail_read(path, std::string("could not open: ") + std::strerror(errno));
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return read_input_file(path, "image", limits::kMaxImageFileBytes);
+}
+
+// A declared image size against the limits, before any pixel is allocated.
+void check_read_size(const std::string& path, long long w, long long h, size_t file_bytes) {
+  using namespace limits;
+  if (w <= 0 || h <= 0) fail_read(path, "invalid size " + std::to_string(w) + "x" + std::to_string(h));
+  if (w > kMaxImageSide || h > kMaxImageSide || uint64_t(w) * uint64_t(h) > kMaxImagePixels)
+    fail_read(path, "declares " + std::to_string(w) + "x" + std::to_string(h) + " pixels, over the image limit of " +
+                        std::to_string(kMaxImageSide) + " per side and " + std::to_string(kMaxImagePixels) + " pixels");
+  if (uint64_t(w) * uint64_t(h) > kMaxPixelsPerFileByte * uint64_t(file_bytes))
+    fail_read(path, "declares " + std::to_string(w) + "x" + std::to_string(h) + " pixels in a file of " +
+                        std::to_string(file_bytes) + " bytes: truncated or corrupt");
 }
 
 void write_ppm(const std::string& path, const Image8& img) {
@@ -86,9 +101,17 @@ void write_ppm(const std::string& path, const Image8& img) {
   write_all(path, std::move(f), out);
 }
 
+// Encoded in memory and written by write_all: stbi_write_png ignores the
+// results of fwrite and fclose, so a full disk would pass as success.
 void write_png(const std::string& path, const Image8& img) {
-  if (!stbi_write_png(path.c_str(), img.width, img.height, 3, img.rgb.data(), img.width * 3))
-    fail_write(path, "stb_image_write could not write the PNG (is the directory there and writable?)");
+  std::string png;
+  auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<size_t>(size));
+  };
+  if (!stbi_write_png_to_func(append, &png, img.width, img.height, 3, img.rgb.data(), img.width * 3))
+    fail_write(path, "stb_image_write could not encode the PNG");
+  auto f = open_for_write(path);
+  write_all(path, std::move(f), png);
 }
 
 void put_le32(std::string& out, float v) {
@@ -148,13 +171,19 @@ void write_exr(const std::string& path, const ImageF& hdr, float scale) {
   header.requested_pixel_types = requested.data();
   header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
 
+  // Encoded in memory and written by write_all: tinyexr's own file writer
+  // says only "Cannot write a file", whatever the reason.
   const char* err = nullptr;
-  const int rc = SaveEXRImageToFile(&image, &header, path.c_str(), &err);
-  if (rc != TINYEXR_SUCCESS) {
-    std::string why = err ? err : ("tinyexr error " + std::to_string(rc));
+  unsigned char* memory = nullptr;
+  const size_t size = SaveEXRImageToMemory(&image, &header, &memory, &err);
+  std::unique_ptr<unsigned char, void (*)(void*)> guard(memory, std::free);
+  if (size == 0 || !memory) {
+    std::string why = err ? err : "tinyexr could not encode the image";
     if (err) FreeEXRErrorMessage(err);
     fail_write(path, why);
   }
+  auto f = open_for_write(path);
+  write_all(path, std::move(f), std::string(reinterpret_cast<const char*>(memory), size));
 }
 
 // ASCII PPM: '#' comments may appear between any two tokens.
@@ -182,6 +211,12 @@ Image8 read_p3(const std::string& path, const std::string& bytes) {
   const long w = next_int("width"), h = next_int("height"), maxval = next_int("maxval");
   if (w <= 0 || h <= 0 || w > 65535 || h > 65535) fail_read(path, "P3 size " + size_str(w, h) + " is not valid");
   if (maxval <= 0 || maxval > 65535) fail_read(path, "P3 maxval " + std::to_string(maxval) + " is not in 1..65535");
+  check_read_size(path, w, h, bytes.size());
+  // Each value takes a digit and a separator: the data must be there before it gets memory.
+  const size_t values = size_t(w) * size_t(h) * 3;
+  if (bytes.size() - std::min(bytes.size(), pos) < 2 * values - 1)
+    fail_read(path, "P3 data is truncated: " + size_str(w, h) + " needs at least " + std::to_string(2 * values - 1) +
+                        " bytes, file has " + std::to_string(bytes.size() - std::min(bytes.size(), pos)));
   Image8 img(static_cast<int>(w), static_cast<int>(h));
   for (auto& out : img.rgb) {
     const long v = next_int("pixel value");
@@ -192,6 +227,16 @@ Image8 read_p3(const std::string& path, const std::string& bytes) {
 }
 
 }  // namespace
+
+void check_output_image_path(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext != ".ppm" && ext != ".png" && ext != ".pfm" && ext != ".exr")
+    fail_write(path, "unknown extension '" + ext + "' (supported: " + kSupported + ")");
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(path).parent_path();
+  std::error_code ec;
+  if (!dir.empty() && !fs::is_directory(dir, ec)) fail_write(path, "the directory '" + dir.string() + "' does not exist");
+}
 
 bool is_hdr_path(const std::string& path) {
   const std::string ext = lower_extension(path);
@@ -219,21 +264,26 @@ void write_image8(const std::string& path, const Image8& img) {
 }
 
 Image8 read_image8(const std::string& path) {
-  {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail_read(path, std::string("could not open: ") + std::strerror(errno));
-    char magic[2] = {0, 0};
-    in.read(magic, 2);
-    if (magic[0] == 'P' && magic[1] == '3') return read_p3(path, read_all(path));
-  }
+  const std::string bytes = read_all(path);
+  if (bytes.size() >= 2 && bytes[0] == 'P' && bytes[1] == '3') return read_p3(path, bytes);
+  if (bytes.size() > size_t(std::numeric_limits<int>::max())) fail_read(path, "file too large for stb_image");
+  const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+  const int len = static_cast<int>(bytes.size());
   int w = 0, h = 0, n = 0;
-  std::unique_ptr<unsigned char, void (*)(void*)> data(stbi_load(path.c_str(), &w, &h, &n, 3), stbi_image_free);
-  if (!data) {
+  // The header first: stb allocates every pixel it declares before decoding.
+  if (!stbi_info_from_memory(data, len, &w, &h, &n)) {
+    const char* why = stbi_failure_reason();
+    fail_read(path, std::string("stb_image: ") + (why ? why : "unknown error"));
+  }
+  check_read_size(path, w, h, bytes.size());
+  std::unique_ptr<unsigned char, void (*)(void*)> pixels(stbi_load_from_memory(data, len, &w, &h, &n, 3),
+                                                         stbi_image_free);
+  if (!pixels) {
     const char* why = stbi_failure_reason();
     fail_read(path, std::string("stb_image: ") + (why ? why : "unknown error"));
   }
   Image8 img(w, h);
-  std::memcpy(img.rgb.data(), data.get(), img.rgb.size());
+  std::memcpy(img.rgb.data(), pixels.get(), img.rgb.size());
   return img;
 }
 
@@ -261,6 +311,7 @@ ImageF read_pfm(const std::string& path) {
   const double scale = std::strtod(ss.c_str(), &end);
   if (*end || scale == 0.0 || !std::isfinite(scale)) fail_read(path, "PFM scale '" + ss + "' is not a non-zero number");
   if (w <= 0 || h <= 0 || w > 1 << 20 || h > 1 << 20) fail_read(path, "PFM size " + size_str(w, h) + " is not valid");
+  check_read_size(path, w, h, bytes.size());
   ++pos;  // exactly one whitespace byte separates the header from the data
   const size_t count = static_cast<size_t>(w) * h * channels;
   if (pos > bytes.size() || bytes.size() - pos < count * 4)
@@ -287,7 +338,8 @@ ImageF read_exr(const std::string& path) {
   float* rgba = nullptr;
   int w = 0, h = 0;
   const char* err = nullptr;
-  const int rc = LoadEXR(&rgba, &w, &h, path.c_str(), &err);
+  const std::string bytes = read_all(path);
+  const int rc = LoadEXRFromMemory(&rgba, &w, &h, reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), &err);
   if (rc != TINYEXR_SUCCESS) {
     std::string why = err ? err : ("tinyexr error " + std::to_string(rc));
     if (err) FreeEXRErrorMessage(err);

@@ -5,7 +5,10 @@
 //   .exr  32-bit float RGB via tinyexr (HDR)
 // HDR formats store hdr * exposure_scale with no curve, clamp or gamma, so a
 // reference written at one exposure can be compared in linear units.
-// Every failure throws caustica::Error naming the file.
+// Every failure throws caustica::Error naming the file; a write succeeds only
+// when every byte reached the file and it was closed without error. Reads
+// are bounded (host/read_file.h) and every declared size is checked against
+// host/limits.h before pixels are allocated.
 #pragma once
 
 #include <string>
@@ -17,6 +20,11 @@ namespace caustica {
 
 void write_image(const std::string& path, const ImageF& hdr, const DisplaySettings& display);
 void write_image8(const std::string& path, const Image8& img);  // .ppm or .png only
+
+// Throws unless `path` can be written by write_image as far as can be told
+// without creating it: a supported extension and an existing directory.
+// Commands call it before any work, so a typo does not cost a render.
+void check_output_image_path(const std::string& path);
 
 // Does the extension name an HDR format (.pfm/.exr)?
 bool is_hdr_path(const std::string& path);

@@ -12,6 +12,8 @@
 #include <sstream>
 
 #include "host/error.h"
+#include "host/limits.h"
+#include "host/read_file.h"
 #include "host/scene/scene_reader.h"
 
 namespace caustica {
@@ -92,6 +94,12 @@ CameraDesc read_camera(const Reader& r, const json& top, bool* animated) {
   c.fov_y_degrees = r.number(fov, path + "/fov", Range::Any);
   if (!(c.fov_y_degrees > 0.0f && c.fov_y_degrees < 180.0f)) r.expected(path + "/fov", fov_what, fov);
   c.exposure = r.read_number(cam, "exposure", path, Range::Any, 0.0f);
+  // 2^exposure scales every pixel: beyond the limit it is 0 or inf in float.
+  if (std::fabs(c.exposure) > limits::kMaxExposureStops)
+    r.expected(path + "/exposure",
+               "an exposure in stops within [-" + std::to_string(int(limits::kMaxExposureStops)) + ", " +
+                   std::to_string(int(limits::kMaxExposureStops)) + "] (the limit)",
+               cam["exposure"]);
   try {
     camera_basis(c);
   } catch (const Error& e) {
@@ -218,7 +226,9 @@ std::string parse_reason(const std::string& what) {
 
 // Builds the DOM like json::parse but remembers the JSON path being read, so
 // that a number nlohmann refuses (1e999 overflows: out_of_range 406, which
-// carries no position) is reported like any other bad value.
+// carries no position) is reported like any other bad value. Nesting deeper
+// than limits::kMaxJsonDepth stops the parse: the parser itself keeps its
+// own stack, but every later walk of the document recurses per level.
 class PathTrackingSax {
  public:
   explicit PathTrackingSax(json& out) : dom_(out, /*allow_exceptions=*/false) {}
@@ -231,6 +241,7 @@ class PathTrackingSax {
   bool string(std::string& v) { return value(dom_.string(v)); }
   bool binary(json::binary_t& v) { return value(dom_.binary(v)); }
   bool start_object(std::size_t n) {
+    if (too_deep()) return false;
     frames_.push_back(Frame{false, 0, {}});
     return dom_.start_object(n);
   }
@@ -243,6 +254,7 @@ class PathTrackingSax {
     return value(dom_.end_object());
   }
   bool start_array(std::size_t n) {
+    if (too_deep()) return false;
     frames_.push_back(Frame{true, 0, {}});
     return dom_.start_array(n);
   }
@@ -255,10 +267,11 @@ class PathTrackingSax {
     error_token = token;
     error_id = e.id;
     error_what = e.what();
-    for (const Frame& f : frames_) error_path += "/" + (f.array ? std::to_string(f.index) : f.key);
+    error_path = path();
     return false;
   }
 
+  bool nested_too_deep = false;
   size_t error_byte = 0;
   int error_id = 0;
   std::string error_token, error_what, error_path;
@@ -269,6 +282,22 @@ class PathTrackingSax {
     size_t index;
     std::string key;
   };
+  // The first levels of the path being read; deep paths end in "/...".
+  std::string path(size_t max_levels = 1000) const {
+    std::string p;
+    for (size_t i = 0; i < frames_.size(); ++i) {
+      if (i == max_levels) return p + "/...";
+      const Frame& f = frames_[i];
+      p += "/" + (f.array ? std::to_string(f.index) : pointer_token(f.key));
+    }
+    return p;
+  }
+  bool too_deep() {
+    if (frames_.size() < static_cast<size_t>(limits::kMaxJsonDepth)) return false;
+    nested_too_deep = true;
+    error_path = path(6);
+    return true;
+  }
   // A complete value moves the enclosing array on to its next element.
   bool value(bool ok) {
     if (!frames_.empty() && frames_.back().array) ++frames_.back().index;
@@ -282,6 +311,9 @@ json parse_text(const std::string& text, const std::string& path) {
   json j;
   PathTrackingSax sax(j);
   if (json::sax_parse(text, &sax, json::input_format_t::json, /*strict=*/true, /*ignore_comments=*/true)) return j;
+  if (sax.nested_too_deep)
+    throw Error(path + ": " + sax.error_path + ": expected JSON nested at most " +
+                std::to_string(limits::kMaxJsonDepth) + " levels deep (the limit; a scene needs 5), got deeper");
   const auto [line, column] = line_column(text, sax.error_byte);
   const std::string where = path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
   if (sax.error_id == 406)
@@ -319,21 +351,19 @@ Scene parse_scene(const json& j, const std::string& file_for_messages, const std
   return scene;
 }
 
+Scene parse_scene_text(const std::string& text, const std::string& file_for_messages, const std::string& base_dir,
+                       const LoadOptions& options) {
+  const json j = parse_text(text, file_for_messages);
+  return parse_scene(j, file_for_messages, base_dir, options);
+}
+
 Scene load_scene(const std::string& path, const LoadOptions& options) {
   namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (st.type() == fs::file_type::not_found) throw Error(path + ": scene file not found");
-  if (ec) throw Error(path + ": cannot access scene file: " + ec.message());
-  if (fs::is_directory(st)) throw Error(path + ": is a directory, expected a scene .json file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open scene file: " + std::strerror(errno));
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  if (in.bad()) throw Error(path + ": error while reading scene file");
-  const json j = parse_text(buf.str(), path);
+  // Bounded, and only from a regular file: /dev/zero or /dev/urandom as a
+  // scene would otherwise be read until memory runs out.
+  const std::string text = read_input_file(path, "scene file", limits::kMaxSceneFileBytes);
   fs::path dir = fs::path(path).parent_path();
-  return parse_scene(j, path, dir.empty() ? std::string(".") : dir.string(), options);
+  return parse_scene_text(text, path, dir.empty() ? std::string(".") : dir.string(), options);
 }
 
 }  // namespace caustica

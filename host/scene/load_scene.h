@@ -37,6 +37,11 @@ struct LoadOptions {
 // resolve against its folder.
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
 
+// Parses the text of a scene file (what load_scene does after reading it;
+// the fuzz target fuzz/fuzz_scene.cpp calls it directly).
+Scene parse_scene_text(const std::string& text, const std::string& file_for_messages, const std::string& base_dir,
+                       const LoadOptions& options = {});
+
 // Parses an already-read document. `file_for_messages` prefixes every error
 // and warning; `base_dir` is where relative asset paths would resolve.
 Scene parse_scene(const nlohmann::json& j, const std::string& file_for_messages, const std::string& base_dir,

@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,5 +30,15 @@ void triangulate_polygon(const std::vector<glm::vec3>& corners, std::vector<uint
 
 Mesh load_obj(const std::string& path);
 Mesh load_ply(const std::string& path);
+
+// The parsers behind them, from bytes already read (the fuzz targets in
+// fuzz/ call these). `path` only names the file in messages.
+// An OBJ's material libraries come from `mtl`: given the name an "mtllib"
+// line writes, it fills in the text and the name for messages and returns
+// true, or fills in a warning and returns false when there is none.
+using MtlSource = std::function<bool(const std::string& mtllib, std::string& text, std::string& name,
+                                     std::string& missing_warning)>;
+Mesh parse_obj(const std::string& path, const std::string& text, const MtlSource& mtl);
+Mesh parse_ply(const std::string& path, std::string data);
 
 }  // namespace caustica::mesh_internal

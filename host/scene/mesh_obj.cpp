@@ -6,8 +6,20 @@
 // output still tells how many faces the file had. It also passes
 // out-of-range indices through with nothing but a warning, so every index is
 // checked here before it is used.
+//
+// tinyobjloader reads numbers leniently: "nan" or "abc" becomes 0, an index
+// of 10^20 goes through atoi (undefined; in practice -1, the last vertex).
+// So the text is checked line by line before it is parsed, and every value
+// the renderer uses must be a finite number (indices: integers within int32)
+// or the load fails naming the file, the line and what was expected. The
+// same holds for the material libraries (a "Kd nan" or "Kd -1" would render
+// black without a word). Files are read bounded (host/read_file.h).
 #include <tiny_obj_loader.h>
 
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -15,6 +27,8 @@
 #include <vector>
 
 #include "host/error.h"
+#include "host/limits.h"
+#include "host/read_file.h"
 #include "host/scene/mesh_internal.h"
 
 namespace caustica::mesh_internal {
@@ -86,26 +100,174 @@ std::string resolve_texture(const std::string& obj_dir, const std::string& tex) 
   return (std::filesystem::path(obj_dir) / p).generic_string();
 }
 
+// The whitespace-separated words of one line (without a trailing comment).
+std::vector<std::string_view> words(std::string_view line) {
+  std::vector<std::string_view> out;
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    if (i < line.size() && line[i] == '#') break;
+    const size_t b = i;
+    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    if (i > b) out.push_back(line.substr(b, i - b));
+  }
+  return out;
+}
+
+// A number as a float would hold it; false for text that is not one number
+// and for values that are not finite in single precision (nan, inf, 1e39).
+bool finite_number(std::string_view w, float* out = nullptr) {
+  if (!w.empty() && w[0] == '+') w.remove_prefix(1);
+  double d = 0.0;
+  const auto r = std::from_chars(w.data(), w.data() + w.size(), d);
+  if (r.ec != std::errc() || r.ptr != w.data() + w.size()) return false;
+  const float f = static_cast<float>(d);
+  if (!std::isfinite(f)) return false;
+  if (out) *out = f;
+  return true;
+}
+
+// Calls fn(line number, words) for every non-empty line of text.
+template <class Fn>
+void for_each_line(const std::string& text, Fn fn) {
+  size_t pos = 0, line = 0;
+  while (pos < text.size()) {
+    size_t end = text.find('\n', pos);
+    if (end == std::string::npos) end = text.size();
+    ++line;
+    const auto w = words(std::string_view(text).substr(pos, end - pos));
+    if (!w.empty()) fn(line, w);
+    pos = end + 1;
+  }
+}
+
+std::string quoted(std::string_view w) {
+  std::string s(w.substr(0, 40));
+  return "'" + s + (w.size() > 40 ? "...'" : "'");
+}
+
+// Every number tinyobjloader would read leniently, checked strictly.
+void check_obj_text(const std::string& path, const std::string& text) {
+  for_each_line(text, [&](size_t line, const std::vector<std::string_view>& w) {
+    const std::string where = path + ": line " + std::to_string(line) + ": ";
+    const std::string_view key = w[0];
+    if (key == "v" || key == "vn" || key == "vt") {
+      const char* what = key == "v" ? "vertex coordinate" : key == "vn" ? "normal component" : "texture coordinate";
+      const size_t need = key == "vt" ? 1 : 3;
+      if (w.size() < need + 1)
+        throw Error(where + "expected " + std::to_string(need) + " numbers after '" + std::string(key) + "', got " +
+                    std::to_string(w.size() - 1));
+      for (size_t i = 1; i < w.size(); ++i)
+        if (!finite_number(w[i]))
+          throw Error(where + "expected a finite " + what + " (a number within single precision), got " + quoted(w[i]));
+    } else if (key == "f") {
+      for (size_t i = 1; i < w.size(); ++i) {
+        std::string_view rest = w[i];
+        while (true) {
+          const size_t slash = rest.find('/');
+          const std::string_view part = rest.substr(0, slash);
+          if (!part.empty()) {
+            int64_t v = 0;
+            const auto r = std::from_chars(part.data(), part.data() + part.size(), v);
+            if (r.ec != std::errc() || r.ptr != part.data() + part.size() || v == 0 || v > INT32_MAX ||
+                v < -int64_t(INT32_MAX))
+              throw Error(where + "expected face indices (non-zero integers within +-2147483647, as v, v/vt, v//vn "
+                                  "or v/vt/vn), got " + quoted(w[i]));
+          }
+          if (slash == std::string_view::npos) break;
+          rest.remove_prefix(slash + 1);
+        }
+      }
+    }
+  });
+}
+
+// Colours must be finite and non-negative, exponents and indices finite and
+// non-negative: anything else would shade black or NaN without a word.
+void check_mtl_text(const std::string& name, const std::string& text) {
+  for_each_line(text, [&](size_t line, const std::vector<std::string_view>& w) {
+    const std::string_view key = w[0];
+    const bool colour = key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf";
+    const bool scalar = key == "Ns" || key == "Ni" || key == "d" || key == "Tr";
+    if (!colour && !scalar) return;
+    if (colour && w.size() > 1 && (w[1] == "spectral" || w[1] == "xyz")) return;  // not read by tinyobjloader
+    const std::string where = name + ": line " + std::to_string(line) + ": " + std::string(key) + ": ";
+    const std::string what = colour ? "1 or 3 finite non-negative numbers" : "a finite non-negative number";
+    std::string got;
+    for (size_t i = 1; i < w.size(); ++i) got += (i > 1 ? " " : "") + std::string(w[i].substr(0, 40));
+    if (colour ? (w.size() != 2 && w.size() != 4) : w.size() != 2)
+      throw Error(where + "expected " + what + ", got '" + got + "'");
+    for (size_t i = 1; i < w.size(); ++i) {
+      float v = 0.0f;
+      if (!finite_number(w[i], &v) || v < 0.0f) throw Error(where + "expected " + what + ", got '" + got + "'");
+    }
+  });
+}
+
+// Reads "mtllib" files through `source`, checks them, then lets
+// tinyobjloader parse them; a missing one is the same warning as
+// tinyobjloader's own (collect_warnings rewords it).
+class CheckedMaterialReader : public tinyobj::MaterialReader {
+ public:
+  explicit CheckedMaterialReader(const MtlSource& source) : source_(source) {}
+  bool operator()(const std::string& id, std::vector<tinyobj::material_t>* materials,
+                  std::map<std::string, int>* map, std::string* warn, std::string* err) override {
+    std::string text, name, missing;
+    if (!source_(id, text, name, missing)) {
+      if (warn) *warn += missing + "\n";
+      return false;
+    }
+    check_mtl_text(name, text);
+    std::istringstream in(text);
+    tinyobj::LoadMtl(map, materials, &in, warn, err);
+    return true;
+  }
+
+ private:
+  const MtlSource& source_;
+};
+
 }  // namespace
 
 Mesh load_obj(const std::string& path) {
-  tinyobj::ObjReaderConfig config;
-  config.triangulate = false;
-  config.vertex_color = false;
-  tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(path, config)) {
-    std::string msg = trim(reader.Error());
-    throw Error(path + ": cannot read OBJ file" + (msg.empty() ? "" : ": " + msg));
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  const MtlSource files = [&dir](const std::string& id, std::string& text, std::string& name, std::string& missing) {
+    name = dir.empty() ? id : (std::filesystem::path(dir) / id).string();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(name, ec)) {
+      missing = "Material file [ " + id + " ] not found in a path : " + dir;
+      return false;
+    }
+    text = read_input_file(name, "material library", limits::kMaxMaterialFileBytes);
+    return true;
+  };
+  return parse_obj(path, read_input_file(path, "OBJ file", limits::kMaxMeshFileBytes), files);
+}
+
+Mesh parse_obj(const std::string& path, const std::string& text, const MtlSource& mtl) {
+  check_obj_text(path, text);
+  tinyobj::attrib_t attrib_storage;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  std::string warnings, errors;
+  {
+    std::istringstream in(text);
+    CheckedMaterialReader reader(mtl);
+    if (!tinyobj::LoadObj(&attrib_storage, &shapes, &materials, &warnings, &errors, &in, &reader,
+                          /*triangulate=*/false, /*default_vcols_fallback=*/false)) {
+      std::string msg = trim(errors);
+      throw Error(path + ": cannot read OBJ file" + (msg.empty() ? "" : ": " + msg));
+    }
   }
 
   Mesh mesh;
-  collect_warnings(path, reader.Warning(), mesh);
+  collect_warnings(path, warnings, mesh);
   // tinyobjloader collects MTL errors (it has none in practice) next to parse
   // errors without failing; they are only worth a warning.
-  if (const std::string err = trim(reader.Error()); !err.empty()) mesh.warnings.push_back(path + ": " + err);
+  if (const std::string err = trim(errors); !err.empty()) mesh.warnings.push_back(path + ": " + err);
 
   const std::string obj_dir = std::filesystem::path(path).parent_path().string();
-  for (const auto& m : reader.GetMaterials()) {
+  for (const auto& m : materials) {
     MeshMaterial mm;
     mm.name = m.name;
     mm.kd = glm::vec3(m.diffuse[0], m.diffuse[1], m.diffuse[2]);
@@ -116,7 +278,7 @@ Mesh load_obj(const std::string& path) {
     mesh.materials.push_back(std::move(mm));
   }
 
-  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  const tinyobj::attrib_t& attrib = attrib_storage;
   const auto& vs = attrib.vertices;
   const auto& ns = attrib.normals;
   const auto& ts = attrib.texcoords;
@@ -126,7 +288,7 @@ Mesh load_obj(const std::string& path) {
   const int nmat = static_cast<int>(mesh.materials.size());
 
   size_t total_faces = 0;
-  for (const auto& shape : reader.GetShapes()) total_faces += shape.mesh.num_face_vertices.size();
+  for (const auto& shape : shapes) total_faces += shape.mesh.num_face_vertices.size();
   mesh.source_faces += total_faces;
   mesh.triangles.reserve(total_faces + total_faces / 8);
 
@@ -134,7 +296,7 @@ Mesh load_obj(const std::string& path) {
   std::vector<glm::vec2> uvs;
   std::vector<uint32_t> tris;
   size_t face_number = 0;  // 1-based, over the whole file, for messages
-  for (const auto& shape : reader.GetShapes()) {
+  for (const auto& shape : shapes) {
     const auto& m = shape.mesh;
     size_t offset = 0;
     for (size_t f = 0; f < m.num_face_vertices.size(); ++f) {

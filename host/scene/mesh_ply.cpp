@@ -7,6 +7,9 @@
 // present) and the face index list are used; every other property, list or
 // element is skipped by its declared size, wherever it appears. Scanner output
 // such as the armadillo's puts a per-face "intensity" before the index list.
+// Every value used must be finite in single precision (a NaN or infinite
+// vertex fails the load, naming the item and, in ASCII files, the line), and
+// no count is trusted before the bytes it needs are known to be there.
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
@@ -18,6 +21,8 @@
 #include <vector>
 
 #include "host/error.h"
+#include "host/limits.h"
+#include "host/read_file.h"
 #include "host/scene/mesh_internal.h"
 
 namespace caustica::mesh_internal {
@@ -119,29 +124,14 @@ std::vector<std::string> split(const std::string& line) {
   return out;
 }
 
-std::vector<unsigned char> read_file(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw Error(path + ": cannot open PLY file (" + std::strerror(errno) + ")");
-  std::vector<unsigned char> data;
-  unsigned char chunk[1 << 16];
-  size_t n;
-  // Chunked rather than sized up front, so a file that changes size while
-  // being read cannot leave uninitialised bytes in the buffer.
-  while ((n = std::fread(chunk, 1, sizeof chunk, f)) > 0) data.insert(data.end(), chunk, chunk + n);
-  const bool failed = std::ferror(f) != 0;
-  std::fclose(f);
-  if (failed) throw Error(path + ": read error");
-  return data;
-}
-
 class PlyReader {
  public:
-  PlyReader(const std::string& path, std::vector<unsigned char> data) : path_(path), data_(std::move(data)) {}
+  PlyReader(const std::string& path, std::string data) : path_(path), data_(std::move(data)) {}
 
   Mesh read() {
     parse_header();
-    const unsigned char* p = data_.data() + body_;
-    const unsigned char* end = data_.data() + data_.size();
+    const unsigned char* p = bytes() + body_;
+    const unsigned char* end = bytes() + data_.size();
     for (const Element& e : elements_) {
       if (e.props.empty()) continue;  // nothing stored, however large the count
       if (format_ == Format::Ascii)
@@ -165,11 +155,19 @@ class PlyReader {
   void assign_slots(Element& e);
   void read_binary_element(const Element& e, const unsigned char*& p, const unsigned char* end);
   void read_ascii(const Element& e, const unsigned char*& p, const unsigned char* end);
-  void store(const Element& e, const float* v);
+  void store(const Element& e, const float* v, uint64_t i, const std::string& line);
+  // The vertex values in use (position, and normals / uvs when read).
+  bool all_finite(const float* v) const {
+    for (int k = 0; k < kSlots; ++k)
+      if (!((k >= kNX && k <= kNZ && !normals_) || (k >= kU && !uvs_)) && !std::isfinite(v[k])) return false;
+    return true;
+  }
   Mesh build();
 
+  const unsigned char* bytes() const { return reinterpret_cast<const unsigned char*>(data_.data()); }
+
   std::string path_;
-  std::vector<unsigned char> data_;
+  std::string data_;
   size_t body_ = 0;
   int header_lines_ = 0;
   Format format_ = Format::Ascii;
@@ -187,9 +185,9 @@ void PlyReader::parse_header() {
   size_t pos = 0;
   auto next_line = [&](std::string& line) {
     if (pos >= data_.size()) return false;
-    const void* nl = std::memchr(data_.data() + pos, '\n', data_.size() - pos);
-    const size_t stop = nl ? static_cast<size_t>(static_cast<const unsigned char*>(nl) - data_.data()) : data_.size();
-    line.assign(reinterpret_cast<const char*>(data_.data()) + pos, stop - pos);
+    const void* nl = std::memchr(bytes() + pos, '\n', data_.size() - pos);
+    const size_t stop = nl ? static_cast<size_t>(static_cast<const unsigned char*>(nl) - bytes()) : data_.size();
+    line.assign(data_.data() + pos, stop - pos);
     if (!line.empty() && line.back() == '\r') line.pop_back();
     pos = stop + 1;
     ++header_lines_;
@@ -285,8 +283,15 @@ void PlyReader::assign_slots(Element& e) {
   }
 }
 
-void PlyReader::store(const Element& e, const float* v) {
+void PlyReader::store(const Element& e, const float* v, uint64_t i, const std::string& line) {
   if (&e != vertex_) return;
+  static const char* const names[kSlots] = {"x", "y", "z", "nx", "ny", "nz", "u", "v"};
+  for (int k = 0; !all_finite(v) && k < kSlots; ++k) {
+    if ((k >= kNX && k <= kNZ && !normals_) || (k >= kU && !uvs_)) continue;
+    if (!std::isfinite(v[k]))
+      fail("PLY " + item(e, i) + line + ": expected a finite '" + names[k] +
+           "' (a number within single precision), got " + (std::isnan(v[k]) ? "nan" : v[k] > 0 ? "inf" : "-inf"));
+  }
   positions_.emplace_back(v[kX], v[kY], v[kZ]);
   if (normals_) normals_data_.emplace_back(v[kNX], v[kNY], v[kNZ]);
   if (uvs_) uv_data_.emplace_back(v[kU], v[kV]);
@@ -338,7 +343,7 @@ void PlyReader::read_binary_element(const Element& e, const unsigned char*& p, c
       }
       p += n * size;
     }
-    store(e, v);
+    store(e, v, i, "");
   }
 }
 
@@ -348,7 +353,7 @@ void PlyReader::read_ascii(const Element& e, const unsigned char*& p, const unsi
   // silent shift of everything after it.
   auto line_of = [&](const unsigned char* at) {
     return std::to_string(header_lines_ + 1 +
-                          std::count(static_cast<const unsigned char*>(data_.data()) + body_, at, static_cast<unsigned char>('\n')));
+                          std::count(static_cast<const unsigned char*>(bytes()) + body_, at, static_cast<unsigned char>('\n')));
   };
   auto skip_blanks = [&] {
     while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
@@ -400,7 +405,7 @@ void PlyReader::read_ascii(const Element& e, const unsigned char*& p, const unsi
     skip_blanks();
     if (p < end && *p != '\n')
       fail("PLY " + item(e, i) + " (line " + line_of(p) + ") has more values than the header declares");
-    store(e, v);
+    store(e, v, i, &e == vertex_ && !all_finite(v) ? " (line " + line_of(p) + ")" : "");
   }
 }
 
@@ -449,6 +454,10 @@ Mesh PlyReader::build() {
 
 }  // namespace
 
-Mesh load_ply(const std::string& path) { return PlyReader(path, read_file(path)).read(); }
+Mesh load_ply(const std::string& path) {
+  return parse_ply(path, read_input_file(path, "PLY file", limits::kMaxMeshFileBytes));
+}
+
+Mesh parse_ply(const std::string& path, std::string data) { return PlyReader(path, std::move(data)).read(); }
 
 }  // namespace caustica::mesh_internal

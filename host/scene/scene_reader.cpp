@@ -21,14 +21,50 @@ const char* range_words(Range r) {
   }
 }
 
-// nlohmann dumps inf/nan as `null`, which would be misleading next to
-// "expected a finite number".
-std::string describe(const json& v) {
-  if (v.is_number_float() && !std::isfinite(v.get<double>())) {
+namespace {
+
+// Writes v compactly into out, stopping once out is longer than `limit`: a
+// value may be a 100 MB array or nested 10^5 levels deep (nlohmann's dump
+// recurses once per level), and only its first characters are shown. Each
+// level writes at least one character, so the recursion is as deep as
+// `limit` at most.
+void describe_into(const json& v, std::string& out, size_t limit) {
+  if (out.size() > limit) return;
+  if (v.is_object()) {
+    out += '{';
+    bool first = true;
+    for (auto it = v.begin(); it != v.end() && out.size() <= limit; ++it) {
+      if (!first) out += ',';
+      first = false;
+      describe_into(json(it.key()), out, limit);
+      out += ':';
+      describe_into(it.value(), out, limit);
+    }
+    out += '}';
+  } else if (v.is_array()) {
+    out += '[';
+    for (size_t i = 0; i < v.size() && out.size() <= limit; ++i) {
+      if (i) out += ',';
+      describe_into(v[i], out, limit);
+    }
+    out += ']';
+  } else if (v.is_number_float() && !std::isfinite(v.get<double>())) {
+    // nlohmann dumps inf/nan as `null`, which would be misleading next to
+    // "expected a finite number".
     const double d = v.get<double>();
-    return std::isnan(d) ? "nan" : (d > 0 ? "inf" : "-inf");
+    out += std::isnan(d) ? "nan" : (d > 0 ? "inf" : "-inf");
+  } else if (v.is_string() && v.get_ref<const std::string&>().size() > limit) {
+    out += json(v.get_ref<const std::string&>().substr(0, limit)).dump(-1, ' ', false, json::error_handler_t::replace);
+  } else {
+    out += v.dump(-1, ' ', false, json::error_handler_t::replace);
   }
-  std::string s = v.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+}  // namespace
+
+std::string describe(const json& v) {
+  std::string s;
+  describe_into(v, s, 60);
   if (s.size() > 60) s = s.substr(0, 57) + "...";
   return s;
 }

@@ -16,6 +16,10 @@
 #include <sstream>
 #include <system_error>
 
+#include "host/error.h"
+#include "host/limits.h"
+#include "host/read_file.h"
+
 namespace caustica {
 
 namespace fs = std::filesystem;
@@ -40,25 +44,32 @@ uint16_t to_half(float v) {
   return glm::packHalf1x16(std::min(v, 65504.0f));
 }
 
-// Row-major from the top row, 3 linear floats per texel.
-struct LinearImage {
-  int width = 0, height = 0;
-  std::vector<float> rgb;
-};
-
 bool is_file(const fs::path& p) {
   std::error_code ec;
   return fs::is_regular_file(p, ec);
 }
 
 
+// A declared size against the limits (host/limits.h), before any pixel is
+// allocated. Returns "" when it may be decoded, else the reason.
+std::string check_texture_size(long long w, long long h, size_t file_bytes) {
+  using namespace limits;
+  const std::string size = std::to_string(w) + " x " + std::to_string(h);
+  if (w <= 0 || h <= 0) return "invalid size " + size;
+  if (w > kMaxTextureSide || h > kMaxTextureSide || uint64_t(w) * uint64_t(h) > kMaxTexturePixels)
+    return "declares " + size + " pixels, over the texture limit of " + std::to_string(kMaxTextureSide) +
+           " per side and " + std::to_string(kMaxTexturePixels) + " pixels";
+  if (uint64_t(w) * uint64_t(h) > kMaxPixelsPerFileByte * uint64_t(file_bytes))
+    return "declares " + size + " pixels in a file of " + std::to_string(file_bytes) +
+           " bytes (no image format packs more than " + std::to_string(kMaxPixelsPerFileByte) +
+           " pixels per byte: truncated or corrupt)";
+  return "";
+}
+
 // Netpbm P2/P3/P5/P6 with any maxval. stb reads only the binary kinds and
 // takes maxval literally (a maxval-15 file would come out nearly black), so
 // the whole family is read here. Returns "" on success, else the reason.
-std::string read_pnm(const std::string& path, LinearImage& out) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return "cannot open the file";
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+std::string read_pnm(const std::string& data, LinearImage& out) {
   size_t pos = 0;
   auto skip_space_and_comments = [&] {
     while (pos < data.size()) {
@@ -88,9 +99,17 @@ std::string read_pnm(const std::string& path, LinearImage& out) {
   long w = 0, h = 0, maxval = 0;
   if (!read_uint(w) || !read_uint(h) || !read_uint(maxval)) return "malformed PNM header";
   if (w <= 0 || h <= 0 || maxval <= 0 || maxval > 65535) return "invalid PNM size or maxval";
-  if (static_cast<double>(w) * h > 1 << 28) return "PNM too large";
+  if (std::string why = check_texture_size(w, h, data.size()); !why.empty()) return why;
   const int channels = (kind == '3' || kind == '6') ? 3 : 1;
   const size_t count = static_cast<size_t>(w) * h * channels;
+  // The data must be there before it is given memory: binary values take 1
+  // or 2 bytes each, ASCII ones at least a digit and a separator.
+  const size_t left = data.size() - std::min(data.size(), pos + 1);
+  const bool ascii = kind == '2' || kind == '3';
+  const size_t need = ascii ? 2 * count - 1 : count * (maxval > 255 ? 2 : 1);
+  if (left < need)
+    return "truncated PNM data: " + std::to_string(w) + " x " + std::to_string(h) + " needs " +
+           (ascii ? "at least " : "") + std::to_string(need) + " bytes, the file has " + std::to_string(left);
   std::vector<long> values(count);
   if (kind == '2' || kind == '3') {
     for (size_t i = 0; i < count; ++i)
@@ -116,29 +135,57 @@ std::string read_pnm(const std::string& path, LinearImage& out) {
   return "";
 }
 
-std::string read_image(const std::string& path, LinearImage& out) {
-  {
-    std::ifstream in(path, std::ios::binary);
-    char magic[2] = {0, 0};
-    in.read(magic, 2);
-    if (magic[0] == 'P' && magic[1] != 0 && std::strchr("2356", magic[1])) return read_pnm(path, out);
-  }
+}  // namespace
+
+std::string decode_texture_image(const std::string& data, LinearImage& out) {
+  if (data.size() >= 2 && data[0] == 'P' && std::strchr("2356", data[1]) && data[1] != 0) return read_pnm(data, out);
+  if (data.size() > size_t(std::numeric_limits<int>::max())) return "file too large for stb_image";
+  const auto* bytes = reinterpret_cast<const stbi_uc*>(data.data());
+  const int len = static_cast<int>(data.size());
   int w = 0, h = 0, n = 0;
-  if (stbi_is_hdr(path.c_str())) {
-    float* pixels = stbi_loadf(path.c_str(), &w, &h, &n, 3);
+  // The header first: stb allocates every pixel it declares before decoding.
+  if (!stbi_info_from_memory(bytes, len, &w, &h, &n)) {
+    // stb refuses a PNG beyond its own limits and then reports the last
+    // format it tried ("unknown image type"); say which limit it was.
+    if (data.size() >= 24 && data.compare(0, 8, "\x89PNG\r\n\x1a\n", 8) == 0 && data.compare(12, 4, "IHDR") == 0) {
+      auto be32 = [&](size_t at) {
+        return (uint32_t(bytes[at]) << 24) | (uint32_t(bytes[at + 1]) << 16) | (uint32_t(bytes[at + 2]) << 8) |
+               uint32_t(bytes[at + 3]);
+      };
+      if (std::string why = check_texture_size(be32(16), be32(20), data.size()); !why.empty()) return why;
+    }
+    return stbi_failure_reason() ? stbi_failure_reason() : "unknown image format";
+  }
+  if (std::string why = check_texture_size(w, h, data.size()); !why.empty()) return why;
+  if (stbi_is_hdr_from_memory(bytes, len)) {
+    float* pixels = stbi_loadf_from_memory(bytes, len, &w, &h, &n, 3);
     if (!pixels) return stbi_failure_reason() ? stbi_failure_reason() : "unknown stb_image error";
     out.width = w, out.height = h;
     out.rgb.assign(pixels, pixels + static_cast<size_t>(w) * h * 3);
     stbi_image_free(pixels);
     return "";
   }
-  unsigned char* pixels = stbi_load(path.c_str(), &w, &h, &n, 3);
+  unsigned char* pixels = stbi_load_from_memory(bytes, len, &w, &h, &n, 3);
   if (!pixels) return stbi_failure_reason() ? stbi_failure_reason() : "unknown stb_image error";
   out.width = w, out.height = h;
   out.rgb.resize(static_cast<size_t>(w) * h * 3);
   for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = srgb_table()[pixels[i]];
   stbi_image_free(pixels);
   return "";
+}
+
+namespace {
+
+std::string read_image(const std::string& path, LinearImage& out) {
+  std::string data;
+  try {
+    data = read_input_file(path, "texture", limits::kMaxImageFileBytes);
+  } catch (const Error& e) {
+    // The message names the path already; the caller names it again.
+    const std::string what = e.what();
+    return what.rfind(path + ": ", 0) == 0 ? what.substr(path.size() + 2) : what;
+  }
+  return decode_texture_image(data, out);
 }
 
 // The last component of a path written on any system: scenes carry

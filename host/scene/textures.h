@@ -29,6 +29,19 @@ std::vector<std::string> texture_search_candidates(const std::string& written, c
 // The exact sRGB EOTF of an 8-bit code value (what 8-bit texels decode to).
 float srgb_byte_to_linear(unsigned char value);
 
+// Row-major from the top row, 3 linear floats per texel.
+struct LinearImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+};
+
+// Decodes a texture file's bytes (any format listed above). Returns "" on
+// success, else why not; sizes beyond host/limits.h's texture limits, and
+// headers declaring more pixels than the bytes can hold, are refused before
+// any pixel memory is allocated. The fuzz target fuzz/fuzz_texture.cpp calls
+// it directly.
+std::string decode_texture_image(const std::string& data, LinearImage& out);
+
 class TextureLibrary {
  public:
   explicit TextureLibrary(Scene& scene) : scene_(scene) {}

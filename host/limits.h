@@ -1,0 +1,53 @@
+// Every size limit on input, in one place (README "Limits" lists them for
+// users). A request beyond one is refused before anything is allocated, with
+// an error that names the limit; nothing caustica reads may run it out of
+// memory or into a crash instead. The values leave room for every scene,
+// mesh and texture we know of (the largest: a 16k x 8k environment map, the
+// 346k-face armadillo, generated scenes of a million shapes) while keeping
+// each single allocation a parser makes for one file within a few GiB.
+#pragma once
+
+#include <cstdint>
+
+namespace caustica::limits {
+
+// Files are read whole; these bound the read itself (host/read_file.h).
+inline constexpr uint64_t kMaxSceneFileBytes = uint64_t(1) << 30;    // 1 GiB of JSON
+inline constexpr uint64_t kMaxMeshFileBytes = uint64_t(2) << 30;     // 2 GiB .obj / .ply
+inline constexpr uint64_t kMaxMaterialFileBytes = uint64_t(64) << 20; // 64 MiB .mtl
+inline constexpr uint64_t kMaxImageFileBytes = uint64_t(1) << 30;    // textures, references, diff inputs
+
+// JSON nesting: the scene format itself is at most 5 levels deep; the bound
+// keeps every recursive walk of the document (nlohmann's dump, copies,
+// comparisons) far from the stack's end.
+inline constexpr int kMaxJsonDepth = 64;
+
+// Rendered images: the side limit is the camera's own ("width"/"height" in
+// the scene file), the pixel limit keeps the film's 32-bit value offsets
+// valid (3 values per pixel, 2^31 at most) with room to spare. The device's
+// own limits (CL_DEVICE_MAX_MEM_ALLOC_SIZE, global memory) are checked
+// separately, before any buffer is created (host/app/session.cpp).
+inline constexpr int kMaxImageSide = 32768;
+inline constexpr uint64_t kMaxImagePixels = uint64_t(1) << 28;  // 268,435,456, e.g. 16384 x 16384
+
+// Exposure in stops (the camera's "exposure", --exposure): every pixel is
+// scaled by 2^exposure, which must stay a normal float either way.
+inline constexpr float kMaxExposureStops = 64.0f;
+
+// Textures: per side and per image, checked on the header before any pixel
+// is decoded. A file must also be large enough to hold what it declares:
+// no format we read stores more than kMaxPixelsPerFileByte pixels per byte
+// (deflate's 1032:1 at 8 one-bit pixels per byte is the densest), so a
+// 20-byte header declaring 16384 x 16384 is refused without decoding.
+inline constexpr int kMaxTextureSide = 16384;
+inline constexpr uint64_t kMaxTexturePixels = uint64_t(1) << 27;  // 134,217,728, e.g. 16384 x 8192
+inline constexpr uint64_t kMaxPixelsPerFileByte = 8256;
+
+// Phong (Whitted) shading traces one shadow ray per light from every
+// shading point; its shadow queue grows with the light count (host/render/
+// integrator_phong.cpp), so the number of point lights it is given (area and
+// sphere lights count as one stand-in each) is bounded. Path mode samples
+// lights and has no such limit.
+inline constexpr uint64_t kMaxPhongLights = 1024;
+
+}  // namespace caustica::limits
