@@ -1,0 +1,198 @@
+// Bad input through the command line, as a new user would give it (issue 14,
+// point 2): a table of arguments and small generated input files, each run
+// through the built binary. Rules every row holds to: the process exits on
+// its own (no signal), never prints "terminate called", sanitizer output or
+// std::bad_alloc; a rejected input exits non-zero with one line naming the
+// option, file, JSON key or line and what was expected, and nothing was
+// "wrote". Rows that are only warnings (an unreadable texture becomes a
+// checker) exit 0 with the warning. A crash the fuzz targets (fuzz/) find
+// becomes a row here or a unit test next to its parser.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "tests/support/test_support.h"
+
+namespace caustica {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  bool signalled = false;
+  int status = -1;
+  std::string output;
+};
+
+// Runs caustica with `args` (a shell word list) and returns stdout + stderr.
+Result run_caustica(const std::string& args) {
+  const std::string cmd = test::binary_path() + " " + args + " 2>&1";
+  Result r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+  const int status = pclose(p);
+  // sh reports a child killed by a signal as 128 + signal.
+  r.signalled = WIFSIGNALED(status) || (WIFEXITED(status) && WEXITSTATUS(status) > 128);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string write_file(const std::string& name, const std::string& bytes) {
+  const std::string path = test::temp_dir() + "/" + name;
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+// A valid 24x16 phong scene; `shapes` and `lights` are JSON array texts.
+std::string scene(const std::string& shapes, const std::string& lights = "", int nbounces = 2) {
+  return R"({"nbounces": )" + std::to_string(nbounces) + R"(, "rendermode": "phong",
+    "camera": {"type": "pinhole", "width": 24, "height": 16, "position": [0, 0, -3], "lookAt": [0, 0, 0],
+               "upVector": [0, 1, 0], "fov": 45},
+    "scene": {"backgroundcolor": [0.1, 0.1, 0.1],
+              "lightsources": [)" +
+         (lights.empty() ? R"({"type": "pointlight", "position": [0, 2, -2], "intensity": [1, 1, 1]})" : lights) +
+         R"(], "shapes": )" + shapes + "}}";
+}
+
+const char* kSphere = R"([{"type": "sphere", "center": [0, 0, 0], "radius": 1}])";
+
+std::string mesh_shape(const std::string& file) { return R"([{"type": "mesh", "file": ")" + file + R"("}])"; }
+
+std::string textured_sphere(const std::string& file) {
+  return R"([{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": {"texture": ")" + file + R"("}}])";
+}
+
+struct Row {
+  const char* name;
+  std::string args;            // after "caustica"
+  bool rejected = true;        // false: a warning only, exit 0
+  std::vector<std::string> expected;  // parts of the output
+  bool one_line = true;        // CLI11's own parse errors add a "Run with --help" line
+};
+
+// Writes every input the rows use into the test's temporary directory.
+std::vector<Row> make_rows() {
+  const std::string d = test::temp_dir();
+  const std::string dev = " --device " + quote(test::device_spec()) + " -q";
+  const std::string ok = write_file("ok.json", scene(kSphere));
+
+  // JSON nested 10^5 levels, at the top and where an error message shows the value.
+  write_file("deep.json", std::string(100000, '[') + std::string(100000, ']'));
+  write_file("deep_value.json", R"({"nbounces": )" + std::string(100000, '[') + std::string(100000, ']') + "}");
+  write_file("bounces.json", scene(kSphere, "", 1000000000));
+
+  std::string lights;
+  for (int i = 0; i < 100000; ++i)
+    lights += std::string(i ? "," : "") + R"({"type": "arealight", "position": [)" + std::to_string(i % 100) +
+              R"(, 2, 0], "intensity": [0.001, 0.001, 0.001], "size": [0.1, 0.1]})";
+  write_file("lights.json", scene(kSphere, lights));
+
+  write_file("tiny.ppm", "P6\n16384 16384\n255\nx");  // 20 bytes declaring 16384 x 16384
+  write_file("short.ppm", "P6\n1000 1000\n255\nxyz");
+  write_file("tiny_texture.json", scene(textured_sphere("tiny.ppm")));
+  write_file("short_texture.json", scene(textured_sphere("short.ppm")));
+
+  const std::string tri = "v -1 -1 0\nv 1 -1 0\nv 0 1 0\n";
+  write_file("kd_nan.obj", "mtllib kd_nan.mtl\n" + tri + "usemtl red\nf 1 2 3\n");
+  write_file("kd_nan.mtl", "newmtl red\nKd nan 0 0\n");
+  write_file("kd_negative.obj", "mtllib kd_negative.mtl\n" + tri + "usemtl red\nf 1 2 3\n");
+  write_file("kd_negative.mtl", "newmtl red\nKd -1 0 0\n");
+  write_file("nan_vertex.obj", tri + "v nan 1 0\nf 1 2 4\n");
+  write_file("inf_vertex.obj", tri + "v 0 inf 0\nf 1 2 4\n");
+  write_file("huge_index.obj", tri + "f 1 2 100000000000000000000\n");
+  write_file("nan_vertex.ply",
+             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+             "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n");
+  for (const char* m : {"kd_nan.obj", "kd_negative.obj", "nan_vertex.obj", "inf_vertex.obj", "huge_index.obj",
+                        "nan_vertex.ply"})
+    write_file(fs::path(m).stem().string() + "_" + fs::path(m).extension().string().substr(1) + ".json",
+               scene(mesh_shape(m)));
+
+  // Writes that fail: /dev/full takes the open and refuses every byte.
+  for (const char* ext : {"png", "exr", "ppm", "pfm"}) {
+    std::error_code ec;
+    fs::create_symlink("/dev/full", d + "/full." + ext, ec);
+  }
+
+  const std::string missing = quote(d + "/no_such_scene.json");
+  std::vector<Row> rows = {
+      {"deep_json", "render " + quote(d + "/deep.json"), true, {"deep.json: /0/0/0", "nested at most 64 levels"}},
+      {"deep_json_value", "render " + quote(d + "/deep_value.json"), true, {"deep_value.json: /nbounces/0", "64 levels"}},
+      {"bvh_render", "render " + quote(ok) + " --bvh foo", true, {"--bvh foo: expected fast, sah or spatial"}},
+      {"bvh_bench", "bench " + quote(ok) + " --bvh foo", true, {"--bvh foo: expected fast, sah or spatial"}},
+      {"scene_dev_zero", "render /dev/zero", true, {"/dev/zero: is a character device, expected a regular file"}},
+      {"scene_dev_urandom", "render /dev/urandom", true, {"/dev/urandom: is a character device"}},
+      {"scene_directory", "render " + quote(d), true, {"is a directory, expected a regular file"}},
+      {"scene_missing", "render " + missing, true, {"no_such_scene.json: scene file not found"}},
+      {"texture_20_bytes_16384", "render " + quote(d + "/tiny_texture.json") + " -o " + quote(d + "/t.png") + dev,
+       false, {"tiny.ppm", "16384 x 16384", "texture limit of 16384 per side"}},
+      {"texture_truncated", "render " + quote(d + "/short_texture.json") + " -o " + quote(d + "/s.png") + dev,
+       false, {"short.ppm", "1000 x 1000", "pixels in a file of 20 bytes"}},
+      {"image_too_large", "render " + quote(ok) + " --width 100000 --height 10000", true,
+       {"--width/--height 100000x10000", "image limit of 32768 pixels per side"}},
+      {"image_too_large_area", "render " + quote(ok) + " --width 30000 --height 30000", true,
+       {"268435456 pixels"}},
+      {"bounces", "render " + quote(d + "/bounces.json"), true,
+       {"bounces.json: /nbounces: expected an integer in [0, 1024], got 1000000000"}},
+      {"lights_100000_phong", "render " + quote(d + "/lights.json") + dev, true,
+       {"lights.json: /scene/lightsources", "100000 lights", "limit is 1024"}},
+      {"exposure_empty", "render " + quote(ok) + " --exposure ''", true, {"--exposure '': expected", "[-64, 64]"}},
+      {"exposure_nan", "render " + quote(ok) + " --exposure nan", true, {"--exposure 'nan': expected"}},
+      {"exposure_huge", "render " + quote(ok) + " --exposure 1e9", true, {"--exposure '1e9': expected"}},
+      {"gamma_zero", "render " + quote(ok) + " --gamma 0", true, {"--gamma '0': expected"}},
+      // Checked before the scene is read: the scene does not even exist.
+      {"output_extension", "render " + missing + " -o out.bmp", true, {"out.bmp", "unknown extension '.bmp'"}},
+      {"output_directory", "render " + missing + " -o " + quote(d + "/no/dir/x.png"), true,
+       {"x.png", "does not exist"}},
+      {"tonemap", "render " + missing + " --tonemap foo", true, {"--tonemap", "'foo'", "linear, reinhard, aces"}},
+      {"plot_extension", "render " + missing + " --report r.csv --plot p.jpg", true, {"--plot p.jpg", ".png or .svg"}},
+      {"width_not_a_number", "render " + quote(ok) + " --width abc", true, {"--width", "abc"}, false},
+      {"kd_nan", "render " + quote(d + "/kd_nan_obj.json"), true,
+       {"/scene/shapes/0/file", "kd_nan.mtl: line 2: Kd: expected 1 or 3 finite non-negative numbers, got 'nan 0 0'"}},
+      {"kd_negative", "render " + quote(d + "/kd_negative_obj.json"), true, {"kd_negative.mtl: line 2: Kd", "'-1 0 0'"}},
+      {"obj_nan_vertex", "render " + quote(d + "/nan_vertex_obj.json"), true,
+       {"nan_vertex.obj: line 4: expected a finite vertex coordinate", "'nan'"}},
+      {"obj_inf_vertex", "render " + quote(d + "/inf_vertex_obj.json"), true, {"inf_vertex.obj: line 4", "'inf'"}},
+      {"obj_huge_index", "render " + quote(d + "/huge_index_obj.json"), true,
+       {"huge_index.obj: line 4: expected face indices", "'100000000000000000000'"}},
+      {"ply_nan_vertex", "render " + quote(d + "/nan_vertex_ply.json"), true,
+       {"nan_vertex.ply: PLY element 'vertex' item 3 of 3 (line 12): expected a finite 'x'"}},
+  };
+  for (const char* ext : {"png", "exr", "ppm", "pfm"})
+    rows.push_back({"full_disk", "render " + quote(ok) + " -o " + quote(d + "/full." + std::string(ext)) + dev, true,
+                    {"full." + std::string(ext), "No space left on device"}});
+  return rows;
+}
+
+TEST(CliErrors, EveryBadInputIsOneClearLineNeverACrash) {
+  for (const Row& row : make_rows()) {
+    SCOPED_TRACE(std::string(row.name) + ": caustica " + row.args);
+    const Result r = run_caustica(row.args);
+    EXPECT_FALSE(r.signalled) << r.output;
+    for (const char* never : {"terminate called", "Sanitizer", "runtime error:", "std::bad_alloc", "Segmentation"})
+      EXPECT_EQ(r.output.find(never), std::string::npos) << never << " in: " << r.output;
+    for (const auto& part : row.expected) EXPECT_TRUE(test::Contains(r.output, {part}));
+    if (row.rejected) {
+      EXPECT_NE(r.status, 0) << r.output;
+      EXPECT_EQ(r.output.find("wrote"), std::string::npos) << r.output;
+      if (row.one_line) {
+        EXPECT_EQ(r.output.rfind("caustica: error: ", 0), 0u) << r.output;
+        EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << "more than one line: " << r.output;
+      }
+    } else {
+      EXPECT_EQ(r.status, 0) << r.output;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace caustica
