@@ -37,11 +37,15 @@ inline constexpr float kMaxExposureStops = 64.0f;
 // Textures: per side and per image, checked on the header before any pixel
 // is decoded. A file must also be large enough to hold what it declares:
 // no format we read stores more than kMaxPixelsPerFileByte pixels per byte
-// (deflate's 1032:1 at 8 one-bit pixels per byte is the densest), so a
-// 20-byte header declaring 16384 x 16384 is refused without decoding.
+// (deflate's 1032:1 at 8 one-bit pixels per byte is the densest; PNG's
+// bound is computed from its bit depth), and formats with at most run-length
+// coding (BMP, TGA, HDR, PSD) no more than kMaxPixelsPerFileByteRle. So a
+// 20-byte header declaring 16384 x 16384 is refused without decoding, and a
+// 16 KB TGA cannot make stb fill a 2^27-pixel image from bytes past its end.
 inline constexpr int kMaxTextureSide = 16384;
 inline constexpr uint64_t kMaxTexturePixels = uint64_t(1) << 27;  // 134,217,728, e.g. 16384 x 8192
 inline constexpr uint64_t kMaxPixelsPerFileByte = 8256;
+inline constexpr uint64_t kMaxPixelsPerFileByteRle = 256;
 
 // Phong (Whitted) shading traces one shadow ray per light from every
 // shading point; its shadow queue grows with the light count (host/render/

@@ -582,6 +582,11 @@ TEST(TextureHost, OversizedOrTruncatedHeadersAreRefusedBeforeAllocation) {
       {"P6\n64 64\n255\n" + std::string(100, 'x'), {"truncated PNM data", "needs 12288 bytes"}},
       {"P2\n2 2\n255\n1 2\n", {"truncated PNM data", "needs at least 7 bytes"}},
   };
+  // Found by fuzz/fuzz_texture (a timeout): a 16 KB uncompressed TGA declaring
+  // ~2^27 pixels, which stb fills from bytes past the end, 2 GB and 10 s later.
+  std::string tga = std::string("\0\0\2\0\0\0\0\0\0\0\0\0", 12) + std::string("\x00\x20\x00\x20\x18\x00", 6) + std::string(100, '\x7f');
+  const std::string tga_why = decode_texture_image(tga, img);
+  EXPECT_TRUE(test::Contains(tga_why, {"8192 x 8192", "in a file of 118 bytes", "packs 256 pixels per byte"}));
   for (const auto& c : cases) {
     const std::string why = decode_texture_image(c.bytes, img);
     for (const auto& part : c.parts) EXPECT_TRUE(test::Contains(why, {part})) << c.bytes.substr(0, 20);

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages caustica builds and runs with, if missing.
+# Installs the Debian 12 packages caustica builds and runs with, if missing
+# (with --fuzz: those tools/fuzz.sh builds the fuzz targets with).
 # As root it runs apt-get; otherwise it prints the exact command to run.
 set -euo pipefail
 packages=(
@@ -9,6 +10,13 @@ packages=(
   libgtest-dev libbenchmark-dev
   gnuplot-nox
 )
+# tools/fuzz.sh: clang with its libFuzzer and sanitizer runtimes (Debian's
+# clang-14; libclang_rt.fuzzer-x86_64.a is in libclang-rt-14-dev).
+if [[ ${1:-} == --fuzz ]]; then
+  packages=(clang libclang-rt-14-dev cmake pkg-config
+    libglm-dev libstb-dev nlohmann-json3-dev libtinyobjloader-dev libtinyexr-dev libcli11-dev
+    ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers)
+fi
 missing=()
 for p in "${packages[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)

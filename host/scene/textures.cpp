@@ -52,17 +52,35 @@ bool is_file(const fs::path& p) {
 
 // A declared size against the limits (host/limits.h), before any pixel is
 // allocated. Returns "" when it may be decoded, else the reason.
-std::string check_texture_size(long long w, long long h, size_t file_bytes) {
+// The most pixels `data` can hold in its format (host/limits.h).
+uint64_t max_pixels_per_byte(const std::string& data) {
+  using namespace limits;
+  if (data.size() >= 26 && data.compare(0, 8, "\x89PNG\r\n\x1a\n", 8) == 0) {
+    // deflate's 1032:1 over the bits of one pixel (IHDR: bit depth, colour type)
+    const int depth = static_cast<unsigned char>(data[24]), type = static_cast<unsigned char>(data[25]);
+    const int channels = type == 2 ? 3 : type == 4 ? 2 : type == 6 ? 4 : 1;
+    const int bits = std::max(1, depth * channels);
+    return std::min<uint64_t>(kMaxPixelsPerFileByte, 1032 * 8 / bits + 1);
+  }
+  const bool jpeg = data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0xFF &&
+                    static_cast<unsigned char>(data[1]) == 0xD8;
+  const bool gif = data.compare(0, 4, "GIF8") == 0;
+  const bool pnm = data.size() >= 2 && data[0] == 'P' && std::strchr("2356", data[1]) && data[1] != 0;
+  return jpeg || gif || pnm ? kMaxPixelsPerFileByte : kMaxPixelsPerFileByteRle;
+}
+
+std::string check_texture_size(long long w, long long h, const std::string& data) {
+  const size_t file_bytes = data.size();
   using namespace limits;
   const std::string size = std::to_string(w) + " x " + std::to_string(h);
   if (w <= 0 || h <= 0) return "invalid size " + size;
   if (w > kMaxTextureSide || h > kMaxTextureSide || uint64_t(w) * uint64_t(h) > kMaxTexturePixels)
     return "declares " + size + " pixels, over the texture limit of " + std::to_string(kMaxTextureSide) +
            " per side and " + std::to_string(kMaxTexturePixels) + " pixels";
-  if (uint64_t(w) * uint64_t(h) > kMaxPixelsPerFileByte * uint64_t(file_bytes))
-    return "declares " + size + " pixels in a file of " + std::to_string(file_bytes) +
-           " bytes (no image format packs more than " + std::to_string(kMaxPixelsPerFileByte) +
-           " pixels per byte: truncated or corrupt)";
+  const uint64_t ratio = max_pixels_per_byte(data);
+  if (uint64_t(w) * uint64_t(h) > ratio * uint64_t(file_bytes))
+    return "declares " + size + " pixels in a file of " + std::to_string(file_bytes) + " bytes (its format packs " +
+           std::to_string(ratio) + " pixels per byte at most: truncated or corrupt)";
   return "";
 }
 
@@ -99,7 +117,7 @@ std::string read_pnm(const std::string& data, LinearImage& out) {
   long w = 0, h = 0, maxval = 0;
   if (!read_uint(w) || !read_uint(h) || !read_uint(maxval)) return "malformed PNM header";
   if (w <= 0 || h <= 0 || maxval <= 0 || maxval > 65535) return "invalid PNM size or maxval";
-  if (std::string why = check_texture_size(w, h, data.size()); !why.empty()) return why;
+  if (std::string why = check_texture_size(w, h, data); !why.empty()) return why;
   const int channels = (kind == '3' || kind == '6') ? 3 : 1;
   const size_t count = static_cast<size_t>(w) * h * channels;
   // The data must be there before it is given memory: binary values take 1
@@ -152,11 +170,11 @@ std::string decode_texture_image(const std::string& data, LinearImage& out) {
         return (uint32_t(bytes[at]) << 24) | (uint32_t(bytes[at + 1]) << 16) | (uint32_t(bytes[at + 2]) << 8) |
                uint32_t(bytes[at + 3]);
       };
-      if (std::string why = check_texture_size(be32(16), be32(20), data.size()); !why.empty()) return why;
+      if (std::string why = check_texture_size(be32(16), be32(20), data); !why.empty()) return why;
     }
     return stbi_failure_reason() ? stbi_failure_reason() : "unknown image format";
   }
-  if (std::string why = check_texture_size(w, h, data.size()); !why.empty()) return why;
+  if (std::string why = check_texture_size(w, h, data); !why.empty()) return why;
   if (stbi_is_hdr_from_memory(bytes, len)) {
     float* pixels = stbi_loadf_from_memory(bytes, len, &w, &h, &n, 3);
     if (!pixels) return stbi_failure_reason() ? stbi_failure_reason() : "unknown stb_image error";
