@@ -178,8 +178,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option_function<std::string>(
       "--caustics", [&a](const std::string& m) { a.session.caustics = parse_caustics_mode(m); },
       "path: photon-mapped caustics: auto (default: when the scene has smooth metal or glass), on, off");
-  render_cmd->add_option("--photons", a.session.photons, "path: photons emitted per pass (default 262144)")
-      ->check(CLI::Range(1u, 1u << 26));
+  render_cmd->add_option("--photons", a.session.photons, "path: photons emitted per pass (default: one per pixel, 16384 to 1048576)")
+      ->check(CLI::Range(1u, 1u << 22));
   render_cmd->add_option("--caustic-radius", a.session.caustic_radius,
                          "path: initial photon gather radius (default: from the scene's size and --photons)")
       ->check(CLI::PositiveNumber);
@@ -282,11 +282,13 @@ int run_render(RenderArgs& a) {
   write_image(a.output, image, display);
   monitor.finish(session->renderer->film(), render_seconds);
   if (a.verbose) {
-    const uint64_t rays = stats.camera_rays + stats.secondary_rays + stats.shadow_rays;
-    std::fprintf(stderr, "[caustica] render: %.1f ms, %dx%d, %llu camera + %llu secondary + %llu shadow rays (%.2f Mrays/s)%s\n",
+    std::fprintf(stderr,
+                 "[caustica] render: %.1f ms, %dx%d, %llu camera + %llu secondary + %llu shadow + %llu photon rays "
+                 "(%.2f Mrays/s)%s\n",
                  stats.render_ms, image.width, image.height, (unsigned long long)stats.camera_rays,
                  (unsigned long long)stats.secondary_rays, (unsigned long long)stats.shadow_rays,
-                 rays / (stats.render_ms * 1e3), stats.chunk_retries ? " (queue overflow: chunks split)" : "");
+                 (unsigned long long)stats.photon_rays, stats.rays() / (stats.render_ms * 1e3),
+                 stats.chunk_retries ? " (queue overflow: chunks split)" : "");
     std::fprintf(stderr, "[caustica] host traffic: %llu kernel launches, %llu blocking transfers; film scale 2^%d\n",
                  (unsigned long long)stats.launches, (unsigned long long)stats.blocking_transfers,
                  int(std::log2(session->renderer->film().params().scale)));

@@ -47,7 +47,7 @@ struct RenderSettings {
   // Path: the photon pass for caustics (host/render/photon_pass.h); the
   // program must have been built with it (SceneFeatures::caustics).
   bool caustics = false;
-  uint32_t photons_per_pass = 1u << 18;
+  uint32_t photons_per_pass = 0;  // 0: default_photons_per_pass
   float caustic_radius = 0.0f;  // initial gather radius; 0: default_caustic_radius
 };
 

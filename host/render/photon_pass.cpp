@@ -42,6 +42,11 @@ float default_caustic_radius(const Scene& scene, uint32_t photons_per_pass) {
   return float(capped > 0.0 ? capped : 1e-3);
 }
 
+uint32_t default_photons_per_pass(int width, int height) {
+  const uint64_t pixels = uint64_t(std::max(1, width)) * uint64_t(std::max(1, height));
+  return uint32_t(std::clamp<uint64_t>(pixels, 1u << 14, 1u << 20));
+}
+
 PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                        const cl::Buffer& lights, uint32_t light_count, const RenderSettings& settings,
                        PhotonGather gather)
@@ -50,12 +55,13 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
       scene_(scene),
       lights_(lights),
       light_count_(light_count),
-      photons_per_pass_(settings.photons_per_pass),
+      photons_per_pass_(settings.photons_per_pass > 0 ? settings.photons_per_pass
+                                                      : default_photons_per_pass(settings.width, settings.height)),
       max_depth_(uint32_t(std::max(0, scene.scene().nbounces))),
       seed_(settings.seed),
       pixel_count_(size_t(settings.width) * size_t(settings.height)),
       initial_radius_(settings.caustic_radius > 0.0f ? settings.caustic_radius
-                                                     : default_caustic_radius(scene.scene(), settings.photons_per_pass)),
+                                                     : default_caustic_radius(scene.scene(), photons_per_pass_)),
       cell_size_(initial_radius_),
       fixed_radius_(settings.caustic_radius > 0.0f),
       image_height_(settings.height),
@@ -65,7 +71,6 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
       compact_(program, "compact_photons"),
       scan_(program),
       grid_(launcher.runtime(), program) {
-  if (photons_per_pass_ == 0) throw Error("photon pass: --photons must be positive");
   auto& ctx = launcher.runtime().context();
   const size_t n = photons_per_pass_;
   for (DeviceQueue& q : queues_) q = DeviceQueue(ctx, path_record_layout(), n);

@@ -45,6 +45,11 @@ struct Scene;
 // the shared radius of later receivers starts at this one.
 float default_caustic_radius(const Scene& scene, uint32_t photons_per_pass);
 
+// Photons a pass when none are asked for: one per pixel (as pbrt-v4's SPPM),
+// at least 2^14 and at most 2^20, so photon tracing costs about what the
+// pass's camera paths cost whatever the image size.
+uint32_t default_photons_per_pass(int width, int height);
+
 struct PhotonPassStats {
   uint64_t emitted = 0, stored = 0;  // over the render
   double last_cell_size = 0.0;
