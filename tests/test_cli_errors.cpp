@@ -23,26 +23,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  bool signalled = false;
-  int status = -1;
-  std::string output;
-};
-
-// Runs caustica with `args` (a shell word list) and returns stdout + stderr.
-Result run_caustica(const std::string& args) {
-  const std::string cmd = test::binary_path() + " " + args + " 2>&1";
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
-  const int status = pclose(p);
-  // sh reports a child killed by a signal as 128 + signal.
-  r.signalled = WIFSIGNALED(status) || (WIFEXITED(status) && WEXITSTATUS(status) > 128);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Result = test::CliResult;
+Result run_caustica(const std::string& args) { return test::run_cli(args); }
 
 std::string write_file(const std::string& name, const std::string& bytes) {
   const std::string path = test::temp_dir() + "/" + name;

@@ -169,20 +169,8 @@ TEST(Diff, EightBitAndFloatImagesShareOneScale) {
   for (size_t i = 0; i < 6; ++i) EXPECT_NEAR(pair.image.image.rgb[i], pair.reference.image.rgb[i], 1e-7) << i;
 }
 
-struct CommandResult {
-  int status;
-  std::string output;
-};
-
-CommandResult run_caustica(const std::string& args) {
-  const std::string cmd = test::binary_path() + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  const int status = pclose(p);
-  return {WEXITSTATUS(status), out};
-}
+using CommandResult = test::CliResult;
+CommandResult run_caustica(const std::string& args) { return test::run_cli(args); }
 
 TEST(Diff, CommandPrintsMetricsThenOneJsonLine) {
   const std::string dir = test::temp_dir();

@@ -85,20 +85,8 @@ TEST(ProgramBuild, SecondBuildComesFromTheCache) {
   EXPECT_EQ(out, (std::array<int, 4>{7, 7, 7, 7}));
 }
 
-struct CommandResult {
-  int status;
-  std::string output;
-};
-
-CommandResult run(const std::string& args) {
-  const std::string cmd = test::binary_path() + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  const int status = pclose(p);
-  return {WEXITSTATUS(status), out};
-}
+using CommandResult = test::CliResult;
+CommandResult run(const std::string& args) { return test::run_cli(args); }
 
 TEST(CommandLine, BadInputsGiveClearErrorsAndExitCode1) {
   const std::string dir = test::temp_dir();

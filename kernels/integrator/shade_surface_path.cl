@@ -107,14 +107,8 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
 #endif
   const Bsdf bsdf = bsdf_of_material(mat, diffuse_colour);
   const bool opaque = bsdf.kind != BSDF_DIELECTRIC;
-  float3 n = sp.shading_normal, ng = sp.normal;
-  if (opaque && dot(ng, d) > 0.0f) { /* turn the two-sided surface toward the path */
-    n = -n;
-    ng = -ng;
-  }
-  if (opaque && dot(n, ng) < 0.0f) n = ng;
-  float3 t, b;
-  frame_from_normal(n, &t, &b);
+  const ShadingFrame frame = shading_frame(bsdf, sp.shading_normal, sp.normal, d);
+  const float3 t = frame.t, b = frame.b, n = frame.n, ng = frame.ng;
   const float3 wo = frame_to_local(-d, t, b, n);
 #if PATH_WITH_CAUSTICS
   const bool caster = bsdf_casts_caustics(bsdf);

@@ -61,6 +61,30 @@ inline float3 fresnel_schlick(float3 f0, float cos_theta) {
 
 inline bool bsdf_is_smooth(Bsdf b) { return b.alpha < GGX_ALPHA_MIN; }
 
+/* The local frame in which a path (or a photon) arriving along d scatters:
+ * opaque surfaces are two-sided, so their frame turns toward d; dielectrics
+ * keep the outward normal (the side tells inside from outside); a shading
+ * normal beyond the geometric surface gives way to the geometric normal (no
+ * light leaks through interpolated normals). ng: the geometric normal, turned
+ * as n. */
+typedef struct {
+  float3 t, b, n, ng;
+} ShadingFrame;
+
+inline ShadingFrame shading_frame(Bsdf bsdf, float3 shading_normal, float3 normal, float3 d) {
+  ShadingFrame f;
+  const bool opaque = bsdf.kind != BSDF_DIELECTRIC;
+  f.n = shading_normal;
+  f.ng = normal;
+  if (opaque && dot(f.ng, d) > 0.0f) {
+    f.n = -f.n;
+    f.ng = -f.ng;
+  }
+  if (opaque && dot(f.n, f.ng) < 0.0f) f.n = f.ng;
+  frame_from_normal(f.n, &f.t, &f.b);
+  return f;
+}
+
 /* Probability that plastic sampling picks the specular lobe: proportional
  * to the lobes' reflectance scales, never 0 or 1 while both exist. */
 inline float plastic_specular_probability(Bsdf b) {

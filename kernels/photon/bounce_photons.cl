@@ -49,14 +49,8 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PATH
    * least one more where it is gathered. */
   if (photon.depth + 2u > params.max_depth) return;
   const bool opaque = bsdf.kind != BSDF_DIELECTRIC;
-  float3 n = sp.shading_normal, ng = sp.normal;
-  if (opaque && dot(ng, d) > 0.0f) {
-    n = -n;
-    ng = -ng;
-  }
-  if (opaque && dot(n, ng) < 0.0f) n = ng;
-  float3 t, b;
-  frame_from_normal(n, &t, &b);
+  const ShadingFrame frame = shading_frame(bsdf, sp.shading_normal, sp.normal, d);
+  const float3 t = frame.t, b = frame.b, n = frame.n, ng = frame.ng;
   const float3 wo = frame_to_local(-d, t, b, n);
   const uint key = hash3(photon.pixel, params.pass_index, params.seed), dim = 8u + 4u * photon.depth;
   const float3 u = (float3)(random_float(key, dim), random_float(key, dim + 1u), random_float(key, dim + 2u));

@@ -1,3 +1,5 @@
+#include <sys/wait.h>
+
 #include "tests/support/test_support.h"
 
 #include <cstdlib>
@@ -81,6 +83,19 @@ std::string shared_dir() {
 }
 
 std::string binary_path() { return CAUSTICA_BINARY; }
+
+CliResult run_cli(const std::string& args) {
+  const std::string cmd = binary_path() + " " + args + " 2>&1";
+  CliResult r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+  const int status = pclose(p);
+  r.signalled = WIFSIGNALED(status) || (WIFEXITED(status) && WEXITSTATUS(status) > 128);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
 
 std::string temp_dir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();

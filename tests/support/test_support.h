@@ -21,6 +21,16 @@ std::string source_dir();
 // "<repo>/../shared" or $CAUSTICA_SHARED_DIR; empty when it does not exist.
 std::string shared_dir();
 std::string binary_path();  // the caustica executable
+
+// What running the caustica executable gave: its exit status, whether a
+// signal ended it (the shell reports one as 128 + signal), stdout + stderr.
+struct CliResult {
+  bool signalled = false;
+  int status = -1;
+  std::string output;
+};
+// Runs `caustica ARGS` (a shell word list) through the shell.
+CliResult run_cli(const std::string& args);
 // A fresh temporary directory for this test,
 // <tmp>/caustica_test_<pid>_<suite>_<test>: the same path on every call within
 // one test, emptied on the first. It is removed with everything in it when the
