@@ -39,15 +39,7 @@ ImageF image(int w, int h, std::vector<float> values) {
   return img;
 }
 
-template <typename Fn>
-std::string error_message(Fn fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "<no caustica::Error thrown>";
-}
+const auto error_message = test::error_of;
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -51,15 +51,7 @@ ImageF sample_hdr() {
   return img;
 }
 
-template <typename Fn>
-std::string error_message(Fn fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "<no caustica::Error thrown>";
-}
+const auto error_message = test::error_of;
 
 // ---- tone mapping -------------------------------------------------------
 

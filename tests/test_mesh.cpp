@@ -30,16 +30,7 @@ std::string write_file(const std::string& name, const std::string& bytes) {
   return path;
 }
 
-// Runs f, which must throw caustica::Error; returns its message.
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no caustica::Error thrown";
-  return {};
-}
+using test::error_of;
 
 float area(const MeshTriangle& t) { return 0.5f * glm::length(glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0])); }
 glm::vec3 normal_of(const MeshTriangle& t) { return glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]); }

@@ -19,14 +19,7 @@
 namespace caustica {
 namespace {
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::error_of;
 
 TEST(DeviceSelection, ByTypeIndexAndName) {
   const auto devices = list_devices();

@@ -27,21 +27,7 @@ std::string write_file(const std::string& name, const std::string& text) {
   return path;
 }
 
-// The message of the caustica::Error that `fn` throws; fails the test if it
-// throws nothing or something else.
-template <class Fn>
-std::string error_of(Fn fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected caustica::Error, got std::exception: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "expected caustica::Error, nothing was thrown";
-  return {};
-}
+using test::error_of;
 
 std::string parse_error_of(const json& j) {
   return error_of([&] { parse_scene(j, "x.json", ".", {}); });

@@ -2,6 +2,10 @@
 
 #include "tests/support/test_support.h"
 
+#include <gtest/gtest.h>
+
+#include "host/error.h"
+
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -83,6 +87,19 @@ std::string shared_dir() {
 }
 
 std::string binary_path() { return CAUSTICA_BINARY; }
+
+std::string error_of(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const Error& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected caustica::Error, got std::exception: " << e.what();
+    return {};
+  }
+  ADD_FAILURE() << "expected caustica::Error, nothing was thrown";
+  return {};
+}
 
 CliResult run_cli(const std::string& args) {
   const std::string cmd = binary_path() + " " + args + " 2>&1";

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <initializer_list>
+#include <functional>
 #include <string>
 
 #include "host/cl/runtime.h"
@@ -21,6 +22,10 @@ std::string source_dir();
 // "<repo>/../shared" or $CAUSTICA_SHARED_DIR; empty when it does not exist.
 std::string shared_dir();
 std::string binary_path();  // the caustica executable
+
+// The message of the caustica::Error that `fn` throws; fails the test if it
+// throws nothing or something else.
+std::string error_of(const std::function<void()>& fn);
 
 // What running the caustica executable gave: its exit status, whether a
 // signal ended it (the shell reports one as 128 + signal), stdout + stderr.
