@@ -154,13 +154,12 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
                                    ? 1.0f
                                    : power_heuristic(ls.pdf, bsdf_pdf(bsdf, wo, wi));
           const float3 contribution = throughput * f * fabs(wi.z) * ls.radiance * (weight / ls.pdf);
-          const float3 origin = spawn_ray_origin(sp.position, sp.p_error, sp.normal, ls.wi);
-          /* The distance was measured from the surface point; the origin
-           * moved off it, by the offset's part along wi. */
-          const float dist = ls.distance - dot(origin - sp.position, ls.wi);
+          float3 dir;
+          float tmax;
+          const float3 origin = spawn_ray_to(sp.position, sp.p_error, sp.normal, ls.point, ls.p_error, &dir, &tmax);
           ShadowRecord s;
-          s.origin = (float4)(origin, shadow_ray_tmax(dist, ls.wi, ls.p_error));
-          s.dir = (float4)(ls.wi, 0.0f);
+          s.origin = (float4)(origin, tmax);
+          s.dir = (float4)(dir, 0.0f);
           s.contribution = (float4)(contribution, 0.0f);
           s.pixel = ray.pixel;
           shadow_store(SHADOW_QUEUE_ARGS(shadow), i, s);

@@ -25,7 +25,8 @@
 
 typedef struct {
   float3 wi;       /* unit direction toward the light */
-  float distance;  /* to the sampled point (the shadow ray's extent) */
+  float distance;  /* to the sampled point */
+  float3 point;    /* the sampled point: the shadow ray aims at it (spawn_ray_to, geometry.h) */
   float3 p_error;  /* bound on the sampled point's error per component (shadow_ray_tmax, geometry.h) */
   float3 radiance; /* arriving along -wi, before visibility */
   float pdf;       /* solid angle x pick probability; the pick probability alone for a point */
@@ -98,6 +99,7 @@ inline bool sample_light(__global const PathLight* l, float pick_probability, fl
     if (!(d2 > 0.0f)) return false;
     s->distance = sqrt(d2);
     s->wi = d / s->distance;
+    s->point = l->p0.xyz;
     s->p_error = (float3)(0.0f); /* the point is exact */
     s->radiance = l->emitted.xyz / d2;
     s->pdf = pick_probability;
@@ -125,6 +127,7 @@ inline bool sample_light(__global const PathLight* l, float pick_probability, fl
      * of the size of the distance to the centre. */
     s->p_error = error_gamma(16.0f) * (fabs(c) + (float3)(r + dist_c));
     s->wi = wi;
+    s->point = p + s->distance * wi; /* two more roundings of |p| + distance: within the bound above */
     s->radiance = l->emitted.xyz;
     s->pdf = pick_probability * pdf_uniform_cone(one_minus_cos_max);
     return s->pdf > 0.0f;
@@ -148,6 +151,7 @@ inline bool sample_light(__global const PathLight* l, float pick_probability, fl
   if (!(d2 > 0.0f)) return false;
   s->distance = sqrt(d2);
   s->wi = d / s->distance;
+  s->point = q;
   const float3 n_l = light_normal(l, q);
   if (!light_faces(l, s->wi, n_l)) return false;
   s->radiance = l->emitted.xyz;
