@@ -108,6 +108,17 @@ bool box_hit(const BvhNode& n, const BoxRay& r, float tmin, float tmax, float* e
 
 bool bvh_empty(const Bvh& bvh) { return bvh.nodes[0].count == 0 && bvh.nodes[0].offset == 0; }
 
+// ray_traceable of kernels/lib/bvh_traverse.h: rays outside the traversal's
+// domain miss there, so they miss here too (this binary BVH has no empty
+// slots to crash on, but the answers must agree).
+bool ray_traceable(vec3 o, vec3 d) {
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(o[k]) || !std::isfinite(d[k])) return false;
+  const float d_max = std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z)));
+  const float o_max = std::fmax(std::fabs(o.x), std::fmax(std::fabs(o.y), std::fabs(o.z)));
+  return d_max >= 1.0f / kInvDirMax && d_max <= kInvDirMax && o_max <= BVH_ORIGIN_MAX;
+}
+
 }  // namespace
 
 bool host_intersect_sphere(vec3 center, float radius, vec3 o, vec3 d, float tmin, float* t) {
@@ -243,7 +254,7 @@ Hit HostTracer::closest(vec3 o, vec3 d, float tmin, float tmax) const {
   int sp = 0;
   float entry;
   const BvhNode* nodes = bvh_.nodes.data();
-  if (bvh_empty(bvh_) || !box_hit(nodes[0], ray, tmin, tmax, &entry)) return hit;
+  if (!ray_traceable(o, d) || bvh_empty(bvh_) || !box_hit(nodes[0], ray, tmin, tmax, &entry)) return hit;
   uint32_t node = 0;
   for (;;) {
     const BvhNode& n = nodes[node];
@@ -290,7 +301,7 @@ bool HostTracer::any(vec3 o, vec3 d, float tmin, float tmax) const {
   int sp = 0;
   float entry;
   const BvhNode* nodes = bvh_.nodes.data();
-  if (bvh_empty(bvh_) || !box_hit(nodes[0], ray, tmin, tmax, &entry)) return false;
+  if (!ray_traceable(o, d) || bvh_empty(bvh_) || !box_hit(nodes[0], ray, tmin, tmax, &entry)) return false;
   Hit hit = no_hit(tmax);
   uint32_t node = 0;
   for (;;) {

@@ -20,7 +20,36 @@
  * children) that is re-tested when popped. The collapse keeps the root's
  * height below BVH_STACK_SIZE, so the stack never overflows. Primitive code
  * is compiled only for the types the scene has (HAS_SPHERES, HAS_CYLINDERS,
- * HAS_TRIANGLES). */
+ * HAS_TRIANGLES).
+ *
+ * Stack bound, in full: the wide BVH's collapse throws unless the root's
+ * height (levels of nodes, leaves not counted) is below BVH_STACK_SIZE
+ * (host/accel/bvh_wide.cpp; the binary build it collapses is limited to
+ * that many levels too, host/accel/bvh.h). Invariant: on reaching a node,
+ * sp + node->height <= BVH_STACK_SIZE - 1. It holds at the root (sp = 0).
+ * Descending to one child keeps sp; pushing one entry (the two-child case,
+ * a group entry) adds 1 and the child is at least one level lower; pushing
+ * k - 1 sorted children is allowed only when sp + k + height <=
+ * BVH_STACK_SIZE + 1, which is the invariant for the child taken; a child
+ * popped later sits below where its node's entries started, and a group
+ * entry re-tests its node at the sp it was pushed from. Leaves push
+ * nothing. So sp < BVH_STACK_SIZE at every push, whatever the ray: the
+ * bound uses heights only, no distances, and holds for NaN rays too.
+ *
+ * Degenerate rays (the traversal's domain, ray_traceable): a NaN or
+ * infinite component, a zero direction, a direction whose largest
+ * component is outside [1 / BVH_INV_DIR_MAX, BVH_INV_DIR_MAX], or an origin
+ * coordinate beyond BVH_ORIGIN_MAX. Such rays miss (trace_any: unoccluded)
+ * without a node visited. Why: with NaN or infinite plane distances the
+ * slab test accepts lanes it must reject (max8/min8 drop a NaN operand, and
+ * an infinite direction makes every slope 0), and that includes empty
+ * slots, whose child WIDE_CHILD_EMPTY reads as a leaf of 8 primitives at
+ * index 0x07FFFFFF: out of bounds, a segfault in PoCL. Inside the domain
+ * every slope and offset of wide_ray is finite (|o * inv_d| <= 1e38), so no
+ * plane distance is NaN and an empty slot's near plane (1e18 * |inv_d|
+ * >= 1 from its far one) always lies beyond its far plane. The check is
+ * integer tests on the input bits (-cl-fast-relaxed-math may fold isnan
+ * and isinf to false) and costs one branch per ray. */
 #ifndef CAUSTICA_LIB_BVH_TRAVERSE_H
 #define CAUSTICA_LIB_BVH_TRAVERSE_H
 
@@ -160,6 +189,17 @@ __attribute__((always_inline)) void triangle_block_closest(__global const Triang
   hit->prim = block->ref[lane];
 }
 
+/* The traversal's domain (see the top of this file). */
+inline bool ray_traceable(float3 o, float3 d) {
+  const uint e = 0x7F800000u; /* exponent all ones: infinite or NaN */
+  if (((as_uint(o.x) & e) == e) | ((as_uint(o.y) & e) == e) | ((as_uint(o.z) & e) == e) |
+      ((as_uint(d.x) & e) == e) | ((as_uint(d.y) & e) == e) | ((as_uint(d.z) & e) == e))
+    return false;
+  const float3 ad = fabs(d), ao = fabs(o);
+  const float d_max = fmax(ad.x, fmax(ad.y, ad.z)), o_max = fmax(ao.x, fmax(ao.y, ao.z));
+  return d_max >= 1.0f / BVH_INV_DIR_MAX && d_max <= BVH_INV_DIR_MAX && o_max <= BVH_ORIGIN_MAX;
+}
+
 typedef struct {
   float3 inv_d;   /* clamped reciprocal direction */
   float3 c_near;  /* -o * inv_d - its rounding bound: offset of the near planes */
@@ -254,6 +294,7 @@ uint wide_leaf_count(uint item) { return ((item >> WIDE_LEAF_COUNT_SHIFT) & (WID
 
 Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax) {
   Hit hit = hit_none(tmax);
+  if (!ray_traceable(o, d)) return hit;
   const WideRay ray = wide_ray(o, d, tmin);
 #ifdef HAS_TRIANGLES
   /* Set up at the first triangle leaf: rays that reach none skip it. */
@@ -351,6 +392,7 @@ Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float t
 }
 
 bool trace_any(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax) {
+  if (!ray_traceable(o, d)) return false;
   const WideRay ray = wide_ray(o, d, tmin);
 #ifdef HAS_TRIANGLES
   /* Set up at the first triangle leaf: rays that reach none skip it. */

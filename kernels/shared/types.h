@@ -48,10 +48,13 @@ typedef int32_t cs_int;
  *   BVH_EXIT_SLACK: relative widening of each box's exit distance, so that
  *     rounding in the slab test never culls a hit on a primitive touching
  *     its box (rays through triangle vertices sit exactly on box corners);
+ *   BVH_ORIGIN_MAX: the largest origin coordinate a traced ray may have
+ *     (the traversal's domain, lib/bvh_traverse.h: ray_traceable);
  *   CYL_PART_*: Hit.u of a cylinder hit, the part it is on. */
 #define RAY_T_FAR 1e30f
 #define BVH_INV_DIR_MAX 1e18f
 #define BVH_EXIT_SLACK 2e-6f
+#define BVH_ORIGIN_MAX 1e20f
 #define CYL_PART_SIDE 0.0f
 #define CYL_PART_TOP 1.0f    /* the cap at centre + half * axis */
 #define CYL_PART_BOTTOM 2.0f /* the cap at centre - half * axis */

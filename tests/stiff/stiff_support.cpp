@@ -78,14 +78,16 @@ std::string official_scene(const std::string& name) {
   return test::source_dir() + "/scenes/" + name;
 }
 
-DeviceTracer::DeviceTracer(const Scene& scene, BvhBuildOptions::Quality quality) : scene_(scene) {
+DeviceTracer::DeviceTracer(const Scene& scene, BvhBuildOptions::Quality quality,
+                           const std::string& extra_build_options)
+    : scene_(scene) {
   BvhBuildOptions options;
   options.quality = quality;
   bvh_ = build_bvh(scene_, options);
   wide_ = collapse_bvh(bvh_, scene_);
   features_ = analyse_scene(scene_, RenderMode::Binary);
   Runtime& rt = test::runtime();
-  const BuiltProgram program = rt.build_file("integrator_binary.cl", features_.build_options());
+  const BuiltProgram program = rt.build_file("integrator_binary.cl", features_.build_options() + " " + extra_build_options);
   device_ = std::make_unique<DeviceScene>(rt.context(), scene_, wide_, features_);
   kernel_ = StageKernel(program.program, "intersect_closest");
 }

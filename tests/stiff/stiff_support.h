@@ -51,11 +51,13 @@ std::string official_scene(const std::string& name);
 
 // Closest hits of host-made rays through the real device traversal: the
 // scene's BVH (built with `quality`), collapsed, uploaded, and traced by
-// the renderer's intersect_closest stage.
+// the renderer's intersect_closest stage, built with the scene's options
+// plus extra_build_options (e.g. -cl-fast-relaxed-math).
 class DeviceTracer {
  public:
   explicit DeviceTracer(const Scene& scene,
-                        BvhBuildOptions::Quality quality = BvhBuildOptions::Quality::Spatial);
+                        BvhBuildOptions::Quality quality = BvhBuildOptions::Quality::Spatial,
+                        const std::string& extra_build_options = "");
   ~DeviceTracer();
   std::vector<Hit> closest(const std::vector<glm::vec3>& origin, const std::vector<glm::vec3>& dir) const;
   const Bvh& bvh() const { return bvh_; }
