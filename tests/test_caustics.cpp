@@ -88,10 +88,6 @@ CausticsRun render(CausticsMode caustics, int spp, uint32_t photons, uint32_t se
   o.seed = seed;
   o.caustics = caustics;
   o.photons = photons;
-  // At 64 x 48 a pixel spans 0.13 units of the floor: start the radius below
-  // that (the default start, two footprints capped at 1% of the scene's
-  // diagonal, is 0.17 here), so the estimate is sharp to the pixel early.
-  o.caustic_radius = caustics == CausticsMode::On ? 0.08f : 0.0f;
   auto s = prepare_session(o);
   EXPECT_EQ(s->features.caustics, caustics == CausticsMode::On);
   CausticsRun run;

@@ -38,7 +38,7 @@ float default_caustic_radius(const Scene& scene, uint32_t photons_per_pass) {
   const double area = 2.0 * (double(e.x) * e.y + double(e.y) * e.z + double(e.z) * e.x);
   const double diagonal = glm::length(e);
   const double r = std::sqrt(32.0 * area / (M_PI * std::max<uint32_t>(1, photons_per_pass)));
-  const double capped = std::min(r, 0.01 * diagonal);
+  const double capped = std::min(r, 0.005 * diagonal);
   return float(capped > 0.0 ? capped : 1e-3);
 }
 

@@ -38,7 +38,7 @@ struct Scene;
 
 // The largest initial gather radius when none is given: photons spread
 // evenly over the scene box's surface area A would put 32 within it,
-// sqrt(32 A / (pi M)) for M photons a pass, at most 1% of the box's
+// sqrt(32 A / (pi M)) for M photons a pass, at most 0.5% of the box's
 // diagonal. Each pixel starts at its footprint where that is smaller (a
 // caustic stays sharp to the pixel from the first pass; SPPM keeps early
 // photons in its estimate, so a large first radius blurs it for long), and
