@@ -62,6 +62,20 @@ const char* kFurnace = R"({"nbounces": 8, "rendermode": "pathtracer",
     "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
                 "material": {"type": "diffuse", "albedo": [0.5, 0.25, 0.75]}}]}})";
 
+// --check-numerics on the furnace: cosine-sampled Lambert weighs every
+// sample by its albedo exactly, so bounce 1's mean weight (largest channel)
+// is 0.75 and none exceeds 1; nothing non-finite, nothing dropped.
+TEST(PathTracer, CheckNumericsReportsTheBsdfWeightsPerBounce) {
+  const std::string scene = write_scene("furnace.json", kFurnace);
+  const test::CliResult r = test::run_cli("render " + scene + " --spp 4 --check-numerics --device " +
+                                          test::device_spec() + " -o " + test::temp_dir() + "/f.pfm");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(test::Contains(r.output, {"numerics: 0 NaN/Inf and 0 negative contributions dropped, 0 clamped",
+                                        "numerics: 0 non-finite BSDF weights", "mean weight 0.7500, 0.000% above 1"}))
+      << r.output;
+  EXPECT_EQ(r.output.find("energy gain"), std::string::npos) << r.output;
+}
+
 TEST(PathTracer, FurnaceSphereReflectsItsAlbedo) {
   const PathRender r = render(write_scene("furnace.json", kFurnace), 16);
   EXPECT_EQ(r.stats.film.total(), 0u);

@@ -78,6 +78,34 @@ class ProgressReporter {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
+// --check-numerics: what the film dropped, and per scattering event the
+// BSDF samples' mean weight (largest channel; a mean above 1 means the
+// scene's materials or the sampling gain energy) and how many exceeded 1.
+void print_numerics_report(const RenderStats& stats, RenderMode mode) {
+  std::fprintf(stderr, "[caustica] numerics: %llu NaN/Inf and %llu negative contributions dropped, %llu clamped\n",
+               (unsigned long long)stats.film.nonfinite, (unsigned long long)stats.film.negative,
+               (unsigned long long)stats.film.clamped);
+  if (mode != RenderMode::Path || stats.numerics.size() != NUMERICS_COUNTERS) {
+    std::fprintf(stderr, "[caustica] numerics: per-bounce BSDF weights are counted in path mode only\n");
+    return;
+  }
+  std::fprintf(stderr, "[caustica] numerics: %llu non-finite BSDF weights\n",
+               (unsigned long long)stats.numerics[NUMERICS_NONFINITE]);
+  bool gain = false;
+  for (uint32_t d = 0; d < NUMERICS_DEPTHS; ++d) {
+    const uint64_t n = stats.numerics[3 * d], above = stats.numerics[3 * d + 2];
+    if (n == 0) continue;
+    const double mean = double(stats.numerics[3 * d + 1]) / NUMERICS_WEIGHT_SCALE / double(n);
+    gain = gain || mean > 1.001;
+    std::fprintf(stderr, "[caustica] numerics: bounce %u%s: %llu BSDF samples, mean weight %.4f, %.3f%% above 1%s\n",
+                 d + 1, d + 1 == NUMERICS_DEPTHS ? "+" : "", (unsigned long long)n, mean, 100.0 * double(above) / n,
+                 mean > 1.001 ? "  <- energy gain" : "");
+  }
+  if (gain)
+    std::fprintf(stderr, "[caustica] numerics: a mean weight above 1 gains energy at that bounce: check material "
+                         "colours above 1 or the BSDF's sampling\n");
+}
+
 // The report's header: what was rendered, where, and what it cost before
 // the first sample (the rows' seconds start at the first sample).
 std::vector<std::pair<std::string, std::string>> report_header(const Session& session, const RenderArgs& a) {
@@ -183,6 +211,9 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option("--caustic-radius", a.session.caustic_radius,
                          "path: initial photon gather radius (default: from the scene's size and --photons)")
       ->check(CLI::PositiveNumber);
+  render_cmd->add_flag("--check-numerics", a.session.check_numerics,
+                       "path: count NaN/Inf and negative samples and the BSDF weights of every bounce (energy gain), "
+                       "and report them");
   render_cmd->add_flag("--no-error-estimate", a.no_error_estimate,
                        "path: leave out the film's half buffer (no self-estimated error)");
   return render_cmd;
@@ -296,6 +327,7 @@ int run_render(RenderArgs& a) {
                  stats.passes, (unsigned long long)stats.film.nonfinite, (unsigned long long)stats.film.negative,
                  (unsigned long long)stats.film.clamped);
   }
+  if (a.session.check_numerics) print_numerics_report(stats, session->mode);
   // Dropped or clamped contributions are never silent.
   if (stats.film.total() > 0 && !a.verbose && !a.quiet)
     std::fprintf(stderr, "[caustica] warning: film dropped %llu NaN/Inf and %llu negative contributions, clamped %llu\n",

@@ -130,6 +130,8 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
 
   session->features = analyse_scene(scene, session->mode, options.caustics);
   const bool path = session->mode == RenderMode::Path;
+  session->features.check_numerics = path && options.check_numerics;
+  session->settings.check_numerics = session->features.check_numerics;
   session->settings.half_buffer = path && options.error_estimate;
   session->settings.caustics = session->features.caustics;
   if (options.photons > 0) session->settings.photons_per_pass = options.photons;

@@ -41,6 +41,7 @@ struct SessionOptions {
   bool independent_samples = false;  // path: independent uniforms instead of Sobol-Burley (comparisons)
   bool error_estimate = true;   // path: the film keeps the odd-pass half buffer (self-estimated error)
   CausticsMode caustics = CausticsMode::Auto;  // path: the photon pass
+  bool check_numerics = false;  // path: count BSDF weights per bounce (--check-numerics)
   uint32_t photons = 0;         // path: photons per pass; 0: RenderSettings' default
   float caustic_radius = 0.0f;  // path: initial gather radius; 0: from the scene's size
   bool open_ended = false;      // path: no default sample count (a target error decides), unless --spp

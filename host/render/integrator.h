@@ -49,6 +49,7 @@ struct RenderSettings {
   bool caustics = false;
   uint32_t photons_per_pass = 0;  // 0: default_photons_per_pass
   float caustic_radius = 0.0f;  // initial gather radius; 0: default_caustic_radius
+  bool check_numerics = false;  // path: BSDF weight counters (program built with -DPATH_CHECK_NUMERICS=1)
 };
 
 struct RenderStats {
@@ -57,6 +58,8 @@ struct RenderStats {
   uint64_t camera_rays = 0;
   uint64_t secondary_rays = 0;
   uint64_t photon_rays = 0;  // photon pass: photon path segments traced
+  // --check-numerics: NUMERICS_COUNTERS values (kernels/shared/types.h).
+  std::vector<uint64_t> numerics;
   uint64_t shadow_rays = 0;   // traced: slots holding a ray (counted per work-group on the device)
   uint64_t shadow_slots = 0;  // addressed shadow slots, traced or empty
   int chunk_retries = 0;  // chunks traced again in halves after a queue overflow
@@ -102,6 +105,8 @@ class Integrator {
   // pass traces its photons before and gathers after).
   virtual void begin_pass(Film& /*film*/, RenderStats* /*stats*/) {}
   virtual void end_pass(Film& /*film*/, RenderStats* /*stats*/) {}
+  // After the last pass: whatever the integrator counted on the device.
+  virtual void collect(RenderStats* /*stats*/) {}
 
   const char* name() const { return name_; }  // the mode, as --mode spells it
   // Pixels per chunk its queues are sized for.

@@ -27,12 +27,15 @@ class PathIntegrator final : public Integrator {
   cl::Buffer lights_, light_of_sphere_, light_of_cylinder_, light_of_triangle_, hits_, shadow_traced_;
   DeviceQueue rays_[2], shadow_;
   std::unique_ptr<PhotonPass> photons_;  // only with the caustics feature
+  cl::Buffer numerics_;                   // only with --check-numerics
 
  public:
   PathIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                  const RenderSettings& settings);
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
   void begin_pass(Film& film, RenderStats* stats) override {
+    if (numerics_() && film.passes() == 0)
+      launcher_.runtime().queue().enqueueFillBuffer(numerics_, cl_ulong(0), 0, NUMERICS_COUNTERS * sizeof(cl_ulong));
     if (!photons_) return;
     if (film.passes() == 0) photons_->clear();
     film.set_separate_estimate(photons_.get());
@@ -40,6 +43,12 @@ class PathIntegrator final : public Integrator {
   }
   void end_pass(Film& film, RenderStats* stats) override {
     if (photons_) photons_->gather(uint32_t(film.passes()), stats);
+  }
+  void collect(RenderStats* stats) override {
+    if (!numerics_() || !stats) return;
+    stats->numerics.assign(NUMERICS_COUNTERS, 0);
+    launcher_.runtime().queue().enqueueReadBuffer(numerics_, CL_TRUE, 0, NUMERICS_COUNTERS * sizeof(cl_ulong),
+                                                  stats->numerics.data());
   }
 };
 
@@ -67,6 +76,7 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
   shadow_ = DeviceQueue(ctx, shadow_record_layout(), chunk_pixels_);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, chunk_pixels_ * sizeof(Hit));
   shadow_traced_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
+  if (settings.check_numerics) numerics_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, NUMERICS_COUNTERS * sizeof(cl_ulong));
   if (settings.caustics && light_count_ > 0)
     photons_ = std::make_unique<PhotonPass>(launcher, scene, program, lights_, uint32_t(light_count_), settings);
 }
@@ -114,6 +124,7 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
         .arg("hits", hits_);
     film.bind(shade).queue("next", *next).queue("shadow", shadow_);
     if (photons_) photons_->bind_photon_map(photons_->bind_visible_points(shade), uint32_t(film.passes()));
+    if (numerics_()) shade.arg("numerics", numerics_);
     shade.finish();
     launcher_.launch(shade_, ray_count, stats);
 

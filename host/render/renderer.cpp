@@ -36,6 +36,7 @@ ImageF Renderer::render(RenderStats* stats, const ProgressCallback& progress, co
     PassDriver(*integrator_, *film_, launcher_).run(stop, stats, progress, pass_done);
     ImageF image = film_->mean();
     launcher_.collect(stats);
+    integrator_->collect(stats);
     if (stats) {
       stats->film = film_->counts();
       stats->render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -96,6 +96,7 @@ std::string SceneFeatures::build_options() const {
     if (!refraction) o += " -DBSDF_WITH_DIELECTRIC=0";
     if (!area_lights) o += " -DPATH_WITH_AREA_LIGHTS=0";
     if (caustics) o += " -DPATH_WITH_CAUSTICS=1";
+    if (check_numerics) o += " -DPATH_CHECK_NUMERICS=1";
   }
   if (mode == RenderMode::Phong && caustics) o += " -DPHONG_WITH_CAUSTICS=1";
   if (textures) o += " -DHAS_TEXTURES";

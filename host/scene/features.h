@@ -35,6 +35,7 @@ struct SceneFeatures {
   bool triangle_shading = false;  // vertex normals / texture coordinates on triangles
   bool caustics = false;  // path: the photon pass (kernels compiled, buffers allocated, stages launched)
   std::string caustics_reason;  // why it is or is not there, for --verbose
+  bool check_numerics = false;  // path: --check-numerics counters compiled in (set by the session)
   bool secondary_rays() const { return reflection || refraction; }
 
   std::string build_options() const;  // the -D flags

@@ -23,6 +23,10 @@
 #ifndef PATH_WITH_CAUSTICS
 #define PATH_WITH_CAUSTICS 0
 #endif
+#ifndef PATH_CHECK_NUMERICS
+#define PATH_CHECK_NUMERICS 0
+#endif
+
 
 #include "lib/photon_grid.h" /* before caustics.h: its gathers need the grid */
 #include "lib/caustics.h"
@@ -35,6 +39,19 @@
 #include "lib/texture.h"
 
 inline float max3_of(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
+
+/* --check-numerics: what one BSDF sample's weight says (shared/types.h). */
+inline void count_bsdf_weight(volatile __global ulong* numerics, uint depth, float3 weight) {
+  const float m = fmax(weight.x, fmax(weight.y, weight.z));
+  if (!isfinite(m) || !isfinite(weight.x + weight.y + weight.z)) {
+    atom_inc(&numerics[NUMERICS_NONFINITE]);
+    return;
+  }
+  const uint d = min(depth, NUMERICS_DEPTHS - 1u);
+  atom_inc(&numerics[3u * d]);
+  atom_add(&numerics[3u * d + 1u], (ulong)(fmin(fmax(m, 0.0f), 1e6f) * NUMERICS_WEIGHT_SCALE));
+  if (m > 1.001f) atom_inc(&numerics[3u * d + 2u]);
+}
 
 inline float power_heuristic(float a, float b) {
   const float a2 = a * a, b2 = b * b;
@@ -57,6 +74,9 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
                                  PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)
 #if PATH_WITH_CAUSTICS
                                  , __global VisiblePoint* restrict visible_points, PHOTON_GRID_PARAMS, float caustic_radius
+#endif
+#if PATH_CHECK_NUMERICS
+                                 , volatile __global ulong* restrict numerics
 #endif
 ) {
   const uint i = get_global_id(0);
@@ -174,6 +194,9 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   float pdf;
   uint flags;
   if (!bsdf_sample(bsdf, wo, (float3)(u_dir, picks.y), &wi_local, &weight, &pdf, &flags)) return;
+#if PATH_CHECK_NUMERICS
+  count_bsdf_weight(numerics, ray.depth, weight);
+#endif
   const float3 wi = frame_to_world(wi_local, t, b, n);
   if (opaque && dot(wi, ng) <= 0.0f) return;
   float3 continued_throughput = throughput * weight;

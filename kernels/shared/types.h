@@ -283,6 +283,17 @@ typedef struct {
 #define FILM_COUNT_CLAMPED 2u   /* components above max_contribution clamped */
 #define FILM_COUNTERS 3u
 
+/* --check-numerics (path mode, -DPATH_CHECK_NUMERICS=1): per scattering
+ * event d < NUMERICS_DEPTHS (deeper ones count as the last), three 64-bit
+ * counters at 3 d: BSDF samples taken, the sum of their weights' largest
+ * channel (fixed point, NUMERICS_WEIGHT_SCALE), and samples whose weight
+ * exceeded 1 (a single sample may; a mean above 1 is energy gain); then one
+ * counter of non-finite BSDF weights. */
+#define NUMERICS_DEPTHS 16u
+#define NUMERICS_NONFINITE (3u * NUMERICS_DEPTHS)
+#define NUMERICS_COUNTERS (3u * NUMERICS_DEPTHS + 1u)
+#define NUMERICS_WEIGHT_SCALE 16777216.0f
+
 /* Parameters of accumulate_film_pass: pass floats are laid out in one buffer
  * at offsets (host/render/film.h). */
 #define FILM_PASS_ABSENT 0xFFFFFFFFu
