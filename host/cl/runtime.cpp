@@ -185,11 +185,16 @@ DeviceInfo select_device(const std::string& requested) {
     return s;
   };
   std::string s = lower(trim(spec));
+  // Checking simulators (Oclgrind reports itself as a GPU) run kernels
+  // thousands of times slower: they are picked by name, never by default.
+  auto simulator = [](const DeviceInfo& d) { return lower(d.platform_name).find("oclgrind") != std::string::npos; };
   if (s.empty()) {
     for (auto& d : devices)
-      if (d.type == "gpu") return d;
+      if (d.type == "gpu" && !simulator(d)) return d;
     for (auto& d : devices)
-      if (d.type == "cpu") return d;
+      if (d.type == "cpu" && !simulator(d)) return d;
+    for (auto& d : devices)
+      if (!simulator(d)) return d;
     return devices.front();
   }
   if (std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); })) {
@@ -199,7 +204,7 @@ DeviceInfo select_device(const std::string& requested) {
   }
   if (s == "cpu" || s == "gpu") {
     for (auto& d : devices)
-      if (d.type == s) return d;
+      if (d.type == s && !simulator(d)) return d;
     throw Error("--device " + spec + ": no " + s + " device; " + listing());
   }
   for (auto& d : devices)
@@ -234,13 +239,15 @@ BuiltProgram Runtime::build_source(const std::string& name, const std::string& t
   const std::string source = expand_kernel_source(name, text);
   // CPU devices share one address space for all OpenCL memory, which lets
   // the traversal issue real prefetches (kernels/lib/bvh_traverse.h).
-  // CAUSTICA_EXTRA_KERNEL_OPTIONS: appended to every build (a developer knob;
-  // e.g. -cl-opt-disable for oclgrind, whose LLVM cannot run every intrinsic
-  // an optimising clang emits).
+  // Oclgrind (a checking simulator, --device oclgrind) builds with
+  // -cl-opt-disable: its LLVM cannot run every intrinsic an optimising clang
+  // emits, and the kernels then fail to appear (CL_INVALID_KERNEL_NAME).
+  // CAUSTICA_EXTRA_KERNEL_OPTIONS: appended to every build (a developer knob).
   const char* extra = std::getenv("CAUSTICA_EXTRA_KERNEL_OPTIONS");
+  const bool oclgrind = info_.platform_name.find("Oclgrind") != std::string::npos;
   const std::string options = "-cl-std=CL1.2 -cl-kernel-arg-info " +
                               std::string(info_.type == "cpu" ? "-DCAUSTICA_CPU_PREFETCH " : "") + raw_options +
-                              (extra ? std::string(" ") + extra : std::string());
+                              (oclgrind ? " -cl-opt-disable" : "") + (extra ? std::string(" ") + extra : std::string());
   auto t0 = std::chrono::steady_clock::now();
   BuiltProgram built;
 
