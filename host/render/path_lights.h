@@ -20,7 +20,7 @@ struct PathLightTable {
   std::vector<uint32_t> light_of_sphere;    // per sphere: its light, or LIGHT_NONE
   std::vector<uint32_t> light_of_cylinder;  // per cylinder
   std::vector<uint32_t> light_of_triangle;  // per triangle: its light, or LIGHT_NONE
-  float max_radiance = 0.0f;                // largest emitted component (film scale)
+  float max_radiance = 0.0f;                // largest emitted component, tiny lights scaled down (film scale)
 };
 
 // Point lights; rectangle and sphere lights (their geometry added first);

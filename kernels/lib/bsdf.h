@@ -59,7 +59,11 @@ inline float3 fresnel_schlick(float3 f0, float cos_theta) {
   return f0 + (1.0f - f0) * (m2 * m2 * m);
 }
 
-inline bool bsdf_is_smooth(Bsdf b) { return b.alpha < GGX_ALPHA_MIN; }
+/* Matched media: glass of IOR 1 refracts every micro-normal's ray straight
+ * on with no reflection, so its rough model is the straight line too, a
+ * delta that Walter's half vector (wo + wi = 0) cannot express (it gave
+ * NaN): it is the smooth model whatever its roughness. */
+inline bool bsdf_is_smooth(Bsdf b) { return b.alpha < GGX_ALPHA_MIN || (b.kind == BSDF_DIELECTRIC && b.ior == 1.0f); }
 
 /* The local frame in which a path (or a photon) arriving along d scatters:
  * opaque surfaces are two-sided, so their frame turns toward d; dielectrics
