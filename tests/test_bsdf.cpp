@@ -13,26 +13,13 @@
 #include <vector>
 
 #include "tests/support/chi_square.h"
+#include "tests/support/path_render.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
 namespace {
 
-const char* kBsdfKernels = R"CL(
-#include "lib/bsdf.h"
-#include "lib/rng.h"
-
-typedef struct { float4 diffuse; float4 specular; float alpha; float ior; uint kind; uint pad; } BsdfIn;
-
-Bsdf make_bsdf(BsdfIn in) {
-  Bsdf b;
-  b.diffuse = in.diffuse.xyz;
-  b.specular = in.specular.xyz;
-  b.alpha = in.alpha;
-  b.ior = in.ior;
-  b.kind = in.kind;
-  return b;
-}
+const std::string kBsdfKernels = std::string(test::kBsdfKernelPrelude) + R"CL(
 
 /* Sample n directions for wo; out: (weight.rgb, 1 if produced), (wi, flags).
  * Low-discrepancy inputs for estimates, independent ones for chi-square

@@ -21,38 +21,20 @@
 
 #include "host/app/session.h"
 #include "host/render/renderer.h"
+#include "tests/support/path_render.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
 namespace {
 
-std::string write_scene(const std::string& name, const std::string& text) {
-  const std::string path = test::temp_dir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
-
-struct PathRender {
-  ImageF image, half;  // half: the mean of the film's half buffer (the second half of the passes)
-  RenderStats stats;
-};
+using test::PathRender;
+using test::write_scene;
 
 PathRender render(const std::string& scene, int spp, uint32_t strategy = PATH_STRATEGY_MIS, size_t local = 64) {
-  SessionOptions o;
-  o.scene_path = scene;
-  o.device = test::device_spec();
-  o.mode = RenderMode::Path;
-  o.spp = spp;
+  test::PathRenderOptions o;
+  o.strategy = strategy;
   o.local_size = local;
-  auto s = prepare_session(o);
-  RenderSettings settings = s->settings;
-  settings.path_strategy = strategy;
-  settings.half_buffer = spp >= 2;
-  Renderer r(*s->runtime, *s->device_scene, s->mode, s->program.program, settings);
-  PathRender out;
-  out.image = r.render(&out.stats);
-  if (spp >= 2) out.half = r.film().half_mean();
-  return out;
+  return test::render_path(scene, spp, o);
 }
 
 const char* kFurnace = R"({"nbounces": 8, "rendermode": "pathtracer",

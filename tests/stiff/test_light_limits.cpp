@@ -25,58 +25,26 @@
 
 #include "host/app/session.h"
 #include "host/render/renderer.h"
+#include "tests/support/path_render.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
 namespace {
 
-std::string write_scene(const std::string& name, const std::string& text) {
-  const std::string path = test::temp_dir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
-
-struct PathRender {
-  ImageF image, half;
-  RenderStats stats;
-};
+using test::Mean;
+using test::mean_all;
+using test::PathRender;
+using test::write_scene;
 
 PathRender render(const std::string& scene, int spp, CausticsMode caustics = CausticsMode::Auto) {
-  SessionOptions o;
-  o.scene_path = scene;
-  o.device = test::device_spec();
-  o.mode = RenderMode::Path;
-  o.spp = spp;
-  o.error_estimate = false;
+  test::PathRenderOptions o;
   o.caustics = caustics;
-  auto s = prepare_session(o);
-  RenderSettings settings = s->settings;
-  settings.half_buffer = true;
-  Renderer r(*s->runtime, *s->device_scene, s->mode, s->program.program, settings);
-  PathRender out;
-  out.image = r.render(&out.stats);
-  out.half = r.film().half_mean();
-  return out;
+  return test::render_path(scene, spp, o);
 }
-
-struct Mean {
-  double mean = 0, se = 0;
-};
-// Mean over the pixels x in [x0, x1) of all channels, and its standard error
-// from the film's half buffer (see tests/test_path.cpp).
+// Mean over the pixels x in [x0, x1), all channels, and its standard error.
 Mean mean_of(const PathRender& r, int x0, int x1) {
-  double sum = 0, var = 0;
-  int n = 0;
-  for (int y = 0; y < r.image.height; ++y)
-    for (int x = x0; x < x1; ++x)
-      for (int c = 0; c < 3; ++c, ++n) {
-        sum += r.image.at(x, y)[c];
-        const double d = r.image.at(x, y)[c] - r.half.at(x, y)[c];
-        var += d * d;
-      }
-  return {sum / n, std::sqrt(var) / n};
+  return test::mean_over(r, [&](int x, int) { return x >= x0 && x < x1; });
 }
-Mean mean_all(const PathRender& r) { return mean_of(r, 0, r.image.width); }
 
 void expect_clean(const PathRender& r, const char* what) {
   EXPECT_EQ(r.stats.film.nonfinite, 0u) << what;

@@ -23,26 +23,13 @@
 
 #include "host/app/session.h"
 #include "host/render/renderer.h"
+#include "tests/support/path_render.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
 namespace {
 
-const char* kKernels = R"CL(
-#include "lib/bsdf.h"
-#include "lib/rng.h"
-
-typedef struct { float4 diffuse; float4 specular; float alpha; float ior; uint kind; uint pad; } BsdfIn;
-
-Bsdf make_bsdf(BsdfIn in) {
-  Bsdf b;
-  b.diffuse = in.diffuse.xyz;
-  b.specular = in.specular.xyz;
-  b.alpha = in.alpha;
-  b.ior = in.ior;
-  b.kind = in.kind;
-  return b;
-}
+const std::string kKernels = std::string(test::kBsdfKernelPrelude) + R"CL(
 
 inline bool bad3(float3 v) { return !(isfinite(v.x) && isfinite(v.y) && isfinite(v.z)) || v.x < 0.0f || v.y < 0.0f || v.z < 0.0f; }
 
@@ -272,60 +259,16 @@ TEST(MaterialLimits, FresnelAtAndAroundTheCriticalAngle) {
 
 // ---- rendered ----
 
-std::string write_scene(const std::string& name, const std::string& text) {
-  const std::string path = test::temp_dir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
+using test::write_scene;
 
-struct PathRender {
-  ImageF image, half;
-  RenderStats stats;
-};
+using test::Mean;
+using test::mean_all;
+using test::PathRender;
 
-PathRender render(const std::string& scene, int spp) {
-  SessionOptions o;
-  o.scene_path = scene;
-  o.device = test::device_spec();
-  o.mode = RenderMode::Path;
-  o.spp = spp;
-  o.error_estimate = false;
-  auto s = prepare_session(o);
-  RenderSettings settings = s->settings;
-  settings.half_buffer = true;
-  Renderer r(*s->runtime, *s->device_scene, s->mode, s->program.program, settings);
-  PathRender out;
-  out.image = r.render(&out.stats);
-  out.half = r.film().half_mean();
-  return out;
-}
-
-// Mean of channel 0..2 over pixels where `keep`, with its standard error
-// (mean of all passes against the second half: see tests/test_path.cpp).
-struct Mean {
-  double mean = 0, se = 0;
-  int pixels = 0;
-};
+PathRender render(const std::string& scene, int spp) { return test::render_path(scene, spp); }
 template <class Keep>
 Mean mean_of(const PathRender& r, Keep keep) {
-  Mean m;
-  double sum = 0, var = 0;
-  for (int y = 0; y < r.image.height; ++y)
-    for (int x = 0; x < r.image.width; ++x) {
-      if (!keep(x, y)) continue;
-      ++m.pixels;
-      for (int c = 0; c < 3; ++c) {
-        sum += r.image.at(x, y)[c];
-        const double d = r.image.at(x, y)[c] - r.half.at(x, y)[c];
-        var += d * d;
-      }
-    }
-  m.mean = sum / (3.0 * m.pixels);
-  m.se = std::sqrt(var) / (3.0 * m.pixels);
-  return m;
-}
-Mean mean_all(const PathRender& r) {
-  return mean_of(r, [](int, int) { return true; });
+  return test::mean_over(r, keep);
 }
 
 bool all_finite(const ImageF& im) {

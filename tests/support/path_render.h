@@ -1,0 +1,99 @@
+// Path-mode renders for tests, in process: a scene written from text, one
+// render with the film's half buffer kept, and image means with their
+// standard errors. The mean of all passes M and of the film's second half B
+// differ by E[(M - B)^2] = Var(M) for independent halves, so over n values
+// the mean's standard error is sqrt(sum (M - B)^2) / n.
+#pragma once
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "host/app/session.h"
+#include "host/render/renderer.h"
+#include "tests/support/test_support.h"
+
+namespace caustica::test {
+
+inline std::string write_scene(const std::string& name, const std::string& text) {
+  const std::string path = temp_dir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+struct PathRender {
+  ImageF image, half;  // half: the mean of the film's half buffer
+  RenderStats stats;
+};
+
+struct PathRenderOptions {
+  CausticsMode caustics = CausticsMode::Auto;
+  uint32_t strategy = PATH_STRATEGY_MIS;
+  size_t local_size = 64;
+};
+
+inline PathRender render_path(const std::string& scene, int spp, const PathRenderOptions& options = {}) {
+  SessionOptions o;
+  o.scene_path = scene;
+  o.device = device_spec();
+  o.mode = RenderMode::Path;
+  o.spp = spp;
+  o.local_size = options.local_size;
+  o.caustics = options.caustics;
+  auto s = prepare_session(o);
+  RenderSettings settings = s->settings;
+  settings.path_strategy = options.strategy;
+  settings.half_buffer = spp >= 2;
+  Renderer r(*s->runtime, *s->device_scene, s->mode, s->program.program, settings);
+  PathRender out;
+  out.image = r.render(&out.stats);
+  if (spp >= 2) out.half = r.film().half_mean();
+  return out;
+}
+
+// Mean of channels 0..2 over the pixels where keep(x, y), and its standard error.
+struct Mean {
+  double mean = 0, se = 0;
+  int pixels = 0;
+};
+template <class Keep>
+Mean mean_over(const PathRender& r, Keep keep) {
+  Mean m;
+  double sum = 0, var = 0;
+  for (int y = 0; y < r.image.height; ++y)
+    for (int x = 0; x < r.image.width; ++x) {
+      if (!keep(x, y)) continue;
+      ++m.pixels;
+      for (int c = 0; c < 3; ++c) {
+        sum += r.image.at(x, y)[c];
+        const double d = r.image.at(x, y)[c] - r.half.at(x, y)[c];
+        var += d * d;
+      }
+    }
+  m.mean = sum / (3.0 * m.pixels);
+  m.se = std::sqrt(var) / (3.0 * m.pixels);
+  return m;
+}
+inline Mean mean_all(const PathRender& r) {
+  return mean_over(r, [](int, int) { return true; });
+}
+
+// OpenCL C for kernel-level BSDF tests: the Bsdf as a host-packable struct.
+inline const char* kBsdfKernelPrelude = R"CL(
+#include "lib/bsdf.h"
+#include "lib/rng.h"
+
+typedef struct { float4 diffuse; float4 specular; float alpha; float ior; uint kind; uint pad; } BsdfIn;
+
+Bsdf make_bsdf(BsdfIn in) {
+  Bsdf b;
+  b.diffuse = in.diffuse.xyz;
+  b.specular = in.specular.xyz;
+  b.alpha = in.alpha;
+  b.ior = in.ior;
+  b.kind = in.kind;
+  return b;
+}
+)CL";
+
+}  // namespace caustica::test
