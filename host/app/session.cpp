@@ -1,6 +1,7 @@
 #include "host/app/session.h"
 
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 
@@ -112,7 +113,12 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   session->scene = load_scene(options.scene_path, load_options);
   session->load_ms = ms_since(t0);
   Scene& scene = session->scene;
-  if (options.edit_scene) options.edit_scene(scene);
+  if (options.edit_scene) {
+    // An edited scene bypassed the loader's checks of its shapes.
+    options.edit_scene(scene);
+    for (const std::string& m : drop_degenerate_shapes(scene))
+      std::fprintf(stderr, "%s: warning: %s\n", scene.source_path.c_str(), m.c_str());
+  }
   session->mode = options.mode.value_or(scene.mode);
   const std::string program_file = integrator_program_file(session->mode);
   // Everything the options and the scene decide is checked before any

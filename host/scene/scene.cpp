@@ -1,5 +1,6 @@
 #include "host/scene/scene.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "host/error.h"
@@ -11,6 +12,56 @@ namespace {
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace
+
+bool degenerate_triangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  const glm::dvec3 e1 = glm::dvec3(b) - glm::dvec3(a), e2 = glm::dvec3(c) - glm::dvec3(a);
+  const double scale = std::max(glm::dot(e1, e1), glm::dot(e2, e2));
+  return !(glm::length(glm::cross(e1, e2)) > 1e-7 * scale);  // NaN compares false: degenerate
+}
+
+std::vector<std::string> drop_degenerate_shapes(Scene& scene) {
+  std::vector<std::string> messages;
+  size_t dropped = 0;
+  auto note = [&](const std::string& what) {
+    if (++dropped <= 8) messages.push_back(what + "; dropped");
+  };
+  auto positive = [](float v) { return v > 0.0f && std::isfinite(v); };
+  std::vector<Sphere> spheres;
+  for (size_t i = 0; i < scene.spheres.size(); ++i) {
+    const Sphere& s = scene.spheres[i];
+    if (finite3(to_vec3(s.center_radius)) && positive(s.center_radius.w)) spheres.push_back(s);
+    else note("sphere " + std::to_string(i) + " has a zero or non-finite centre or radius");
+  }
+  std::vector<Cylinder> cylinders;
+  for (size_t i = 0; i < scene.cylinders.size(); ++i) {
+    const Cylinder& c = scene.cylinders[i];
+    const glm::vec3 axis = to_vec3(c.axis_half);
+    if (finite3(to_vec3(c.center_radius)) && positive(c.center_radius.w) && positive(c.axis_half.w) &&
+        finite3(axis) && glm::length(axis) > 0.5f)  // a unit axis, as the loader writes it
+      cylinders.push_back(c);
+    else
+      note("cylinder " + std::to_string(i) + " has a zero or non-finite radius, height or axis");
+  }
+  std::vector<Triangle> triangles;
+  std::vector<TriangleShading> shading;
+  const bool shaded = scene.triangle_shading.size() == scene.triangles.size() && !scene.triangles.empty();
+  for (size_t i = 0; i < scene.triangles.size(); ++i) {
+    const Triangle& t = scene.triangles[i];
+    if (degenerate_triangle(to_vec3(t.v0), to_vec3(t.v1), to_vec3(t.v2))) {
+      note("triangle " + std::to_string(i) + " has zero area or a non-finite vertex");
+      continue;
+    }
+    triangles.push_back(t);
+    if (shaded) shading.push_back(scene.triangle_shading[i]);
+  }
+  if (dropped == 0) return messages;
+  if (dropped > 8) messages.push_back("and " + std::to_string(dropped - 8) + " more degenerate shapes dropped");
+  scene.spheres = std::move(spheres);
+  scene.cylinders = std::move(cylinders);
+  scene.triangles = std::move(triangles);
+  if (shaded) scene.triangle_shading = std::move(shading);
+  return messages;
+}
 
 CameraBasis camera_basis(const CameraDesc& camera) {
   if (!finite3(camera.position) || !finite3(camera.look_at) || !finite3(camera.up))

@@ -98,6 +98,17 @@ struct Scene {
   size_t light_count() const { return point_lights.size() + area_lights.size() + sphere_lights.size(); }
 };
 
+// Zero (or float-noise) area: sin of the corner angle below ~1e-7; also any
+// non-finite vertex.
+bool degenerate_triangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
+
+// Removes the shapes nothing can render (a zero or non-finite radius,
+// height or axis, a degenerate triangle) from a scene built in code or
+// edited after loading: the loader already refuses or drops them in files,
+// and the BVH and kernels must never see one. Returns one message per
+// dropped shape, naming it by type and index (at most 8, then a count).
+std::vector<std::string> drop_degenerate_shapes(Scene& scene);
+
 inline cs_float4 to_float4(const glm::vec3& v, float w = 0.0f) { return cs_float4{v.x, v.y, v.z, w}; }
 inline glm::vec3 to_vec3(const cs_float4& v) { return glm::vec3(v.x, v.y, v.z); }
 

@@ -19,13 +19,6 @@ constexpr const char* kShapeTypes =
 const KeyList kCommonIgnored = {"alias", "name"};
 constexpr size_t kWarnLimit = 8;  // a broken mesh-like file should not flood the terminal
 
-// Zero (or float-noise) area: sin of the corner angle below ~1e-7.
-bool degenerate_triangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
-  const glm::dvec3 e1 = glm::dvec3(b) - glm::dvec3(a), e2 = glm::dvec3(c) - glm::dvec3(a);
-  const double scale = std::max(glm::dot(e1, e1), glm::dot(e2, e2));
-  return !(glm::length(glm::cross(e1, e2)) > 1e-7 * scale);
-}
-
 glm::vec3 geometric_normal(const glm::vec3 p[3]) { return glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0])); }
 
 TriangleShading make_shading(const glm::vec3 n[3], const glm::vec2 uv[3]) {
