@@ -68,14 +68,11 @@ __kernel void pairs(__global float4* out, __global const float4* a, __global con
 }
 )CL";
 
-struct BsdfIn {
-  cl_float4 diffuse, specular;
-  float alpha, ior;
-  cl_uint kind, pad;
-};
-static_assert(sizeof(BsdfIn) == 48, "matches the kernel's BsdfIn");
-
-enum Kind : cl_uint { kPlastic = 0, kConductor = 1, kDielectric = 2 };
+using test::BsdfIn;
+using Kind = test::BsdfKind;
+using test::kConductor;
+using test::kDielectric;
+using test::kPlastic;
 
 struct Case {
   std::string name;

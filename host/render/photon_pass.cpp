@@ -183,7 +183,6 @@ void PhotonPass::trace(uint32_t pass_index, RenderStats* stats) {
   const uint32_t stored = grid_.build(launcher_, photons_, stored_count_, photons_per_pass_, shape, stats);
   stats_.emitted += photons_per_pass_;
   stats_.stored += stored;
-  stats_.last_cell_size = cell_size_;
 }
 
 void PhotonPass::gather(uint32_t pass_index, RenderStats* stats) {

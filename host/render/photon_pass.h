@@ -52,7 +52,6 @@ uint32_t default_photons_per_pass(int width, int height);
 
 struct PhotonPassStats {
   uint64_t emitted = 0, stored = 0;  // over the render
-  double last_cell_size = 0.0;
 };
 
 // How the photons are gathered: path mode's per-pixel SPPM statistics at
@@ -85,8 +84,6 @@ class PhotonPass final : public SeparateEstimate {
 
   const PhotonPassStats& stats() const { return stats_; }
   const PhotonGrid& grid() const { return grid_; }  // this pass's photon map
-  uint32_t photons_per_pass() const { return photons_per_pass_; }
-  float initial_radius() const { return initial_radius_; }
 
  private:
   PhotonPassParams params(uint32_t pass_index) const;

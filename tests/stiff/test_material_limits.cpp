@@ -83,13 +83,11 @@ __kernel void fresnel(__global float2* out, __global const float* cos_i, float e
 }
 )CL";
 
-struct BsdfIn {
-  cl_float4 diffuse, specular;
-  float alpha, ior;
-  cl_uint kind, pad;
-};
-static_assert(sizeof(BsdfIn) == 48, "matches the kernel's BsdfIn");
-enum Kind : cl_uint { kPlastic = 0, kConductor = 1, kDielectric = 2 };
+using test::BsdfIn;
+using Kind = test::BsdfKind;
+using test::kConductor;
+using test::kDielectric;
+using test::kPlastic;
 
 BsdfIn bsdf(Kind kind, float alpha, float ior = 1.5f) {
   BsdfIn b{};

@@ -96,4 +96,13 @@ Bsdf make_bsdf(BsdfIn in) {
 }
 )CL";
 
+// The host side of the prelude's BsdfIn.
+struct BsdfIn {
+  cl_float4 diffuse, specular;
+  float alpha, ior;
+  cl_uint kind, pad;
+};
+static_assert(sizeof(BsdfIn) == 48, "matches the kernel's BsdfIn");
+enum BsdfKind : cl_uint { kPlastic = 0, kConductor = 1, kDielectric = 2 };
+
 }  // namespace caustica::test
