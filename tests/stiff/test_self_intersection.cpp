@@ -146,7 +146,7 @@ TEST_P(SelfIntersection, SpawnedRaysNeverReHitTheirSurface) {
                   .build_source("stiff_self_intersection.cl", kKernel,
                                 std::string("-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES ") + GetParam())
                   .program;
-  const uint32_t hit_points = 10000, per_hit = 256;
+  const uint32_t hit_points = 10000, per_hit = 1000;
   for (const Config& c : kConfigs) {
     for (uint32_t type : {PRIM_SPHERE, PRIM_CYLINDER, PRIM_TRIANGLE}) {
       std::mt19937 rng(7 + type);

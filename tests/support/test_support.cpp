@@ -68,6 +68,10 @@ std::string device_spec() {
   return env ? env : "cpu";
 }
 
+bool on_simulator() {
+  return runtime().device_info().platform_name.find("Oclgrind") != std::string::npos;
+}
+
 Runtime& runtime() {
   static std::unique_ptr<Runtime> rt = std::make_unique<Runtime>(select_device(device_spec()));
   return *rt;

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <initializer_list>
 #include <functional>
 #include <string>
@@ -18,6 +19,13 @@ Runtime& runtime();
 // through a Session use it too, so the whole suite can run on one device
 // (another OpenCL platform, or oclgrind's simulator).
 std::string device_spec();
+// True when the test device is a checking simulator (Oclgrind), which
+// interprets every work-item about a thousand times slower than PoCL.
+bool on_simulator();
+// `full` on a real device, `simulated` on a simulator: tests that trace
+// millions of rays or samples keep their assertions there with fewer of
+// them. Each call site says what it cuts.
+inline size_t sized(size_t full, size_t simulated) { return on_simulator() ? simulated : full; }
 std::string source_dir();
 // "<repo>/../shared" or $CAUSTICA_SHARED_DIR; empty when it does not exist.
 std::string shared_dir();
