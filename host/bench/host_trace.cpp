@@ -143,7 +143,9 @@ bool host_intersect_cylinder(vec3 center, vec3 axis, float radius, float half_le
   const float a = dot3(dp, dp);
   const float dd = dot3(d, d);
   bool hit = false;
-  if (a > 1e-12f * dd) {
+  // As the kernel: an origin outside the side moving away never meets it.
+  const bool leaving_side = dot3(fp, fp) > radius * radius && dot3(fp, dp) >= 0.0f;
+  if (!leaving_side && a > 1e-12f * dd) {
     const float tc = -dot3(fp, dp) / a;
     const vec3 g = fp + tc * dp;
     const float zc = fz + tc * dz;
