@@ -176,7 +176,8 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
           const float3 contribution = throughput * f * fabs(wi.z) * ls.radiance * (weight / ls.pdf);
           float3 dir;
           float tmax;
-          const float3 origin = spawn_ray_to(sp.position, sp.p_error, sp.normal, ls.point, ls.p_error, &dir, &tmax);
+          const float3 origin = spawn_ray_to(sp.position, sp.p_error, sp.normal, ls.point, ls.p_error, ls.normal,
+                                                    &dir, &tmax);
           ShadowRecord s;
           s.origin = (float4)(origin, tmax);
           s.dir = (float4)(dir, 0.0f);

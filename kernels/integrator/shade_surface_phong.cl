@@ -50,9 +50,9 @@ inline void shade_point_light(__global const PointLight* light, __global const M
   const float3 contribution = weight * light->intensity.xyz * (diffuse + specular);
   if (max3(contribution) <= 0.0f) return;
   ShadowRecord ray;
-  /* A point light is no surface (target error 0); the margin still keeps a
-   * surface through the light from shadowing it. */
-  ray.origin = (float4)(origin, shadow_ray_tmax(dist, l, (float3)(0.0f)));
+  /* A point light is no surface (no error, no normal); the relative margin
+   * still keeps a surface through the light from shadowing it. */
+  ray.origin = (float4)(origin, shadow_ray_tmax(dist, l, (float3)(0.0f), (float3)(0.0f)));
   ray.dir = (float4)(l, 0.0f);
   ray.contribution = (float4)(contribution, 0.0f);
   ray.pixel = pixel;

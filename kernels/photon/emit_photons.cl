@@ -38,25 +38,7 @@ __kernel void emit_photons(__global const PathLight* restrict lights, PhotonPass
     flux = l->emitted.xyz * (4.0f * M_PI_F);
   } else {
     float3 n, p_error; /* the point's error bound, as sample_light's (spawn_ray_origin) */
-    if (l->kind == LIGHT_SPHERE) {
-      n = sample_uniform_sphere(u_point);
-      origin = l->p0.xyz + l->p0.w * n;
-      p_error = error_gamma(8.0f) * (fabs(l->p0.xyz) + (float3)(l->p0.w));
-    } else {
-      if (l->kind == LIGHT_RECT) {
-        origin = sample_rectangle(l->p0.xyz, l->p1.xyz, l->p2.xyz, u_point);
-        p_error = error_gamma(8.0f) * (fabs(l->p0.xyz) + fabs(l->p1.xyz) + fabs(l->p2.xyz));
-      } else if (l->kind == LIGHT_TRIANGLE) {
-        const float2 b = sample_triangle_barycentrics(u_point);
-        origin = l->p0.xyz + b.x * (l->p1.xyz - l->p0.xyz) + b.y * (l->p2.xyz - l->p0.xyz);
-        p_error = error_gamma(8.0f) *
-                  (fabs(l->p0.xyz) + fabs(l->p1.xyz - l->p0.xyz) + fabs(l->p2.xyz - l->p0.xyz));
-      } else {
-        origin = sample_cylinder_surface(l, u_point);
-        p_error = error_gamma(8.0f) * (fabs(l->p0.xyz) + (float3)(l->p0.w + l->p1.w));
-      }
-      n = light_normal(l, origin);
-    }
+    origin = sample_light_surface(l, u_point, &p_error, &n);
     float sides = 1.0f;
     if (l->flags & LIGHT_TWO_SIDED) {
       sides = 2.0f;

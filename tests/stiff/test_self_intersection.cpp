@@ -99,7 +99,7 @@ __kernel void reintersect(__global const float4* rays, uint n, uint per_hit, __g
       /* A light below the tangent plane as seen from the origin is skipped
        * by the stages (dot(geometric, l) <= 0): the ray would enter. */
       if (!(dot(dir, nf) > 0.0f)) continue;
-      tmax = shadow_ray_tmax(dist, dir, (float3)(0.0f));
+      tmax = shadow_ray_tmax(dist, dir, (float3)(0.0f), (float3)(0.0f));
     }
     if (!(fabs(origin.x) < 1e30f && fabs(origin.y) < 1e30f && fabs(origin.z) < 1e30f)) ++nonfinite;
     Hit r = hit_none(tmax);
