@@ -53,7 +53,7 @@ void transform_scene(Scene& s, float scale, glm::vec3 offset, bool point_light_f
 }
 
 RenderResult render(const std::string& scene_path, RenderMode mode, int width, int height,
-                    const std::function<void(Scene&)>& edit, int spp) {
+                    const std::function<void(Scene&)>& edit, int spp, size_t local_size) {
   SessionOptions o;
   o.scene_path = scene_path;
   o.mode = mode;
@@ -63,9 +63,11 @@ RenderResult render(const std::string& scene_path, RenderMode mode, int width, i
   o.spp = spp;
   o.error_estimate = false;
   o.edit_scene = edit;
+  o.local_size = local_size;
   auto session = prepare_session(o);
   RenderResult r;
   r.image = session->renderer->render(&r.stats);
+  test::expect_finite_render(r.image, r.stats.film, scene_path);
   return r;
 }
 

@@ -42,9 +42,10 @@ struct RenderResult {
 };
 
 // Renders `scene_path` (after `edit`, if any) at width x height on the test
-// device; spp only for path mode.
+// device, launching the stages in work-groups of local_size; spp only for
+// path mode. Every image is checked by test::expect_finite_render.
 RenderResult render(const std::string& scene_path, RenderMode mode, int width, int height,
-                    const std::function<void(Scene&)>& edit = {}, int spp = 0);
+                    const std::function<void(Scene&)>& edit = {}, int spp = 0, size_t local_size = 64);
 
 // The official scene directory in ../shared, or the copies in scenes/.
 std::string official_scene(const std::string& name);

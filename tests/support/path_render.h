@@ -47,6 +47,7 @@ inline PathRender render_path(const std::string& scene, int spp, const PathRende
   Renderer r(*s->runtime, *s->device_scene, s->mode, s->program.program, settings);
   PathRender out;
   out.image = r.render(&out.stats);
+  expect_finite_render(out.image, out.stats.film, scene);
   if (spp >= 2) out.half = r.film().half_mean();
   return out;
 }

@@ -6,6 +6,7 @@
 
 #include "host/error.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -66,6 +67,14 @@ TempDirCleaner& temp_dir_cleaner() {
 std::string device_spec() {
   const char* env = std::getenv("CAUSTICA_TEST_DEVICE");
   return env ? env : "cpu";
+}
+
+void expect_finite_render(const ImageF& image, const FilmCounts& film, const std::string& what) {
+  size_t nonfinite = 0;
+  for (float v : image.rgb) nonfinite += !std::isfinite(v);
+  EXPECT_EQ(nonfinite, 0u) << what << ": NaN/Inf values in the image";
+  EXPECT_EQ(film.nonfinite, 0u) << what << ": non-finite samples reached the film";
+  EXPECT_EQ(film.negative, 0u) << what << ": negative samples reached the film";
 }
 
 bool on_simulator() {

@@ -11,6 +11,8 @@
 #include <string>
 
 #include "host/cl/runtime.h"
+#include "host/image/image.h"
+#include "host/render/film.h"
 
 namespace caustica::test {
 
@@ -53,6 +55,12 @@ CliResult run_cli(const std::string& args);
 // test (no current test), the directory is <tmp>/caustica_test_<pid>_caustica
 // and is removed when the program ends. Tests write files only under it.
 std::string temp_dir();
+
+// Every image the shared render helpers return (stiff::render,
+// render_path) passes through here: no NaN or Inf pixel, and no non-finite
+// or negative sample reached the film (which drops and counts them, so the
+// image alone would not show one). A failure names `what`.
+void expect_finite_render(const ImageF& image, const FilmCounts& film, const std::string& what);
 
 // Passes when `text` contains every one of `parts`; prints the text otherwise.
 inline ::testing::AssertionResult Contains(const std::string& text, std::initializer_list<std::string> parts) {
