@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -212,7 +213,8 @@ DeviceInfo select_device(const std::string& requested) {
   throw Error("--device " + spec + ": no device name or platform contains \"" + spec + "\"; " + listing());
 }
 
-Runtime::Runtime(const DeviceInfo& device, bool profiling) : info_(device), profiling_(profiling) {
+Runtime::Runtime(const DeviceInfo& device, bool profiling)
+    : info_(device), profiling_(profiling), simulator_(info_.platform_name.find("Oclgrind") != std::string::npos) {
   try {
     context_ = cl::Context(info_.device);
     queue_ = cl::CommandQueue(context_, info_.device, profiling ? CL_QUEUE_PROFILING_ENABLE : 0);
@@ -226,6 +228,61 @@ std::string Runtime::cache_directory() {
   if (const char* xdg = std::getenv("XDG_CACHE_HOME")) return std::string(xdg) + "/caustica";
   if (const char* home = std::getenv("HOME")) return std::string(home) + "/.cache/caustica";
   return "/tmp/caustica-cache";
+}
+
+void Runtime::fill(const cl::Buffer& buffer, const void* pattern, size_t pattern_size, size_t offset, size_t size) {
+  if (size == 0) return;
+  if (!simulator_) {
+    const cl_int err = clEnqueueFillBuffer(queue_(), buffer(), pattern, pattern_size, offset, size, 0, nullptr, nullptr);
+    if (err != CL_SUCCESS) throw cl::Error(err, "clEnqueueFillBuffer");
+    return;
+  }
+  if (pattern_size % 4 || offset % 4 || size % 4 || size / 4 > UINT32_MAX)
+    throw Error("Runtime::fill on a simulator needs whole 32-bit words");
+  build_word_kernels();
+  cl::Buffer words(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, pattern_size, const_cast<void*>(pattern));
+  const cl_uint count = cl_uint(size / 4);
+  fill_words_.setArg(0, buffer);
+  fill_words_.setArg(1, words);
+  fill_words_.setArg(2, cl_uint(pattern_size / 4));
+  fill_words_.setArg(3, cl_uint(offset / 4));
+  fill_words_.setArg(4, count);
+  queue_.enqueueNDRangeKernel(fill_words_, cl::NullRange, cl::NDRange(round_up(count, 64)), cl::NDRange(64));
+}
+
+void Runtime::copy(const cl::Buffer& src, const cl::Buffer& dst, size_t src_offset, size_t dst_offset, size_t size) {
+  if (size == 0) return;
+  if (!simulator_) {
+    queue_.enqueueCopyBuffer(src, dst, src_offset, dst_offset, size);
+    return;
+  }
+  if (src_offset % 4 || dst_offset % 4 || size % 4 || size / 4 > UINT32_MAX)
+    throw Error("Runtime::copy on a simulator needs whole 32-bit words");
+  build_word_kernels();
+  const cl_uint count = cl_uint(size / 4);
+  copy_words_.setArg(0, dst);
+  copy_words_.setArg(1, cl_uint(dst_offset / 4));
+  copy_words_.setArg(2, src);
+  copy_words_.setArg(3, cl_uint(src_offset / 4));
+  copy_words_.setArg(4, count);
+  queue_.enqueueNDRangeKernel(copy_words_, cl::NullRange, cl::NDRange(round_up(count, 64)), cl::NDRange(64));
+}
+
+void Runtime::build_word_kernels() {
+  if (fill_words_()) return;
+  static const char* source = R"(
+__kernel void fill_words(__global uint* dst, __global const uint* pattern, uint pattern_words, uint first, uint count) {
+  const uint i = get_global_id(0);
+  if (i < count) dst[first + i] = pattern[i % pattern_words];
+}
+__kernel void copy_words(__global uint* dst, uint dst_first, __global const uint* src, uint src_first, uint count) {
+  const uint i = get_global_id(0);
+  if (i < count) dst[dst_first + i] = src[src_first + i];
+}
+)";
+  const cl::Program program = build_source("word_kernels.cl", source, "").program;
+  fill_words_ = cl::Kernel(program, "fill_words");
+  copy_words_ = cl::Kernel(program, "copy_words");
 }
 
 BuiltProgram Runtime::build_file(const std::string& path, const std::string& options) {
@@ -244,7 +301,7 @@ BuiltProgram Runtime::build_source(const std::string& name, const std::string& t
   // emits, and the kernels then fail to appear (CL_INVALID_KERNEL_NAME).
   // CAUSTICA_EXTRA_KERNEL_OPTIONS: appended to every build (a developer knob).
   const char* extra = std::getenv("CAUSTICA_EXTRA_KERNEL_OPTIONS");
-  const bool oclgrind = info_.platform_name.find("Oclgrind") != std::string::npos;
+  const bool oclgrind = simulator_;
   const std::string options = "-cl-std=CL1.2 -cl-kernel-arg-info " +
                               std::string(info_.type == "cpu" ? "-DCAUSTICA_CPU_PREFETCH " : "") + raw_options +
                               (oclgrind ? " -cl-opt-disable" : "") + (extra ? std::string(" ") + extra : std::string());

@@ -61,6 +61,24 @@ class Runtime {
   // Builds source text that may #include embedded files (used by tests).
   BuiltProgram build_source(const std::string& name, const std::string& text, const std::string& options);
 
+  // clEnqueueFillBuffer: `size` bytes of `buffer` from `offset` get `pattern`
+  // repeated. On Oclgrind a kernel writes them instead: Oclgrind 21.10 marks
+  // only the last pattern-sized store of a fill as initialised (its shadow
+  // buffer is reallocated per host store), so its uninitialised-read check
+  // would flag every filled buffer. Pattern size, offset and size must be
+  // multiples of 4 bytes there.
+  void fill(const cl::Buffer& buffer, const void* pattern, size_t pattern_size, size_t offset, size_t size);
+  template <class T>
+  void fill(const cl::Buffer& buffer, const T& pattern, size_t offset, size_t size) {
+    fill(buffer, &pattern, sizeof(T), offset, size);
+  }
+  // clEnqueueCopyBuffer, by a kernel on Oclgrind for the same reason: a
+  // copy into part of a buffer leaves Oclgrind 21.10 a shadow the size of the
+  // copy, and every later read past it reports.
+  void copy(const cl::Buffer& src, const cl::Buffer& dst, size_t src_offset, size_t dst_offset, size_t size);
+  // The device is Oclgrind, a checking simulator.
+  bool on_simulator() const { return simulator_; }
+
   // Disables the on-disk cache (tests that time or exercise cold builds).
   void set_cache_enabled(bool enabled) { cache_enabled_ = enabled; }
   static std::string cache_directory();
@@ -71,6 +89,9 @@ class Runtime {
   cl::CommandQueue queue_;
   bool cache_enabled_ = true;
   bool profiling_ = false;
+  bool simulator_ = false;
+  cl::Kernel fill_words_, copy_words_;  // built on first use on a simulator
+  void build_word_kernels();
 };
 
 // Rounds n up to a multiple of the local size (PoCL picks local size 1 for

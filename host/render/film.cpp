@@ -44,16 +44,14 @@ KernelArgs& Film::bind(KernelArgs& args) const {
 }
 
 void Film::clear() {
-  auto& q = runtime_.queue();
-  q.enqueueFillBuffer(pass_, cl_ulong(0), 0, pixel_count() * 3 * sizeof(cl_ulong));
-  q.enqueueFillBuffer(accumulated_, 0.0f, 0, (options_.half_buffer ? 2 : 1) * pixel_count() * 3 * sizeof(float));
-  q.enqueueFillBuffer(counters_, cl_uint(0), 0, FILM_COUNTERS * sizeof(cl_uint));
+  runtime_.fill(pass_, cl_ulong(0), 0, pixel_count() * 3 * sizeof(cl_ulong));
+  runtime_.fill(accumulated_, 0.0f, 0, (options_.half_buffer ? 2 : 1) * pixel_count() * 3 * sizeof(float));
+  runtime_.fill(counters_, cl_uint(0), 0, FILM_COUNTERS * sizeof(cl_uint));
   passes_ = 0;
 }
 
 void Film::clear_pass_range(size_t first_pixel, size_t count) {
-  runtime_.queue().enqueueFillBuffer(pass_, cl_ulong(0), first_pixel * 3 * sizeof(cl_ulong),
-                                     count * 3 * sizeof(cl_ulong));
+  runtime_.fill(pass_, cl_ulong(0), first_pixel * 3 * sizeof(cl_ulong), count * 3 * sizeof(cl_ulong));
 }
 
 void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats) {

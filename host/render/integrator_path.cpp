@@ -35,7 +35,7 @@ class PathIntegrator final : public Integrator {
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
   void begin_pass(Film& film, RenderStats* stats) override {
     if (numerics_() && film.passes() == 0)
-      launcher_.runtime().queue().enqueueFillBuffer(numerics_, cl_ulong(0), 0, NUMERICS_COUNTERS * sizeof(cl_ulong));
+      launcher_.runtime().fill(numerics_, cl_ulong(0), 0, NUMERICS_COUNTERS * sizeof(cl_ulong));
     if (!photons_) return;
     if (film.passes() == 0) photons_->clear();
     film.set_separate_estimate(photons_.get());

@@ -46,7 +46,7 @@ void ExclusiveScan::scan_level(StageLauncher& launcher, const cl::Buffer& values
   }
   const cl::Buffer offsets = block_sums_[level];  // a handle: the recursion may grow block_sums_
   if (blocks == 1) {
-    launcher.runtime().queue().enqueueFillBuffer(offsets, cl_uint(0), 0, sizeof(cl_uint));
+    launcher.runtime().fill(offsets, cl_uint(0), 0, sizeof(cl_uint));
   } else {
     KernelArgs(*sum_blocks_)
         .arg("values", values)
@@ -116,7 +116,7 @@ void PhotonGrid::build(StageLauncher& launcher, const cl::Buffer& photons, size_
     photons_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, photon_capacity_ * sizeof(Photon));
   }
 
-  runtime_.queue().enqueueFillBuffer(bucket_start_, cl_uint(0), 0, (size_t(table_size) + 1) * sizeof(cl_uint));
+  runtime_.fill(bucket_start_, cl_uint(0), 0, (size_t(table_size) + 1) * sizeof(cl_uint));
   KernelArgs(*count_)
       .arg("grid", params_)
       .arg("photons", photons)

@@ -98,10 +98,9 @@ void PhotonPass::clear() {
   cell_size_ = initial_radius_;
   stats_ = {};
   if (gather_mode_ != PhotonGather::PerPixel) return;
-  auto& q = launcher_.runtime().queue();
   SppmPixel start{};  // radius2 0: set by the pixel's first visible point
-  q.enqueueFillBuffer(pixels_, start, 0, pixel_count_ * sizeof(SppmPixel));
-  q.enqueueFillBuffer(visible_points_, cl_uint(0), 0, pixel_count_ * sizeof(VisiblePoint));
+  launcher_.runtime().fill(pixels_, start, 0, pixel_count_ * sizeof(SppmPixel));
+  launcher_.runtime().fill(visible_points_, cl_uint(0), 0, pixel_count_ * sizeof(VisiblePoint));
 }
 
 float PhotonPass::shared_radius(uint32_t pass_index) const {
@@ -134,14 +133,13 @@ PhotonPassParams PhotonPass::params(uint32_t pass_index) const {
 }
 
 void PhotonPass::trace(uint32_t pass_index, RenderStats* stats) {
-  auto& q = launcher_.runtime().queue();
   const PhotonPassParams p = params(pass_index);
   DeviceQueue* current = &queues_[0];
   DeviceQueue* next = &queues_[1];
   KernelArgs(emit_).arg("lights", lights_).arg("params", p).queue("out", *current).finish();
   launcher_.launch(emit_, photons_per_pass_, stats);
   launcher_.write_count(current->count(), photons_per_pass_, stats);
-  q.enqueueFillBuffer(stored_, cl_uint(0), 0, size_t(photons_per_pass_) * sizeof(cl_uint));
+  launcher_.runtime().fill(stored_, cl_uint(0), 0, size_t(photons_per_pass_) * sizeof(cl_uint));
   for (uint32_t count = photons_per_pass_; count > 0;) {
     KernelArgs intersect(intersect_);
     scene_.bind_geometry(intersect).ray_view("rays", *current).arg("hits", hits_).finish();
@@ -164,8 +162,8 @@ void PhotonPass::trace(uint32_t pass_index, RenderStats* stats) {
   }
   // Stored photons packed in photon order: offsets = exclusive scan of the
   // flags, whose last entry (a 0 appended) becomes the total.
-  q.enqueueCopyBuffer(stored_, offsets_, 0, 0, size_t(photons_per_pass_) * sizeof(cl_uint));
-  q.enqueueFillBuffer(offsets_, cl_uint(0), size_t(photons_per_pass_) * sizeof(cl_uint), sizeof(cl_uint));
+  launcher_.runtime().copy(stored_, offsets_, 0, 0, size_t(photons_per_pass_) * sizeof(cl_uint));
+  launcher_.runtime().fill(offsets_, cl_uint(0), size_t(photons_per_pass_) * sizeof(cl_uint), sizeof(cl_uint));
   scan_.run(launcher_, offsets_, size_t(photons_per_pass_) + 1, stats);
   KernelArgs(compact_)
       .arg("candidates", candidates_)
@@ -175,7 +173,7 @@ void PhotonPass::trace(uint32_t pass_index, RenderStats* stats) {
       .arg("photons", photons_)
       .finish();
   launcher_.launch(compact_, photons_per_pass_, stats);
-  q.enqueueCopyBuffer(offsets_, stored_count_, size_t(photons_per_pass_) * sizeof(cl_uint), 0, sizeof(cl_uint));
+  launcher_.runtime().copy(offsets_, stored_count_, size_t(photons_per_pass_) * sizeof(cl_uint), 0, sizeof(cl_uint));
   PhotonGridShape shape;
   shape.origin = origin_;
   if (gather_mode_ == PhotonGather::SharedRadius) cell_size_ = shared_radius(pass_index);
