@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages caustica builds and runs with, if missing
-# (with --fuzz: those tools/fuzz.sh builds the fuzz targets with).
+# (with --fuzz: those tools/fuzz.sh builds the fuzz targets with; with
+# --oclgrind: those plus the simulator tools/oclgrind.sh runs the tests on).
 # As root it runs apt-get; otherwise it prints the exact command to run.
 set -euo pipefail
 packages=(
@@ -16,6 +17,11 @@ if [[ ${1:-} == --fuzz ]]; then
   packages=(clang libclang-rt-14-dev cmake pkg-config
     libglm-dev libstb-dev nlohmann-json3-dev libtinyobjloader-dev libtinyexr-dev libcli11-dev
     ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers)
+fi
+# tools/oclgrind.sh: the default set (it builds and runs the tests) and
+# Debian's Oclgrind, a second OpenCL platform that checks kernels.
+if [[ ${1:-} == --oclgrind ]]; then
+  packages+=(oclgrind)
 fi
 missing=()
 for p in "${packages[@]}"; do
