@@ -90,7 +90,7 @@ BsdfIn bsdf(Kind kind, float alpha, float diffuse, float specular, float ior = 1
 }
 
 cl::Program program() {
-  static cl::Program p = test::runtime().build_source("test_bsdf.cl", kBsdfKernels, "").program;
+  static cl::Program& p = *new cl::Program(test::runtime().build_source("test_bsdf.cl", kBsdfKernels, "").program);
   return p;
 }
 

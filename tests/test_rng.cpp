@@ -73,7 +73,7 @@ __kernel void unit_floats(__global float* out, __global const uint* in, uint n) 
 )CL";
 
 cl::Program program() {
-  static cl::Program p = test::runtime().build_source("test_rng.cl", kRngKernels, "").program;
+  static cl::Program& p = *new cl::Program(test::runtime().build_source("test_rng.cl", kRngKernels, "").program);
   return p;
 }
 

@@ -100,7 +100,7 @@ BsdfIn bsdf(Kind kind, float alpha, float ior = 1.5f) {
 }
 
 cl::Program program() {
-  static cl::Program p = test::runtime().build_source("test_material_limits.cl", kKernels, "").program;
+  static cl::Program& p = *new cl::Program(test::runtime().build_source("test_material_limits.cl", kKernels, "").program);
   return p;
 }
 
