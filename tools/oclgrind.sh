@@ -1,58 +1,131 @@
 #!/usr/bin/env bash
-# Runs the kernel-level tests on Oclgrind, a second OpenCL platform that
-# simulates the kernels and reports out-of-bounds accesses, reads of
-# uninitialised memory and data races (issue 14). Installs Debian's
-# oclgrind and registers it as an ICD (/etc/OpenCL/vendors/oclgrind.icd)
-# when run as root; caustica then lists it (`caustica devices`) and picks it
-# by name only (`--device oclgrind`). Each test runs in its own process
-# (Oclgrind can abort at exit after several programs in one process), on
-# the device named "oclgrind"; the run fails on a failing test or on any
-# error Oclgrind reports. Tests that trace millions of rays or samples are
-# left out: Oclgrind interprets every work-item (the photon grid's
-# tiny-table test runs out of memory under its race detection).
-#   tools/oclgrind.sh [build dir, default build]
+# Runs the test suite's kernels on Oclgrind, a second OpenCL platform that
+# simulates them and reports out-of-bounds accesses, reads of uninitialised
+# memory and data races (issue 14). Rules: every gtest of build/tests runs,
+# each in its own process (Oclgrind can abort at exit after several programs
+# in one process), on the device named "oclgrind", two at a time; a test that
+# launches no kernel costs only its host time, so nothing has to keep a list
+# of which tests are kernel-level. Tests that would trace millions of rays cut
+# their counts there with test::sized(); the few left out below say why. The
+# run fails on a failing test, on a test past its time limit, or on any error
+# line Oclgrind prints.
+#   tools/oclgrind.sh [build dir, default build] [gtest filter, default all]
+# Oclgrind is registered for this run only, through ocl-icd's
+# OCL_ICD_VENDORS (a temporary vendors directory), so nothing under /etc is
+# written. To make `caustica devices` list it system-wide, as root:
+#   echo /usr/lib/oclgrind/liboclgrind-rt-icd.so > /etc/OpenCL/vendors/oclgrind.icd
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build="${1:-$root/build}"
-icd=/etc/OpenCL/vendors/oclgrind.icd
-if [[ ! -f /usr/lib/oclgrind/liboclgrind-rt-icd.so || ! -f $icd ]]; then
-  if [[ $(id -u) -ne 0 ]]; then
-    echo "[oclgrind] needs Debian's oclgrind registered as an ICD; as root: apt-get install oclgrind &&" \
-      "echo /usr/lib/oclgrind/liboclgrind-rt-icd.so > $icd" >&2
-    exit 1
-  fi
-  DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends oclgrind >&2
-  echo /usr/lib/oclgrind/liboclgrind-rt-icd.so >"$icd"
+filter="${2:-*}"
+jobs=${CAUSTICA_OCLGRIND_JOBS:-2}
+limit=${CAUSTICA_OCLGRIND_TEST_SECONDS:-120}
+
+bash "$root/tools/setup.sh" --oclgrind
+if [[ ! -f $build/CMakeCache.txt ]]; then
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >&2
 fi
+cmake --build "$build" -j "$(nproc 2>/dev/null || echo 2)" >&2
+
+vendors=$(mktemp -d)
+logs=$(mktemp -d)
+trap 'rm -rf "$vendors" "$logs"' EXIT
+# The system's ICDs stay visible (tests that name another device still find
+# it); Oclgrind is added whether or not it is registered there.
+cp /etc/OpenCL/vendors/*.icd "$vendors"/ 2>/dev/null || true
+echo /usr/lib/oclgrind/liboclgrind-rt-icd.so >"$vendors/oclgrind.icd"
+export OCL_ICD_VENDORS=$vendors
 # Out-of-bounds accesses are always checked; data races on request. Not
-# uninitialised reads: Oclgrind 21.10 does not count clEnqueueFillBuffer as
-# initialising memory, so every film pass (zeroed that way) would report.
-export CAUSTICA_TEST_DEVICE=oclgrind OCLGRIND_DATA_RACES=1
-tests=(
-  "test_render_core RecordLayout.DeviceAgreesWithHost"
-  "test_render_core KernelArgs.BindingIsCheckedAgainstTheKernelsNames"
-  "test_render_core Film.HalfBufferHoldsThePassesSinceTheLatestPowerOfTwo"
-  "test_render_core Film.NonFiniteAndNegativeAreCountedAndDroppedHugeValuesClamped"
-  "test_render_core Film.ScaleKeepsTheHdrRangeOfTheBound"
-  "test_render_core Film.AccumulationIsOrderIndependentAndPassesAverage"
-  "test_render_core Film.ClearingAPassRangeKeepsFinishedPasses"
-  "test_render_core ShadeSurfacePhong.OneStepOnAHandBuiltHit"
-  "test_photon_grid PhotonGrid.PhotonsOnCellBordersAndCorners"
-  "test_photon_grid PhotonGrid.NoPhotons"
-  "test_photon_grid PhotonGrid.AllPhotonsAtOnePoint"
-  "test_photon_grid PhotonGrid.SortPutsEveryBucketInIndexOrder"
+# uninitialised reads (OCLGRIND_UNINITIALIZED=1), whose plugin in Debian 12's
+# Oclgrind 21.10 cannot run this suite: it segfaults inside the BSDF test
+# kernels and corrupts the heap (glibc "corrupted double-linked list" at
+# exit), stops with a fatal error on sincos() into a private variable
+# (emit_photons), and calls the result of every atomic_inc on a zeroed
+# counter uninitialised (count_bucket_photons: false reports). It also marks
+# only the last store of a clEnqueueFillBuffer, or of a copy into part of a
+# buffer, as initialised; the runtime fills and copies by kernel on Oclgrind
+# for that (Runtime::fill), so CAUSTICA_OCLGRIND_UNINITIALIZED=1 turns the
+# check on for a run of chosen tests (a newer Oclgrind may need no more).
+# One simulator thread per test: the tests already run two at a time.
+export CAUSTICA_TEST_DEVICE=oclgrind OCLGRIND_DATA_RACES=1 OCLGRIND_NUM_THREADS=1
+export OCLGRIND_UNINITIALIZED=${CAUSTICA_OCLGRIND_UNINITIALIZED:-0}
+
+# Left out, one line each: binary, test, why. Each still needs a
+# test::sized() cut (measured at 25 s a test, two at a time on 2 cores;
+# "uninitialised check on": measured with it, which is slower).
+left_out=(
+  "test_bench_rays HostTrace.MatchesOpenClKernels  # 0.7 s on PoCL, past 25 s on Oclgrind"
+  "test_bsdf Bsdf.AlbedoNeverExceedsOne  # 6.0 s on PoCL, past 25 s on Oclgrind"
+  "test_bsdf Bsdf.SampledDirectionsFollowTheDensityChiSquare  # 9.0 s on PoCL, past 25 s on Oclgrind"
+  "test_bsdf Bsdf.SamplingAgreesWithEvaluationAndDensity  # 16.6 s on PoCL, past 25 s on Oclgrind"
+  "test_bvh BvhBuild.DepthLimitFallsBackToMedianSplits  # 0.7 s on PoCL, past 25 s on Oclgrind"
+  "test_bvh BvhBuild.HugeLeavesTraceRight  # 1.6 s on PoCL, past 25 s on Oclgrind"
+  "test_caustics Caustics.PhotonMapConvergesToThePathTracedReferenceWithoutDoubleCounting  # 10.0 s on PoCL, past 25 s on Oclgrind"
+  "test_community_render CommunityCorpus.EveryLoadableSceneRendersInPhong  # 18.4 s on PoCL, past 25 s on Oclgrind"
+  "test_error_report ErrorReport.CornellBoxReportsConvergeAndEstimateTheirError  # 12.9 s on PoCL, past 25 s on Oclgrind"
+  "test_official_scenes OfficialSceneInvariants.FilmDropsAndClampsNothing  # 1.2 s on PoCL, past 25 s on Oclgrind"
+  "test_official_scenes OfficialSceneInvariants.SameBitsForAnyWorkGroupSize  # 0.5 s on PoCL, past 25 s on Oclgrind"
+  "test_path PathTracer.FurnaceSphereReflectsItsAlbedo  # 0.5 s on PoCL, past 25 s on Oclgrind"
+  "test_path PathTracer.LightSamplingBsdfSamplingAndMisAgree  # 1.0 s on PoCL, past 25 s on Oclgrind"
+  "test_path PathTracer.PointLightInAClosedSphereGivesRadianceOne  # 2.1 s on PoCL, past 25 s on Oclgrind"
+  "test_path PathTracer.ShadowRaysReachTheLightTheySampled  # 0.4 s on PoCL, past 25 s on Oclgrind"
+  "test_photon_grid ExclusiveScan.MatchesAHostScanForAnyLengthAndWorkGroupSize  # 0.4 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_photon_grid PhotonGrid.MillionPhotonsBuildTime  # 0.9 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_photon_grid PhotonGrid.PhotonsOnCellBordersAndCorners  # 0.1 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_photon_grid PhotonGrid.RandomPhotonsInABox  # 0.6 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_photon_grid PhotonGrid.RebuildsWithFewerAndMorePhotonsAndFromADeviceCounter  # 0.1 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_photon_grid PhotonGrid.SameBitsForAnyThreadCount  # 3.9 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_photon_grid PhotonGrid.SameBitsForAnyWorkGroupSize  # 7.7 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_photon_grid PhotonGrid.TinyTablesWhereEveryCellCollidesCountEachPhotonOnce  # 2.9 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_photon_pass PhotonPass.GlassSlabKeepsDirectionAndFluxAtFresnelRates  # 5.2 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_photon_pass PhotonPass.MirrorReflectsFromTheLightsImageWithFresnelFlux  # 4.9 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_photon_pass PhotonPass.SamePhotonMapForAnyWorkGroupSize  # 2.1 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_queues PassDriver.QueueOverflowRetriesGiveTheSameImage  # 1.1 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_rng Sobol2D.FastSecondDimensionEqualsTheDefinition  # 0.3 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
+  "test_rng SobolBurley.PixelsAndPairsAreDecorrelatedAndUniform  # 0.2 s on PoCL, past 25 s on Oclgrind (uninitialised check on)"
 )
-status=0
-for entry in "${tests[@]}"; do
-  read -r binary filter <<<"$entry"
-  log=$(mktemp)
-  if "$build/tests/$binary" --gtest_filter="$filter" >"$log" 2>&1 && ! grep -qE "^(Invalid|Uninitialized|Read-write data race|Write-write data race|Work-group divergence)" "$log"; then
-    echo "[oclgrind] $filter: clean"
-  else
-    echo "[oclgrind] $filter: FAILED"
-    grep -m 20 -E "Invalid|Uninitialized|race|divergence|FAILED|Failure" "$log" || true
-    status=1
-  fi
-  rm -f "$log"
+
+# Every test as "binary test.name", parameterised ones included.
+list=$logs/tests
+for binary in "$build"/tests/test_* "$build"/tests/stiff_*; do
+  [[ -x $binary && -f $binary ]] || continue
+  "$binary" --gtest_list_tests --gtest_filter="$filter" | awk -v b="$(basename "$binary")" '
+    /^[^ ]/ { suite = $1 } /^  / { print b, suite $1 }'
+done >"$list"
+for entry in "${left_out[@]}"; do
+  read -r binary name _ <<<"$entry"
+  grep -vxF "$binary $name" "$list" >"$list.kept" || true
+  mv "$list.kept" "$list"
 done
+
+# Oclgrind's messages go to their own log (OCLGRIND_LOG), through a pipe that
+# the test and every caustica process it starts append to: a file there
+# would be truncated by each process that opens it, and a child's stderr is
+# captured by the test that runs it. Any message there fails the test.
+run_one() {  # run_one BINARY TEST: prints one result line, fails on a problem
+  local binary=$1 name=$2 log=$logs/$1.${2//\//_} start status=0
+  start=$(date +%s)
+  OCLGRIND_LOG=/dev/fd/3 timeout "$limit" "$build/tests/$binary" --gtest_filter="$name" \
+    >"$log.out" 2>&1 3> >(cat >"$log.oclgrind") || status=$?
+  wait $! 2>/dev/null || true
+  local seconds=$(($(date +%s) - start))
+  if ((status == 0)) && ! grep -q '[^[:space:]]' "$log.oclgrind" && ! grep -q "OCLGRIND" "$log.out"; then
+    echo "[oclgrind] ${seconds}s $binary $name: clean"
+    return 0
+  fi
+  if ((status == 124)); then
+    echo "[oclgrind] ${seconds}s $binary $name: past ${limit}s"
+  else
+    echo "[oclgrind] ${seconds}s $binary $name: FAILED"
+  fi
+  grep -E -A3 "OCLGRIND|FAILED|Failure" "$log.out" | head -n 30 || true
+  grep -v '^[[:space:]]*$' "$log.oclgrind" | head -n 40 || true
+  return 1
+}
+export -f run_one
+export build logs limit
+start=$(date +%s)
+status=0
+xargs -P "$jobs" -L 1 bash -c 'run_one "$0" "$1"' <"$list" || status=1
+echo "[oclgrind] $(wc -l <"$list") tests, ${#left_out[@]} left out, $(($(date +%s) - start))s"
 exit $status
