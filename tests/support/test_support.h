@@ -22,7 +22,9 @@ Runtime& runtime();
 // (another OpenCL platform, or oclgrind's simulator).
 std::string device_spec();
 // True when the test device is a checking simulator (Oclgrind), which
-// interprets every work-item about a thousand times slower than PoCL.
+// interprets every work-item about a thousand times slower than PoCL; also
+// on any device under CAUSTICA_TEST_SIMULATED_SIZES=1, to check in seconds
+// on PoCL that the assertions hold at the simulator's sizes.
 bool on_simulator();
 // `full` on a real device, `simulated` on a simulator: tests that trace
 // millions of rays or samples keep their assertions there with fewer of
