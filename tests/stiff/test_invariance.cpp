@@ -66,7 +66,11 @@ class Invariance : public ::testing::TestWithParam<Case> {};
 
 TEST_P(Invariance, ScaledAndMovedScenesRenderTheSameImage) {
   const Case& c = GetParam();
-  const int w = 180, h = 120;
+  // 60 x 40 on Oclgrind. The differences sit on edges (a pixel's shift),
+  // whose pixel count scales with the width and the image's with its
+  // square: the bounds on the fraction and the mean grow by 180 / w there.
+  const int w = int(test::sized(180, 60)), h = int(test::sized(120, 40));
+  const double edge_scale = 180.0 / w;
   const stiff::RenderResult original = render(scene_path(c), c.mode, w, h);
   for (const Variant& v : kVariants) {
     const stiff::RenderResult moved = render(scene_path(c), c.mode, w, h, [&](Scene& s) {
@@ -94,8 +98,8 @@ TEST_P(Invariance, ScaledAndMovedScenesRenderTheSameImage) {
       write_image(stem + ".png", moved.image, DisplaySettings{});
       write_image(std::string("/tmp/stiff_") + case_name_of(c) + "_orig.png", original.image, DisplaySettings{});
     }
-    EXPECT_LE(off, moved_far ? 0.05 : 0.01) << c.scene << " " << v.name;
-    EXPECT_LE(mean, moved_far ? 1.5e-2 : 2e-3) << c.scene << " " << v.name;
+    EXPECT_LE(off, (moved_far ? 0.05 : 0.01) * edge_scale) << c.scene << " " << v.name;
+    EXPECT_LE(mean, (moved_far ? 1.5e-2 : 2e-3) * edge_scale) << c.scene << " " << v.name;
   }
 }
 
@@ -112,7 +116,10 @@ INSTANTIATE_TEST_SUITE_P(Scenes, Invariance, ::testing::ValuesIn(kCases), case_n
 // that rounding sent elsewhere. Point lights are rescaled (radiance I / d^2).
 TEST(InvariancePath, ShowcasePathScaledAndMovedWithinNoise) {
   const std::string scene = test::source_dir() + "/scenes/showcase_path.json";
-  const int w = 96, h = 64, spp = 16;
+  // 32 x 16 at 2 spp on Oclgrind, where the block comparisons below are
+  // noise (64 pixel-samples a block instead of 1024): there the renders
+  // check only the kernels' memory behaviour and a clean film.
+  const int w = int(test::sized(96, 32)), h = int(test::sized(64, 16)), spp = int(test::sized(16, 2));
   const stiff::RenderResult original = render(scene, RenderMode::Path, w, h, {}, spp);
   auto blocks = [&](const ImageF& im) {
     std::vector<double> b((w / 8) * (h / 8) * 3, 0.0);
@@ -140,6 +147,7 @@ TEST(InvariancePath, ShowcasePathScaledAndMovedWithinNoise) {
     // <= 4e-4). Moved 1e5 away the rounded scene sends paths elsewhere
     // through the glass and mirrors, so blocks differ by noise (up to 0.6
     // measured at 16 spp, fireflies): there only the image mean is compared.
+    if (test::on_simulator()) continue;
     if (v.offset == glm::vec3(0.0f)) {
       EXPECT_LE(worst, 0.02) << v.name;
       EXPECT_NEAR(sum / sum_ref, 1.0, 0.002) << v.name;

@@ -149,7 +149,10 @@ TEST_P(SelfIntersection, SpawnedRaysNeverReHitTheirSurface) {
                   .build_source("stiff_self_intersection.cl", kKernel,
                                 std::string("-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES ") + GetParam())
                   .program;
-  const uint32_t hit_points = 10000, per_hit = 1000;
+  // Oclgrind interprets each work-item: 128 hit points x 16 rays (4 of each
+  // kind) per case there, enough to run every branch of spawn_ray_origin and
+  // the intersectors under its memory and race checks.
+  const uint32_t hit_points = uint32_t(test::sized(10000, 128)), per_hit = uint32_t(test::sized(1000, 16));
   for (const Config& c : kConfigs) {
     for (uint32_t type : {PRIM_SPHERE, PRIM_CYLINDER, PRIM_TRIANGLE}) {
       std::mt19937 rng(7 + type);
