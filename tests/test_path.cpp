@@ -59,7 +59,9 @@ TEST(PathTracer, CheckNumericsReportsTheBsdfWeightsPerBounce) {
 }
 
 TEST(PathTracer, FurnaceSphereReflectsItsAlbedo) {
-  const PathRender r = render(write_scene("furnace.json", kFurnace), 16);
+  // Every path leaves the convex sphere after one bounce weighted by the
+  // albedo exactly, so one sample a pixel on Oclgrind checks the same.
+  const PathRender r = render(write_scene("furnace.json", kFurnace), int(test::sized(16, 1)));
   EXPECT_EQ(r.stats.film.total(), 0u);
   const float albedo[3] = {0.5f, 0.25f, 0.75f};
   int on = 0, off = 0;
@@ -90,7 +92,11 @@ const char* kClosedSphere = R"({"nbounces": 1000, "rendermode": "pathtracer",
                 "material": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}}]}})";
 
 TEST(PathTracer, PointLightInAClosedSphereGivesRadianceOne) {
-  const PathRender r = render(write_scene("closed.json", kClosedSphere), 64);
+  // 16 spp on Oclgrind: the per-pixel sd (0.051 measured at 64 spp) grows
+  // by sqrt(64 / spp), its bound with it; the mean's standard error there,
+  // ~0.10 / 32 pixels, leaves the 0.01 tolerance at 3 of them.
+  const int spp = int(test::sized(64, 16));
+  const PathRender r = render(write_scene("closed.json", kClosedSphere), spp);
   EXPECT_EQ(r.stats.film.total(), 0u);
   double sum = 0.0, sum2 = 0.0;
   const size_t n = r.image.pixel_count();
@@ -101,9 +107,9 @@ TEST(PathTracer, PointLightInAClosedSphereGivesRadianceOne) {
     EXPECT_FLOAT_EQ(r.image.rgb[3 * i], r.image.rgb[3 * i + 1]);
   }
   const double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
-  std::printf("[measure] closed sphere: mean %.5f, per-pixel sd %.4f at 64 spp\n", mean, sd);
+  std::printf("[measure] closed sphere: mean %.5f, per-pixel sd %.4f at %d spp\n", mean, sd, spp);
   EXPECT_NEAR(mean, 1.0, 0.01);
-  EXPECT_LT(sd, 0.1);
+  EXPECT_LT(sd, 0.1 * std::sqrt(64.0 / spp));
 }
 
 // A Lambertian floor and a glossy sphere under every kind of area light: a
@@ -160,7 +166,8 @@ StrategyMeans strategy_means(const std::string& scene, int spp) {
 }
 
 TEST(PathTracer, LightSamplingBsdfSamplingAndMisAgree) {
-  const StrategyMeans m = strategy_means(write_scene("arealit.json", kAreaLit), 256);
+  // 16 spp on Oclgrind: the bounds are in the measured standard errors.
+  const StrategyMeans m = strategy_means(write_scene("arealit.json", kAreaLit), int(test::sized(256, 16)));
   const double* mean = m.mean;
   const double* se = m.se;
   std::printf("[measure] area-lit mean (r+g): MIS %.5f +- %.5f, NEE %.5f +- %.5f, BSDF %.5f +- %.5f\n", mean[0],
@@ -191,12 +198,15 @@ const char* kCeilingLight = R"({"nbounces": 3, "rendermode": "pathtracer",
        "material": {"emission": [2, 1, 0.5], "kd": 0}}]}})";
 
 TEST(PathTracer, ShadowRaysReachTheLightTheySampled) {
-  const StrategyMeans m = strategy_means(write_scene("ceiling.json", kCeilingLight), 128);
+  const StrategyMeans m = strategy_means(write_scene("ceiling.json", kCeilingLight), int(test::sized(128, 16)));
   std::printf("[measure] ceiling-light mean (r+g): NEE %.5f +- %.5f, BSDF %.5f +- %.5f\n", m.mean[1], m.se[1],
               m.mean[2], m.se[2]);
   EXPECT_NEAR(m.mean[1], m.mean[2], 4.0 * std::hypot(m.se[1], m.se[2]));
-  // The bias was 3.6% of the image; noise alone allows far less here.
-  EXPECT_NEAR(m.mean[1], m.mean[2], 0.01 * m.mean[2]);
+  // The bias was 3.6% of the image; noise alone allows far less here. Not
+  // at Oclgrind's 16 spp, where 4 standard errors are ~3.7% of the mean:
+  // there the render checks the kernels' memory behaviour and the 4-sigma
+  // agreement above only.
+  if (!test::on_simulator()) EXPECT_NEAR(m.mean[1], m.mean[2], 0.01 * m.mean[2]);
 }
 
 // The CLI's .pfm output for one or two PoCL threads, and renders with two
