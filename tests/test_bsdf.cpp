@@ -190,12 +190,21 @@ std::vector<Case> hard_glass_cases() {
 // disagree). Both within a few standard errors; wo from above and, for
 // glass, from inside.
 TEST(Bsdf, SamplingAgreesWithEvaluationAndDensity) {
-  const uint32_t n = 1u << 20;
-  std::vector<Case> cases = rough_cases();
-  for (const Case& c : hard_glass_cases()) cases.push_back(c);
+  // On Oclgrind 2^13 samples, three angles and only the lobes wide enough
+  // for uniform estimates to resolve there (alpha >= 0.5; the kernels are
+  // the same): the albedo's tolerance is in measured standard errors, and
+  // the density integral's is unchanged (both checked at these sizes with
+  // CAUSTICA_TEST_SIMULATED_SIZES=1).
+  const uint32_t n = uint32_t(test::sized(1u << 20, 1u << 13));
+  std::vector<Case> cases;
+  for (const Case& c : rough_cases())
+    if (!test::on_simulator() || c.in.alpha >= 0.5f) cases.push_back(c);
+  if (!test::on_simulator())
+    for (const Case& c : hard_glass_cases()) cases.push_back(c);
   for (const Case& c : cases)
     for (double theta : {0.0, 45.0, 75.0, 80.0, 135.0}) {
       if (theta > 90.0 && c.in.kind != kDielectric) continue;
+      if (test::on_simulator() && (theta == 45.0 || theta == 80.0)) continue;
       const Estimates e = estimate(c.in, direction(theta), n);
       const std::string what = c.name + " theta " + std::to_string(int(theta));
       ASSERT_TRUE(e.finite) << what;
@@ -211,7 +220,9 @@ TEST(Bsdf, SamplingAgreesWithEvaluationAndDensity) {
 // (flux for glass: transmission unscaled by eta^2) stays <= 1 over a grid of
 // roughness and angles, with the worst channel at full reflectance.
 TEST(Bsdf, AlbedoNeverExceedsOne) {
-  const uint32_t n = 1u << 18;
+  // 2^11 samples at normal and grazing incidence only on Oclgrind: the
+  // bound is in the measured standard error.
+  const uint32_t n = uint32_t(test::sized(1u << 18, 1u << 11));
   std::vector<Case> cases = rough_cases();
   cases.push_back({"white plastic a=0.3", bsdf(kPlastic, 0.3f, 1.0f, 0.0f)});
   cases.push_back({"plastic 0.5/0.5 a=0.1", bsdf(kPlastic, 0.1f, 0.5f, 0.5f)});
@@ -219,6 +230,7 @@ TEST(Bsdf, AlbedoNeverExceedsOne) {
   for (Case& c : cases) {
     if (c.in.kind == kConductor) c.in.specular = {{1.0f, 1.0f, 1.0f, 0}};
     for (double theta : {0.0, 30.0, 60.0, 75.0, 89.0}) {
+      if (test::on_simulator() && theta != 0.0 && theta != 89.0) continue;
       const Estimates e = estimate(c.in, direction(theta), n);
       const std::string what = c.name + " theta " + std::to_string(int(theta));
       // Glass: radiance entering a less dense medium legitimately grows by
@@ -269,8 +281,8 @@ TEST(Bsdf, EvaluationIsReciprocal) {
 // the cells near the poles are small and a narrow transmitted lobe around
 // -z still spans many of them (in the (cos theta, phi) parametrisation it
 // would fall inside one row, beyond what the cells' quadrature resolves).
-test::Domain angle_domain() {
-  test::Domain d{384, 256, {}, {}};
+test::Domain angle_domain(int n1 = 384, int n2 = 256) {
+  test::Domain d{n1, n2, {}, {}};
   d.to_unit = [](const cl_float4& s, double* x1, double* x2) {
     const double l = std::sqrt(double(s.s[0]) * s.s[0] + double(s.s[1]) * s.s[1] + double(s.s[2]) * s.s[2]);
     if (!(l > 0.0)) return false;
@@ -296,7 +308,7 @@ TEST(Bsdf, SampledDirectionsFollowTheDensityChiSquare) {
     BsdfIn in;
     double theta;
   };
-  const std::vector<ChiCase> cases = {
+  std::vector<ChiCase> cases = {
       {"plastic a=0.3", bsdf(kPlastic, 0.3f, 0.5f, 0.3f), 30.0},
       {"conductor a=0.3", bsdf(kConductor, 0.3f, 0.0f, 0.9f), 50.0},
       {"glass a=0.3 outside", bsdf(kDielectric, 0.3f, 0, 0, 1.5f), 30.0},
@@ -309,8 +321,14 @@ TEST(Bsdf, SampledDirectionsFollowTheDensityChiSquare) {
       // A transmitted lobe ~1.5 degrees wide, narrower than a cell.
       {"glass a=0.3 eta=1.1", bsdf(kDielectric, 0.3f, 0, 0, 1.1f), 30.0},
   };
+  // The density's cell quadrature costs 25 evaluations a cell whatever the
+  // sample count: on Oclgrind rough plastic (reflection) and rough glass
+  // from outside (both sides), 2^14 samples over 48 x 32 cells (~10 a cell;
+  // 384 x 256 would pool nearly all of them).
+  if (test::on_simulator()) cases = {cases[0], cases[2]};
+  const test::Domain domain = test::on_simulator() ? angle_domain(48, 32) : angle_domain();
   Runtime& rt = test::runtime();
-  const uint32_t n = 1u << 22;
+  const uint32_t n = uint32_t(test::sized(1u << 22, 1u << 14));
   for (const ChiCase& c : cases) {
     const cl_float4 wo = direction(c.theta);
     cl::Buffer weights(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(cl_float4));
@@ -344,7 +362,7 @@ TEST(Bsdf, SampledDirectionsFollowTheDensityChiSquare) {
       rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, f.size() * sizeof(float), f.data());
       return std::vector<double>(f.begin(), f.end());
     };
-    const test::ChiSquare r = test::chi_square_test(d, angle_domain(), density);
+    const test::ChiSquare r = test::chi_square_test(d, domain, density);
     std::printf("[measure] %s theta %.0f: %s\n", c.name.c_str(), c.theta, r.describe().c_str());
     EXPECT_GT(r.p, test::sidak(int(cases.size()))) << c.name << ": " << r.describe();
   }
