@@ -187,7 +187,9 @@ std::string build_options(KernelBuild build) {
 }
 
 std::vector<Outcome> run_compare(const Scene& s, const WideBvh& bvh, const std::vector<Ray>& rays, KernelBuild build) {
-  static cl::Program* programs = new cl::Program[3];  // never released (test::runtime() says why)
+  // One per KernelBuild; never released (test::runtime() says why).
+  constexpr int kBuilds = static_cast<int>(KernelBuild::PortableLanes) + 1;
+  static cl::Program* programs = new cl::Program[kBuilds];
   cl::Program& program = programs[static_cast<int>(build)];
   if (!program())
     program = runtime()
