@@ -107,12 +107,20 @@ TEST_P(HandoutScene, AgreesWithHandoutRender) {
   const Case& c = GetParam();
   CAUSTICA_REQUIRE_SHARED(shared);
   const std::string dir = shared + "/scenes-coursework/official/";
-  const Image8 handout = read_image8(dir + "reference_renders/" + c.handout);
+  const Image8 full = read_image8(dir + "reference_renders/" + c.handout);
+  // On Oclgrind at a quarter of the width and height, against every 4th
+  // handout pixel (the nearest to our pixel centres, half a handout pixel
+  // off). The disagreements sit on edges, whose share of the pixels grows
+  // with the cut: the agreement and IoU bounds' complements grow 4x there.
+  const int k = int(test::sized(1, 4));
+  Image8 handout(full.width / k, full.height / k);
+  for (int y = 0; y < handout.height; ++y)
+    for (int x = 0; x < handout.width; ++x) std::copy_n(full.at(k * x + k / 2, k * y + k / 2), 3, handout.at(x, y));
   const Image8 ours = display(render(dir + c.scene, c.mode, handout.width, handout.height));
   if (c.mode == RenderMode::Binary) {
     const double agreement = binary_agreement(ours, handout);
     std::printf("[measure] %s binary agreement %.5f\n", c.scene, agreement);
-    EXPECT_GE(agreement, 0.995);
+    EXPECT_GE(agreement, 1.0 - k * 0.005);
     return;
   }
   const uint8_t handout_bg[3] = {87, 87, 87};
@@ -120,7 +128,7 @@ TEST_P(HandoutScene, AgreesWithHandoutRender) {
   const double iou = mask_iou(non_background_mask(ours, our_bg, 2), non_background_mask(handout, handout_bg, 2));
   const double diff = mean_abs_diff(ours, handout);
   std::printf("[measure] %s phong IoU %.5f mean colour difference %.2f\n", c.scene, iou, diff);
-  EXPECT_GE(iou, 0.98);
+  EXPECT_GE(iou, 1.0 - k * 0.02);
   EXPECT_LE(diff, c.max_mean_diff);
 }
 
