@@ -525,6 +525,9 @@ TEST_P(Ggx, VisibleNormalDensityIsNormalised) {
   const int nz = 256, nphi = 512;
   for (float alpha : {1e-3f, 0.01f, 0.1f, 0.5f, 1.0f})
     for (double theta : {0.0, 30.0, 60.0, 85.0, 89.5}) {
+      // 2^17 evaluations a case: on Oclgrind two of the 25 (narrowest lobe
+      // near grazing, a wide one head-on), same grid and tolerance.
+      if (test::on_simulator() && !((alpha == 1e-3f && theta == 85.0) || (alpha == 0.5f && theta == 0.0))) continue;
       const dvec3 wo = direction_at(theta);
       std::vector<cl_float4> wos, ms;
       std::vector<double> weight;
