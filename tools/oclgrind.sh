@@ -9,6 +9,9 @@
 # their counts there with test::sized(); the few left out below say why. The
 # run fails on a failing test, on a test past its time limit, or on any error
 # line Oclgrind prints.
+# CAUSTICA_TEST_SIMULATED_SIZES=1 gives the tests these cut sizes on any
+# device: the suite run so on PoCL checks in seconds that the cut assertions
+# still hold.
 #   tools/oclgrind.sh [build dir, default build] [gtest filter, default all]
 # Oclgrind is registered for this run only, through ocl-icd's
 # OCL_ICD_VENDORS (a temporary vendors directory), so nothing under /etc is
@@ -50,6 +53,16 @@ export OCL_ICD_VENDORS=$vendors
 export CAUSTICA_TEST_DEVICE=oclgrind OCLGRIND_DATA_RACES=1 OCLGRIND_NUM_THREADS=1
 export OCLGRIND_UNINITIALIZED=${CAUSTICA_OCLGRIND_UNINITIALIZED:-0}
 
+# Where Oclgrind 21.10 differs from PoCL without a memory report:
+# - dot() is evaluated in double and rounded once (its WorkItemBuiltins.cpp),
+#   PoCL sums floats. Intersect.RandomRaysMatchReference (both builds) fails
+#   here on one sphere ray (type 0 ray 3160: t 0.2068316 against the double
+#   reference's 0.2068343, past its 2e-6 relative tolerance); that the dot
+#   rounding is the cause is not yet checked. It stays in the run, failing.
+# - Its compiler prints clang's "N warnings generated." to stderr on a cold
+#   build (no program cache): test_cli_errors drops that line here.
+# - Its build log gives physical lines of the expanded source (input.cl:312),
+#   ignoring #line: test_runtime checks the mapped line elsewhere only.
 # Left out, one line each: binary, test, why. Only whole-image statistics
 # over many renders, whose kernels the run covers elsewhere (photon pass and
 # gather: test_photon_pass, test_photon_grid, stiff_light_limits and

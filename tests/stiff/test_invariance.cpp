@@ -117,7 +117,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, Invariance, ::testing::ValuesIn(kCases), case_n
 TEST(InvariancePath, ShowcasePathScaledAndMovedWithinNoise) {
   const std::string scene = test::source_dir() + "/scenes/showcase_path.json";
   // 32 x 16 at 2 spp on Oclgrind, where the block comparisons below are
-  // noise (64 pixel-samples a block instead of 1024): there the renders
+  // noise (128 pixel-samples a block instead of 1024): there the renders
   // check only the kernels' memory behaviour and a clean film.
   const int w = int(test::sized(96, 32)), h = int(test::sized(64, 16)), spp = int(test::sized(16, 2));
   const stiff::RenderResult original = render(scene, RenderMode::Path, w, h, {}, spp);
