@@ -349,7 +349,19 @@ TEST_P(Intersect, RandomRaysMatchReference) {
         ++checked;
         ASSERT_EQ(p[i].hit(), ref.hit) << "type " << type << " ray " << i << " t_ref " << ref.t;
         if (!ref.hit) continue;
-        ASSERT_NEAR(p[i].t, ref.t, k.t_tol * ref.t + 1e-6) << "type " << type << " ray " << i;
+        // Near a sphere's tangent the root's condition grows: a rounding of
+        // the squared distances (eps r^2) moves t by eps r^2 / half chord.
+        // The "too close to call" filter keeps chords down to ~0.02 of the
+        // radius, where that is 1.5e-5 of t for a ray 0.2 away: PoCL's
+        // float sums happened to stay within 2e-6 on these rays, Oclgrind's
+        // dot() (double, rounded once) did not.
+        double tangent = 0.0;
+        if (type == 0) {
+          const dvec3 to_centre = dvec3(k.center) - dvec3(rays[i].o);
+          const double perp = glm::length(glm::cross(to_centre, dvec3(rays[i].d)));
+          tangent = 8.0 * 0x1.0p-24 / std::sqrt(std::max(1.0 - perp * perp, 1e-12));
+        }
+        ASSERT_NEAR(p[i].t, ref.t, k.t_tol * ref.t + 1e-6 + tangent) << "type " << type << " ray " << i;
         EXPECT_GT(glm::dot(dvec3(p[i].normal), ref.n), 1 - 1e-4) << "type " << type << " ray " << i;
         if (type == 1) EXPECT_EQ(p[i].u, float(ref.part)) << "ray " << i;
       }
