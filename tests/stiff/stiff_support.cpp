@@ -142,6 +142,24 @@ double fraction_differing(const ImageF& a, const ImageF& b, float tol) {
   return double(off) / double(std::max<size_t>(1, a.pixel_count()));
 }
 
+const ScaleCase kScaleCases[4] = {{"1e-4", 1e-4f, glm::vec3(0.0f)},
+                                   {"1", 1.0f, glm::vec3(0.0f)},
+                                   {"1e4", 1e4f, glm::vec3(0.0f)},
+                                   {"offset_1e5", 1.0f, glm::vec3(1e5f, -1e5f, 1e5f)}};
+
+glm::vec3 random_unit(std::mt19937& rng) {
+  std::normal_distribution<float> g;
+  return glm::normalize(glm::vec3(g(rng), g(rng), g(rng)));
+}
+
+const char* const kKernelRandom = R"CLC(
+uint mix32(uint x) {
+  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
+  return x;
+}
+float unit_float(uint* s) { *s = mix32(*s + 0x9e3779b9u); return (float)(*s >> 8) * 0x1.0p-24f; }
+)CLC";
+
 double mean_abs_difference(const ImageF& a, const ImageF& b) {
   double sum = 0.0;
   for (size_t i = 0; i < a.rgb.size(); ++i) sum += std::fabs(double(a.rgb[i]) - double(b.rgb[i]));

@@ -12,6 +12,7 @@
 
 #include <functional>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "host/render/integrator.h"
 #include "host/scene/features.h"
 #include "host/scene/scene.h"
+#include "tests/support/test_support.h"
 
 namespace caustica::stiff {
 
@@ -76,5 +78,30 @@ class DeviceTracer {
 // Fraction of pixels whose largest channel differs by more than tol.
 double fraction_differing(const ImageF& a, const ImageF& b, float tol);
 double mean_abs_difference(const ImageF& a, const ImageF& b);
+
+// The scales of the kernel-level ray sets: shapes of size 1e-4, 1 and 1e4
+// at the origin, and of size 1 at 1e5 from it.
+struct ScaleCase {
+  const char* name;
+  float scale;
+  glm::vec3 offset;
+};
+extern const ScaleCase kScaleCases[4];
+
+// A direction uniform on the sphere.
+glm::vec3 random_unit(std::mt19937& rng);
+
+// A read-only device copy of v (one default element when v is empty, so
+// that a kernel argument always has a buffer).
+template <class T>
+cl::Buffer upload_read_only(std::vector<T> v) {
+  if (v.empty()) v.resize(1);
+  return cl::Buffer(test::runtime().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T),
+                    v.data());
+}
+
+// OpenCL C for the ray-set kernels: unit_float(&state) draws from a
+// per-work-item hash chain (seed it with mix32 of the work-item's index).
+extern const char* const kKernelRandom;
 
 }  // namespace caustica::stiff

@@ -18,6 +18,7 @@
 #include <map>
 
 #include "host/scene/scene.h"
+#include "tests/stiff/stiff_support.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -47,11 +48,7 @@ struct Probe {
   const char* what;
 };
 
-template <class T>
-cl::Buffer upload(std::vector<T> v) {
-  if (v.empty()) v.resize(1);
-  return cl::Buffer(runtime().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data());
-}
+using stiff::upload_read_only;
 
 class Grazing : public ::testing::TestWithParam<const char*> {
  protected:
@@ -69,8 +66,8 @@ class Grazing : public ::testing::TestWithParam<const char*> {
       rays.push_back(to_float4(p.o));
       rays.push_back(to_float4(p.d));
     }
-    std::vector<cl::Buffer> keep = {upload(rays), upload(std::vector<Sphere>{sp}), upload(std::vector<Cylinder>{cy}),
-                                    upload(std::vector<Triangle>{tr})};
+    std::vector<cl::Buffer> keep = {upload_read_only(rays), upload_read_only(std::vector<Sphere>{sp}),
+                                    upload_read_only(std::vector<Cylinder>{cy}), upload_read_only(std::vector<Triangle>{tr})};
     cl::Buffer out(runtime().context(), CL_MEM_WRITE_ONLY, probes.size() * sizeof(cs_float4));
     cl::Kernel k(program, "probe");
     k.setArg(0, keep[0]);

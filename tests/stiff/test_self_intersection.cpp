@@ -30,6 +30,7 @@
 #include <random>
 
 #include "host/scene/scene.h"
+#include "tests/stiff/stiff_support.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -38,15 +39,12 @@ namespace {
 using glm::vec3;
 using test::runtime;
 
-const char* kKernel = R"CLC(
+const char* kIncludes = R"CLC(
 #include "lib/bvh_traverse.h"
 #include "lib/surface.h"
+)CLC";
 
-uint mix32(uint x) {
-  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
-  return x;
-}
-float unit_float(uint* s) { *s = mix32(*s + 0x9e3779b9u); return (float)(*s >> 8) * 0x1.0p-24f; }
+const char* kKernel = R"CLC(
 float3 unit_vector(uint* s) {
   const float z = 1.0f - 2.0f * unit_float(s), phi = 6.2831853f * unit_float(s);
   const float r = sqrt(fmax(0.0f, 1.0f - z * z));
@@ -117,27 +115,8 @@ __kernel void reintersect(__global const float4* rays, uint n, uint per_hit, __g
 }
 )CLC";
 
-struct Config {
-  const char* name;
-  float scale;
-  vec3 offset;
-};
-
-const Config kConfigs[] = {{"1e-4", 1e-4f, vec3(0.0f)},
-                           {"1", 1.0f, vec3(0.0f)},
-                           {"1e4", 1e4f, vec3(0.0f)},
-                           {"offset_1e5", 1.0f, vec3(1e5f, -1e5f, 1e5f)}};
-
-template <class T>
-cl::Buffer upload(std::vector<T> v) {
-  if (v.empty()) v.resize(1);
-  return cl::Buffer(runtime().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data());
-}
-
-vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<float> g;
-  return glm::normalize(vec3(g(rng), g(rng), g(rng)));
-}
+using stiff::random_unit;
+using stiff::upload_read_only;
 
 class SelfIntersection : public ::testing::TestWithParam<const char*> {};
 
@@ -146,14 +125,14 @@ TEST_P(SelfIntersection, SpawnedRaysNeverReHitTheirSurface) {
   cl::Program& program = programs[GetParam()];
   if (!program())
     program = runtime()
-                  .build_source("stiff_self_intersection.cl", kKernel,
+                  .build_source("stiff_self_intersection.cl", std::string(kIncludes) + stiff::kKernelRandom + kKernel,
                                 std::string("-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES ") + GetParam())
                   .program;
   // Oclgrind interprets each work-item: 128 hit points x 16 rays (4 of each
   // kind) per case there, enough to run every branch of spawn_ray_origin and
   // the intersectors under its memory and race checks.
   const uint32_t hit_points = uint32_t(test::sized(10000, 128)), per_hit = uint32_t(test::sized(1000, 16));
-  for (const Config& c : kConfigs) {
+  for (const stiff::ScaleCase& c : stiff::kScaleCases) {
     for (uint32_t type : {PRIM_SPHERE, PRIM_CYLINDER, PRIM_TRIANGLE}) {
       std::mt19937 rng(7 + type);
       std::uniform_real_distribution<float> u01(0.0f, 1.0f);
@@ -176,8 +155,9 @@ TEST_P(SelfIntersection, SpawnedRaysNeverReHitTheirSurface) {
         rays.push_back(to_float4(o));
         rays.push_back(to_float4(glm::normalize(target - o)));
       }
-      std::vector<cl::Buffer> keep = {upload(rays), upload(std::vector<Sphere>{sphere}),
-                                      upload(std::vector<Cylinder>{cylinder}), upload(std::vector<Triangle>{triangle})};
+      std::vector<cl::Buffer> keep = {upload_read_only(rays), upload_read_only(std::vector<Sphere>{sphere}),
+                                      upload_read_only(std::vector<Cylinder>{cylinder}),
+                                      upload_read_only(std::vector<Triangle>{triangle})};
       std::vector<cl_uint> counts(4, 0);
       cl::Buffer count_buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, 16, counts.data());
       std::vector<cs_float4> zeros(hit_points, cs_float4{0, 0, 0, 0});

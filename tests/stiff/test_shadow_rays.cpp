@@ -32,6 +32,7 @@
 
 #include "host/render/path_lights.h"
 #include "host/scene/scene.h"
+#include "tests/stiff/stiff_support.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -40,15 +41,12 @@ namespace {
 using glm::vec3;
 using test::runtime;
 
-const char* kKernel = R"CLC(
+const char* kIncludes = R"CLC(
 #include "lib/bvh_traverse.h"
 #include "lib/path_lights.h"
+)CLC";
 
-uint mix32(uint x) {
-  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
-  return x;
-}
-float unit_float(uint* s) { *s = mix32(*s + 0x9e3779b9u); return (float)(*s >> 8) * 0x1.0p-24f; }
+const char* kKernel = R"CLC(
 
 /* counts: 0 samples taken, 1 occluded by the light itself, 2 sample off the
  * light's surface, 3 non-finite direction or tmax.
@@ -103,27 +101,8 @@ __kernel void shadow_rays(__global const float4* points, uint n, __global const 
 }
 )CLC";
 
-struct Config {
-  const char* name;
-  float scale;
-  vec3 offset;
-};
-
-const Config kConfigs[] = {{"1e-4", 1e-4f, vec3(0.0f)},
-                           {"1", 1.0f, vec3(0.0f)},
-                           {"1e4", 1e4f, vec3(0.0f)},
-                           {"offset_1e5", 1.0f, vec3(1e5f, -1e5f, 1e5f)}};
-
-vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<float> g;
-  return glm::normalize(vec3(g(rng), g(rng), g(rng)));
-}
-
-template <class T>
-cl::Buffer upload(std::vector<T> v) {
-  if (v.empty()) v.resize(1);
-  return cl::Buffer(runtime().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data());
-}
+using stiff::random_unit;
+using stiff::upload_read_only;
 
 // A scene holding one light of `kind` (the loader's way: area and sphere
 // lights get their geometry from add_light_geometry, emissive shapes are
@@ -173,9 +152,10 @@ float distance_lower_bound(const Scene& s, vec3 p) {
 
 TEST(ShadowRays, NeverOccludedByTheLightTheySampled) {
   static cl::Program program =
-      runtime().build_source("stiff_shadow_rays.cl", kKernel, "-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES").program;
+      runtime().build_source("stiff_shadow_rays.cl", std::string(kIncludes) + stiff::kKernelRandom + kKernel,
+                             "-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES").program;
   const uint32_t n = uint32_t(test::sized(1000000, 1000));
-  for (const Config& c : kConfigs) {
+  for (const stiff::ScaleCase& c : stiff::kScaleCases) {
     for (const char* kind : {"sphere", "rectangle", "triangle", "cylinder"}) {
       const vec3 centre = c.offset + c.scale * vec3(1.5f, -0.5f, 2.0f);
       const Scene scene = light_scene(kind, c.scale, centre);
@@ -207,8 +187,9 @@ TEST(ShadowRays, NeverOccludedByTheLightTheySampled) {
       }
       // A few roundings of the light's coordinates and size.
       const float tolerance = 64.0f * 0x1.0p-24f * (glm::length(centre) + 2.0f * c.scale);
-      std::vector<cl::Buffer> keep = {upload(points), upload(table.lights), upload(scene.spheres),
-                                      upload(scene.cylinders), upload(scene.triangles), upload(prims)};
+      std::vector<cl::Buffer> keep = {upload_read_only(points),          upload_read_only(table.lights),
+                                      upload_read_only(scene.spheres),   upload_read_only(scene.cylinders),
+                                      upload_read_only(scene.triangles), upload_read_only(prims)};
       std::vector<cl_uint> counts(4, 0);
       cl::Buffer count_buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, 16, counts.data());
       cl::Kernel kernel(program, "shadow_rays");

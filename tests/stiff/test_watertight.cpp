@@ -29,10 +29,7 @@ using glm::vec3;
 
 Triangle tri(vec3 a, vec3 b, vec3 c) { return Triangle{to_float4(a), to_float4(b), to_float4(c), 0, 0, 0, 0}; }
 
-vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<float> g;
-  return glm::normalize(vec3(g(rng), g(rng), g(rng)));
-}
+using stiff::random_unit;
 
 TEST(Watertight, TessellatedSphereFarFromOriginNoMissesFromInside) {
   const dvec3 centre(148376.0, 1234.0, -223423.0);
