@@ -154,7 +154,7 @@ dvec3 d3(const cl_float4& v) { return dvec3(v.s[0], v.s[1], v.s[2]); }
 std::string g_build_options;
 
 cl::Program program() {
-  static std::map<std::string, cl::Program> programs;
+  static auto& programs = *new std::map<std::string, cl::Program>;  // never released (test::runtime() says why)
   cl::Program& p = programs[g_build_options];
   if (!p()) p = runtime().build_source("test_sampling.cl", kSamplingKernel, g_build_options).program;
   return p;

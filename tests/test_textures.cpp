@@ -93,7 +93,7 @@ struct Surface {
 class Textures : public ::testing::TestWithParam<const char*> {
  protected:
   cl::Program program(const char* name, const char* source, const std::string& options) {
-    static std::map<std::string, cl::Program> programs;
+    static auto& programs = *new std::map<std::string, cl::Program>;  // never released (test::runtime() says why)
     const std::string all = options + " " + GetParam();
     auto& p = programs[std::string(name) + all];
     if (!p()) p = runtime().build_source(name, source, all).program;

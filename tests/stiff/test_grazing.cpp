@@ -54,7 +54,7 @@ class Grazing : public ::testing::TestWithParam<const char*> {
  protected:
   void run(uint32_t type, const Sphere& sp, const Cylinder& cy, const Triangle& tr, const std::vector<Probe>& probes,
            vec3 offset) {
-    static std::map<std::string, cl::Program> programs;
+    static auto& programs = *new std::map<std::string, cl::Program>;  // never released (test::runtime() says why)
     cl::Program& program = programs[GetParam()];
     if (!program())
       program = runtime()
