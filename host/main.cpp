@@ -65,6 +65,9 @@ int main(int argc, char** argv) {
   bench_cmd->add_option_function<std::string>(
       "--bvh", [&](const std::string& q) { bench.session.bvh_quality = parse_bvh_quality(q); },
       "BVH build: spatial (default), sah or fast");
+  bench_cmd->add_option_function<std::string>(
+      "--caustics", [&](const std::string& m) { bench.session.caustics = parse_caustics_mode(m); },
+      "path: the photon pass, auto (default), on or off");
 
   int shapes = 400;
   bool spheres_only = false;

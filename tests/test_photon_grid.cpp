@@ -53,7 +53,7 @@ __kernel void query_photons(PHOTON_GRID_PARAMS, __global const uint* restrict gr
 }
 )CL";
 
-// kernels/lib/rng.h's hash_u32 and hash3, to recompute buckets and checksums.
+// kernels/lib/rng.h's hash_u32 and lib/photon_grid.h's bucket hash, to recompute buckets and checksums.
 uint32_t hash_u32(uint32_t x) {
   x ^= x >> 16;
   x *= 0x21f0aaadu;
@@ -61,9 +61,6 @@ uint32_t hash_u32(uint32_t x) {
   x *= 0x735a2d97u;
   x ^= x >> 15;
   return x;
-}
-uint32_t hash_combine(uint32_t seed, uint32_t value) {
-  return hash_u32(seed ^ (value + 0x9e3779b9u + (seed << 6) + (seed >> 2)));
 }
 uint32_t host_bucket(const PhotonGridParams& g, const cs_float4& p) {
   // photon_grid_cell: the same float operations (this file is built with -ffp-contract=off).
@@ -73,7 +70,7 @@ uint32_t host_bucket(const PhotonGridParams& g, const cs_float4& p) {
     const float f = std::floor((x[a] - o[a]) * g.inv_cell_size);
     c[a] = uint32_t(int32_t(std::fmin(std::fmax(f, -PHOTON_GRID_CELL_LIMIT), PHOTON_GRID_CELL_LIMIT)));
   }
-  return hash_combine(hash_combine(hash_u32(c[0]), c[1]), c[2]) & (g.table_size - 1);
+  return hash_u32((c[0] * 73856093u) ^ (c[1] * 19349663u) ^ (c[2] * 83492791u)) & (g.table_size - 1);
 }
 
 struct QueryResult {

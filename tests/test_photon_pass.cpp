@@ -60,7 +60,7 @@ PhotonMap trace_photons(Session& s, uint32_t count, size_t local = 64) {
   const PathLightTable table = build_path_lights(s.scene);
   const cl::Buffer lights = upload_buffer(s.runtime->context(), table.lights);
   PhotonPass pass(launcher, *s.device_scene, s.program.program, lights, uint32_t(table.lights.size()), settings);
-  pass.trace(0, nullptr);
+  pass.trace(nullptr);
   PhotonMap map;
   map.emitted = pass.stats().emitted;
   map.photons.resize(pass.grid().params().photon_count);
@@ -113,7 +113,14 @@ TEST(PhotonPass, EmittedFluxSumsToTheLightsPower) {
   PhotonPassParams p{};
   p.photon_count = n;
   p.light_count = cl_uint(table.lights.size());
-  KernelArgs(emit).arg("lights", lights).arg("params", p).queue("out", out).finish();
+  const cl::Buffer no_casters(s->runtime->context(), CL_MEM_READ_ONLY, sizeof(cs_float4));
+  KernelArgs(emit)
+      .arg("lights", lights)
+      .arg("params", p)
+      .arg("casters", no_casters)
+      .arg("caster_count", cl_uint(0))
+      .queue("out", out)
+      .finish();
   launcher.launch(emit, n, nullptr);
   std::vector<cs_float4> flux(n);
   s->runtime->queue().enqueueReadBuffer(out.field("throughput"), CL_TRUE, 0, n * sizeof(cs_float4), flux.data());

@@ -195,6 +195,19 @@ int run_bench(BenchArgs& a) {
   if (path)
     std::printf("path           %.3g samples/s, %.2f Mrays/s (%d spp, %llu rays: camera, continuation and shadow)\n",
                 samples_per_s, render_mrays, last.passes, (unsigned long long)last.rays());
+  const PhotonGatherStats& g = last.photon_gathers;
+  const bool photons = last.photon_rays > 0;
+  auto per = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
+  if (photons) {
+    std::printf("photons        %llu photon rays, %llu stored, %u a pass at the end\n",
+                (unsigned long long)last.photon_rays, (unsigned long long)last.photons_stored, last.photons_per_pass);
+    std::printf("               visible-point gathers %llu: %.1f photons visited each (99th percentile <= %.0f); "
+                "later-receiver gathers %llu: %.1f each (99th percentile <= %.0f)\n",
+                (unsigned long long)g.gathers_d1, per(g.visits_d1, g.gathers_d1),
+                PhotonGatherStats::quantile(g.histogram_d1, 0.99), (unsigned long long)g.gathers_later,
+                per(g.visits_later, g.gathers_later), PhotonGatherStats::quantile(g.histogram_later, 0.99));
+    if (!last.caustics_decision.empty()) std::printf("               %s\n", last.caustics_decision.c_str());
+  }
   nlohmann::json j = {{"scene", s.source_path},
                       {"device", session->runtime->device_info().name},
                       {"width", width},
@@ -227,6 +240,18 @@ int run_bench(BenchArgs& a) {
     j["path_samples_per_s"] = samples_per_s;
     j["path_mrays"] = render_mrays;
     j["path_spp"] = last.passes;
+  }
+  if (photons) {
+    j["photon_rays"] = last.photon_rays;
+    j["photons_stored"] = last.photons_stored;
+    j["photons_per_pass"] = last.photons_per_pass;
+    j["gathers_d1"] = g.gathers_d1;
+    j["visits_per_gather_d1"] = per(g.visits_d1, g.gathers_d1);
+    j["visits_p99_d1"] = PhotonGatherStats::quantile(g.histogram_d1, 0.99);
+    j["gathers_later"] = g.gathers_later;
+    j["visits_per_gather_later"] = per(g.visits_later, g.gathers_later);
+    j["visits_p99_later"] = PhotonGatherStats::quantile(g.histogram_later, 0.99);
+    j["caustics_decision"] = last.caustics_decision;
   }
   std::printf("%s\n", j.dump().c_str());
   return 0;

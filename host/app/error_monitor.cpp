@@ -58,7 +58,8 @@ void ErrorMonitor::measure(const Film& film, double seconds) {
   row.spp = passes;
   ImageF mean = film.mean();
   if (film.has_half_buffer() && passes >= 2) {
-    estimate_ = estimated_rel_mse(mean, film.half_mean(), passes, film.half_passes());
+    const ImageF separate = film.separate_variance();
+    estimate_ = estimated_rel_mse(mean, film.half_mean(), passes, film.half_passes(), &separate);
     row.est_relmse = estimate_;
   }
   if (options_.reference) {

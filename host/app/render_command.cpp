@@ -326,6 +326,21 @@ int run_render(RenderArgs& a) {
     std::fprintf(stderr, "[caustica] film: %d passes; dropped %llu NaN/Inf and %llu negative contributions, clamped %llu\n",
                  stats.passes, (unsigned long long)stats.film.nonfinite, (unsigned long long)stats.film.negative,
                  (unsigned long long)stats.film.clamped);
+    if (stats.photon_rays > 0) {
+      const PhotonGatherStats& g = stats.photon_gathers;
+      auto per = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
+      std::fprintf(stderr,
+                   "[caustica] photons: %llu rays, %llu stored; gathers at visible points %llu (%.1f photons visited "
+                   "each), at later receivers %llu (%.1f each)\n",
+                   (unsigned long long)stats.photon_rays, (unsigned long long)stats.photons_stored,
+                   (unsigned long long)g.gathers_d1, per(g.visits_d1, g.gathers_d1),
+                   (unsigned long long)g.gathers_later, per(g.visits_later, g.gathers_later));
+    }
+    if (!stats.caustics_decision.empty()) {
+      std::string d = stats.caustics_decision;
+      for (size_t at = 0; (at = d.find('\n', at)) != std::string::npos; at += 12) d.replace(at, 1, "\n[caustica] ");
+      std::fprintf(stderr, "[caustica] %s\n", d.c_str());
+    }
   }
   if (a.session.check_numerics) print_numerics_report(stats, session->mode);
   // Dropped or clamped contributions are never silent.

@@ -140,6 +140,7 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   session->settings.check_numerics = session->features.check_numerics;
   session->settings.half_buffer = path && options.error_estimate;
   session->settings.caustics = session->features.caustics;
+  session->settings.caustics_auto = options.caustics == CausticsMode::Auto;
   if (options.photons > 0) session->settings.photons_per_pass = options.photons;
   if (options.caustic_radius > 0.0f) session->settings.caustic_radius = options.caustic_radius;
   const DeviceInfo device = select_device(options.device);

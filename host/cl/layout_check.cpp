@@ -60,5 +60,5 @@ static_assert(sizeof(PhotonGridParams) == 32 && offsetof(PhotonGridParams, cell_
 static_assert(sizeof(PhotonPassParams) == 48 && offsetof(PhotonPassParams, alpha) == 40, "PhotonPassParams layout");
 static_assert(sizeof(VisiblePoint) == 112 && offsetof(VisiblePoint, beta) == 48 && offsetof(VisiblePoint, kind) == 96,
               "VisiblePoint layout");
-static_assert(sizeof(SppmPixel) == 32 && offsetof(SppmPixel, photons) == 16 && offsetof(SppmPixel, radius2) == 20,
+static_assert(sizeof(SppmPixel) == 64 && offsetof(SppmPixel, photons) == 48 && offsetof(SppmPixel, radius2) == 52,
               "SppmPixel layout");

@@ -12,7 +12,10 @@
 //
 // Assumptions, and what breaks them:
 //  - Unbiased passes. A biased estimator (a photon map's radius) converges to
-//    its bias, which no difference of passes can see.
+//    its bias, which no difference of passes can see. The photon map's
+//    caustic image is no mean of passes at all: it is added to mean and half
+//    alike, and its own variance comes in separately (the spread of its
+//    passes' estimates, host/render/photon_pass.h); its bias stays unseen.
 //  - Independent groups. Sobol-Burley passes are stratified against one
 //    another; at N = 2^k the split is into the first and second half of the
 //    sequence, each a well-stratified set, so the estimate stays near the
@@ -31,6 +34,11 @@ namespace caustica {
 // relMSE of `mean` (all `passes`) estimated from `half_mean` (the mean of
 // `half_passes` of them, 0 < half_passes < passes). NaN pixels (the film
 // never holds any) would make it NaN.
-double estimated_rel_mse(const ImageF& mean, const ImageF& half_mean, int passes, int half_passes);
+// `separate_variance` (optional, same size): the per-pixel variance of an
+// estimate added to both mean and half (the photon map's caustic radiance,
+// whose noise the difference of passes cannot see); it adds
+// variance / (M^2 + eps) per pixel and channel.
+double estimated_rel_mse(const ImageF& mean, const ImageF& half_mean, int passes, int half_passes,
+                         const ImageF* separate_variance = nullptr);
 
 }  // namespace caustica

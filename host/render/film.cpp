@@ -100,6 +100,12 @@ ImageF Film::half_mean() const {
   return image;
 }
 
+ImageF Film::separate_variance() const {
+  ImageF variance(options_.width, options_.height);
+  if (separate_ && passes_ > 0) separate_->add_variance_to(variance, passes_);
+  return variance;
+}
+
 FilmCounts Film::counts() const {
   cl_uint c[FILM_COUNTERS] = {};
   runtime_.queue().enqueueReadBuffer(counters_, CL_TRUE, 0, sizeof c, c);

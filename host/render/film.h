@@ -51,6 +51,9 @@ class SeparateEstimate {
  public:
   virtual ~SeparateEstimate() = default;
   virtual void add_to(ImageF& image, int passes) const = 0;
+  // Adds the estimate's own per-pixel variance (for the error estimate);
+  // nothing if it has none to add.
+  virtual void add_variance_to(ImageF& /*variance*/, int /*passes*/) const {}
 };
 
 class Film {
@@ -80,6 +83,8 @@ class Film {
   // largest power of two below N; their mean (needs half_buffer).
   int half_passes() const;
   ImageF half_mean() const;
+  // The separate estimate's per-pixel variance (zero without one).
+  ImageF separate_variance() const;
   FilmCounts counts() const;
 
  private:

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "host/render/film.h"
+#include "host/render/photon_stats.h"
 #include "host/scene/scene.h"
 
 namespace caustica {
@@ -47,8 +48,15 @@ struct RenderSettings {
   // Path: the photon pass for caustics (host/render/photon_pass.h); the
   // program must have been built with it (SceneFeatures::caustics).
   bool caustics = false;
+  // --caustics auto: the pass measures its work and what it brings after
+  // its first passes and may shrink its photons or turn itself off
+  // (integrator_path.cpp, decide_photon_pass).
+  bool caustics_auto = false;
+  // Photons emitted toward the casters' bounding spheres (emit_photons.cl);
+  // off: every light's full distribution (tests compare the two).
+  bool photon_guiding = true;
   uint32_t photons_per_pass = 0;  // 0: default_photons_per_pass
-  float caustic_radius = 0.0f;  // initial gather radius; 0: default_caustic_radius
+  float caustic_radius = 0.0f;  // every pixel's initial gather radius; 0: its footprint
   bool check_numerics = false;  // path: BSDF weight counters (program built with -DPATH_CHECK_NUMERICS=1)
 };
 
@@ -69,6 +77,13 @@ struct RenderStats {
   FilmCounts film;  // contributions dropped or clamped
   // Device time per stage kernel, ms (only on a profiling runtime).
   std::map<std::string, double> stage_ms;
+  // The photon pass (path mode with caustics): what its gathers read, its
+  // photons per pass at the end, how many it stored, and what `auto`
+  // decided and why (empty when it decided nothing).
+  PhotonGatherStats photon_gathers;
+  uint32_t photons_per_pass = 0;
+  uint64_t photons_stored = 0;
+  std::string caustics_decision;
   uint64_t rays() const { return camera_rays + secondary_rays + shadow_rays + photon_rays; }
 };
 

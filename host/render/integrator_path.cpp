@@ -6,8 +6,11 @@
 // queue never holds more than the chunk) and one addressed shadow slot per
 // path. Every pass is one sample per pixel; the film averages the passes.
 // With caustics, a PhotonPass traces photons before each pass's chunks and
-// gathers them after (host/render/photon_pass.h).
+// gathers them after (host/render/photon_pass.h); with `--caustics auto`
+// it is kept only where it pays (decide_photon_pass below).
 #include <algorithm>
+#include <cstdio>
+#include <string>
 
 #include "host/cl/runtime.h"
 #include "host/render/device_scene.h"
@@ -19,6 +22,30 @@
 namespace caustica {
 namespace {
 
+// `--caustics auto` measures the photon pass as work, never as wall time,
+// so that the decision is the same for a seed and spp on any machine. The
+// unit is one ray of a camera path (closest hit with its shading, or a
+// shadow ray); the other items are weighed by their device time per item
+// against it, measured with `caustica bench scenes/... --caustics on` on
+// the 2-core PoCL CPU (official scene.json at 240x160, 16 spp: 83 ns a
+// camera-path ray, 94 ns a photon ray with its emission and bounce, 24 ns
+// a stored photon's compaction and grid build, 133 ns a visible point's
+// gather of ~6 photons, ~200 ns an inline gather in the shade stage).
+constexpr double kPhotonRayWork = 1.1;
+constexpr double kStoredPhotonWork = 0.3;
+constexpr double kVisiblePointGatherWork = 1.5;
+constexpr double kLaterGatherWork = 2.4;
+constexpr double kVisitWork = 0.05;  // each photon read, beyond a gather's own cost
+// The photon pass may take at most this share of a pass's work: the camera
+// paths then keep about 65% of their samples per second (issue 19's floor
+// is 60%; the weights above are averages).
+constexpr double kMostPhotonShare = 0.35;
+// Below this share of the image's light, the photon map brings nothing a
+// viewer or the error would notice: off.
+constexpr double kLeastCausticShare = 1e-3;
+// A photon map every this many passes at the most; beyond it, off.
+constexpr int kLongestInterval = 64;
+
 // Owns its light table (PathLight and the per-primitive light indices), two
 // path queues and the shadow slots, all sized for one chunk.
 class PathIntegrator final : public Integrator {
@@ -28,6 +55,13 @@ class PathIntegrator final : public Integrator {
   DeviceQueue rays_[2], shadow_;
   std::unique_ptr<PhotonPass> photons_;  // only with the caustics feature
   cl::Buffer numerics_;                   // only with --check-numerics
+  uint64_t pass_rays_ = 0;                // this pass's camera-path rays (closest + shadow)
+  std::string decision_;                  // what `auto` decided, for --verbose and the bench
+  uint32_t interval_ = 1;                 // a photon map every interval_ passes (`auto` sets it)
+  uint32_t passes_since_photons_ = 0;     // 0: this pass traces and gathers a photon map
+  bool photon_pass_now_ = false;
+
+  void decide_photon_pass(const Film& film);
 
  public:
   PathIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
@@ -36,15 +70,39 @@ class PathIntegrator final : public Integrator {
   void begin_pass(Film& film, RenderStats* stats) override {
     if (numerics_() && film.passes() == 0)
       launcher_.runtime().fill(numerics_, cl_ulong(0), 0, NUMERICS_COUNTERS * sizeof(cl_ulong));
+    pass_rays_ = 0;
+    photon_pass_now_ = false;
     if (!photons_) return;
-    if (film.passes() == 0) photons_->clear();
+    if (film.passes() == 0) {
+      photons_->clear();
+      decision_.clear();
+      interval_ = 1;
+      passes_since_photons_ = 0;
+    }
     film.set_separate_estimate(photons_.get());
-    photons_->trace(uint32_t(film.passes()), stats);
+    if (!photons_->on()) return;
+    // A new photon map every interval_ passes; the passes between reuse the
+    // latest one for their later receivers (photon_pass.h).
+    photon_pass_now_ = passes_since_photons_ == 0;
+    if (photon_pass_now_) photons_->trace(stats);
   }
   void end_pass(Film& film, RenderStats* stats) override {
-    if (photons_) photons_->gather(uint32_t(film.passes()), stats);
+    if (!photons_ || !photons_->on()) return;
+    photons_->count_camera_pass();  // this pass left the caustic paths to the map
+    if (photon_pass_now_) {
+      photons_->gather(stats);
+      if (settings_.caustics_auto) decide_photon_pass(film);
+    }
+    passes_since_photons_ = (passes_since_photons_ + 1) % interval_;
   }
   void collect(RenderStats* stats) override {
+    if (photons_ && stats) {
+      photons_->read_counters(stats);
+      stats->photon_gathers = photons_->stats().gathers;
+      stats->photons_per_pass = photons_->on() ? photons_->photons_per_pass() : 0u;
+      stats->photons_stored = photons_->stats().stored;
+      stats->caustics_decision = decision_;
+    }
     if (!numerics_() || !stats) return;
     stats->numerics.assign(NUMERICS_COUNTERS, 0);
     launcher_.runtime().queue().enqueueReadBuffer(numerics_, CL_TRUE, 0, NUMERICS_COUNTERS * sizeof(cl_ulong),
@@ -110,6 +168,7 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
     KernelArgs intersect(intersect_);
     scene_.bind_geometry(intersect).ray_view("rays", *current).arg("hits", hits_).finish();
     launcher_.launch(intersect_, ray_count, stats);
+    pass_rays_ += ray_count;
 
     launcher_.write_count(next->count(), 0, stats);
     launcher_.write_count(shadow_.count(), ray_count, stats);  // slot i: path i's shadow ray
@@ -123,7 +182,9 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
         .queue("in", *current)
         .arg("hits", hits_);
     film.bind(shade).queue("next", *next).queue("shadow", shadow_);
-    if (photons_) photons_->bind_photon_map(photons_->bind_visible_points(shade), uint32_t(film.passes()));
+    if (photons_)
+      photons_->bind_photon_map(photons_->bind_visible_points(shade).arg("record_visible_points",
+                                                                          cl_uint(photon_pass_now_ ? 1 : 0)));
     if (numerics_()) shade.arg("numerics", numerics_);
     shade.finish();
     launcher_.launch(shade_, ray_count, stats);
@@ -138,8 +199,77 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
     if (stats) stats->secondary_rays += ray_count;
     std::swap(current, next);
   }
-  if (stats) stats->shadow_rays += launcher_.read_count(shadow_traced_, stats);
+  const uint32_t shadow_rays = launcher_.read_count(shadow_traced_, stats);
+  if (stats) stats->shadow_rays += shadow_rays;
+  pass_rays_ += shadow_rays;
   return true;
+}
+
+// After a photon pass gathered (film.passes() is its 0-based index, not yet
+// accumulated). Work: a camera pass costs its rays plus the inline gathers
+// at later receivers (every pass, with the latest map); a photon pass adds
+// its photons' rays and storage and the visible points' gathers, spread
+// over interval_ passes. After the first photon pass, interval_ becomes the
+// fewest passes per photon map that keep the photon work's share at most
+// kMostPhotonShare; off when no interval up to kLongestInterval does, or
+// when the inline gathers alone exceed it. After the second, off when the
+// caustic carries less than kLeastCausticShare of the image's light. What
+// was gathered stays in the image (photon_pass.h), and from the next pass
+// on the shade stage counts every path itself.
+void PathIntegrator::decide_photon_pass(const Film& film) {
+  const uint32_t maps = photons_->photon_passes();
+  if (maps != 1 && maps != 2) return;
+  const int done = film.passes() + 1;
+  const PhotonGatherStats& g = photons_->last_pass_gathers();
+  const double camera_work = double(pass_rays_);
+  const double inline_work = kLaterGatherWork * double(g.gathers_later) + kVisitWork * double(g.visits_later);
+  const double map_work = kPhotonRayWork * double(photons_->last_pass_photon_rays()) +
+                          kStoredPhotonWork * double(photons_->last_pass_stored()) +
+                          kVisiblePointGatherWork * double(g.gathers_d1) + kVisitWork * double(g.visits_d1);
+  char line[400];
+  auto say = [&] { decision_ += std::string(decision_.empty() ? "" : "\n") + line; };
+  if (maps == 1) {
+    // (inline + map / m) / (camera + inline + map / m) <= s  <=>  map / m <= (s camera - (1 - s) inline) / (1 - s)
+    const double s = kMostPhotonShare;
+    const double room = (s * camera_work - (1.0 - s) * inline_work) / (1.0 - s);
+    const double m = room > 0.0 ? std::ceil(map_work / room) : INFINITY;
+    if (!(m <= kLongestInterval)) {
+      photons_->turn_off();
+      std::snprintf(line, sizeof line,
+                    "caustics auto: off after pass %d: a photon map costs %.3g ray-equivalents and the inline "
+                    "gathers %.3g a pass, against %.3g for the camera paths: no map interval up to %d passes keeps "
+                    "them within %.0f%% of the work",
+                    done, map_work, inline_work, camera_work, kLongestInterval, 100.0 * s);
+      say();
+      return;
+    }
+    interval_ = uint32_t(std::max(1.0, m));
+    const double share = (inline_work + map_work / interval_) / (camera_work + inline_work + map_work / interval_);
+    std::snprintf(line, sizeof line,
+                  "caustics auto: a photon map (%u photons) every %u pass%s after pass %d: a map costs %.3g "
+                  "ray-equivalents, the inline gathers %.3g and the camera paths %.3g a pass, so the photon work is "
+                  "%.0f%% of the total (at most %.0f%%)",
+                  photons_->photons_per_pass(), interval_, interval_ == 1 ? "" : "es", done, map_work, inline_work,
+                  camera_work, 100.0 * share, 100.0 * s);
+    say();
+    return;
+  }
+  // The accumulated passes (this one is not yet) with the caustic image.
+  const ImageF image = film.mean();
+  double total = 0.0;
+  for (float v : image.rgb) total += v;
+  const double caustic = photons_->caustic_total(film.passes());
+  const double light_share = total > 0.0 ? caustic / total : 0.0;
+  if (light_share < kLeastCausticShare) {
+    photons_->turn_off();
+    std::snprintf(line, sizeof line,
+                  "caustics auto: off after pass %d: the photon map carries %.2g of the image's light (below %.2g)",
+                  done, light_share, kLeastCausticShare);
+  } else {
+    std::snprintf(line, sizeof line, "caustics auto: kept after pass %d: the photon map carries %.2g of the image's light",
+                  done, light_share);
+  }
+  say();
 }
 
 }  // namespace

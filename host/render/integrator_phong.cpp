@@ -33,7 +33,9 @@ class PhongIntegrator final : public Integrator {
                   const RenderSettings& settings);
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
   void begin_pass(Film& film, RenderStats* stats) override {
-    if (photons_) photons_->trace(uint32_t(film.passes()), stats);
+    if (!photons_) return;
+    if (film.passes() == 0) photons_->clear();
+    photons_->trace(stats);
   }
 
  private:
@@ -166,7 +168,7 @@ bool PhongIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_c
     KernelArgs shade(shade_);
     scene_.bind_surfaces(shade).arg("lights", lights_).arg("params", params).queue("in", *current).arg("hits", hits_);
     film.bind(shade).queue("next", *next).queue("shadow", shadow_);
-    if (photons_) photons_->bind_photon_map(shade, uint32_t(film.passes()));
+    if (photons_) photons_->bind_photon_map(shade);
     shade.finish();
     launcher_.launch(shade_, ray_count, stats);
 

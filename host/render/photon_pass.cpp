@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "host/cl/runtime.h"
 #include "host/render/device_scene.h"
 #include "host/render/integrator.h"
+#include "host/scene/features.h"
 #include "host/scene/scene.h"
 
 namespace caustica {
@@ -13,33 +15,81 @@ namespace {
 
 constexpr float kSppmAlpha = 2.0f / 3.0f;  // Hachisuka & Jensen's choice (the issue's)
 
-// The scene's bounding box: the grid's origin and the default radius.
-void scene_box(const Scene& scene, glm::vec3* lo, glm::vec3* hi) {
-  *lo = glm::vec3(INFINITY);
-  *hi = glm::vec3(-INFINITY);
-  auto grow = [&](glm::vec3 p, float r) {
-    *lo = glm::min(*lo, p - r);
-    *hi = glm::max(*hi, p + r);
-  };
-  for (const Sphere& s : scene.spheres) grow(to_vec3(s.center_radius), s.center_radius.w);
-  for (const Cylinder& c : scene.cylinders)
-    grow(to_vec3(c.center_radius), c.center_radius.w + c.axis_half.w);  // the axis is a unit vector
-  for (const Triangle& t : scene.triangles)
-    for (const cs_float4& v : {t.v0, t.v1, t.v2}) grow(to_vec3(v), 0.0f);
-  if (!(lo->x <= hi->x)) *lo = *hi = glm::vec3(0.0f);
-}
+// The next pass's cells: the radius below which this share of the visible
+// points' radii lie (their histogram in quarter octaves).
+constexpr double kCellQuantile = 0.9;
+
+// Guided emission (emit_photons.cl) loops over every bound per photon.
+constexpr size_t kMostCasterBounds = 64;
 
 }  // namespace
 
-float default_caustic_radius(const Scene& scene, uint32_t photons_per_pass) {
-  glm::vec3 lo, hi;
-  scene_box(scene, &lo, &hi);
-  const glm::vec3 e = hi - lo;
-  const double area = 2.0 * (double(e.x) * e.y + double(e.y) * e.z + double(e.z) * e.x);
-  const double diagonal = glm::length(e);
-  const double r = std::sqrt(32.0 * area / (M_PI * std::max<uint32_t>(1, photons_per_pass)));
-  const double capped = std::min(r, 0.005 * diagonal);
-  return float(capped > 0.0 ? capped : 1e-3);
+std::vector<cs_float4> caster_bounds(const Scene& scene) {
+  std::vector<cs_float4> bounds;
+  auto casts = [&](uint32_t material) {
+    return material < scene.materials.size() && material_casts_caustics(scene.materials[material]);
+  };
+  for (const Sphere& s : scene.spheres)
+    if (casts(s.material)) bounds.push_back(s.center_radius);
+  for (const Cylinder& c : scene.cylinders)
+    if (casts(c.material)) {
+      const float r = c.center_radius.w, h = c.axis_half.w;
+      bounds.push_back(cs_float4{c.center_radius.x, c.center_radius.y, c.center_radius.z, std::sqrt(r * r + h * h)});
+    }
+  // Triangles: one box per material (a mesh, or the faces of one object).
+  std::map<uint32_t, std::pair<glm::vec3, glm::vec3>> boxes;
+  for (const Triangle& t : scene.triangles) {
+    if (!casts(t.material)) continue;
+    auto [it, fresh] = boxes.try_emplace(t.material, glm::vec3(INFINITY), glm::vec3(-INFINITY));
+    for (const cs_float4& v : {t.v0, t.v1, t.v2}) {
+      it->second.first = glm::min(it->second.first, to_vec3(v));
+      it->second.second = glm::max(it->second.second, to_vec3(v));
+    }
+  }
+  for (const auto& [material, box] : boxes) {
+    const glm::vec3 centre = 0.5f * (box.first + box.second);
+    // a hair wider than the box's half diagonal: the cone test runs in floats
+    const float r = 0.5f * glm::length(box.second - box.first) * (1.0f + 1e-5f);
+    bounds.push_back(cs_float4{centre.x, centre.y, centre.z, r});
+  }
+  for (const cs_float4& b : bounds)
+    if (!(std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z) && std::isfinite(b.w) && b.w > 0.0f))
+      return {};
+  if (bounds.size() > kMostCasterBounds) return {};
+  return bounds;
+}
+
+float camera_footprint_at_focus(const Scene& scene, int image_height) {
+  const CameraDesc& cam = scene.camera;
+  const float pixel_angle = 2.0f * std::tan(glm::radians(cam.fov_y_degrees) * 0.5f) / float(std::max(1, image_height));
+  float distance = cam.focus_distance > 0.0f ? cam.focus_distance : glm::length(cam.look_at - cam.position);
+  if (!(distance > 0.0f) || !std::isfinite(distance)) distance = 1.0f;
+  const float r = PHOTON_RADIUS_FOOTPRINTS * pixel_angle * distance;
+  return r > 0.0f && std::isfinite(r) ? r : 1e-3f;
+}
+
+void PhotonGatherStats::add(const PhotonGatherStats& o) {
+  gathers_d1 += o.gathers_d1;
+  visits_d1 += o.visits_d1;
+  gathers_later += o.gathers_later;
+  visits_later += o.visits_later;
+  for (size_t i = 0; i < histogram_d1.size(); ++i) {
+    histogram_d1[i] += o.histogram_d1[i];
+    histogram_later[i] += o.histogram_later[i];
+  }
+}
+
+double PhotonGatherStats::quantile(const std::array<uint64_t, PHOTON_VISIT_BINS>& h, double q) {
+  uint64_t total = 0;
+  for (uint64_t c : h) total += c;
+  if (total == 0) return 0.0;
+  uint64_t below = 0;
+  for (size_t i = 0; i < h.size(); ++i) {
+    below += h[i];
+    if (double(below) >= q * double(total))
+      return i + 1 == h.size() ? INFINITY : double((i + 1) * PHOTON_VISIT_BIN_WIDTH);
+  }
+  return INFINITY;
 }
 
 uint32_t default_photons_per_pass(int width, int height) {
@@ -57,14 +107,14 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
       light_count_(light_count),
       photons_per_pass_(settings.photons_per_pass > 0 ? settings.photons_per_pass
                                                       : default_photons_per_pass(settings.width, settings.height)),
+      capacity_(photons_per_pass_),
       max_depth_(uint32_t(std::max(0, scene.scene().nbounces))),
       seed_(settings.seed),
       pixel_count_(size_t(settings.width) * size_t(settings.height)),
-      initial_radius_(settings.caustic_radius > 0.0f ? settings.caustic_radius
-                                                     : default_caustic_radius(scene.scene(), photons_per_pass_)),
-      cell_size_(initial_radius_),
+      first_cell_size_(settings.caustic_radius > 0.0f ? settings.caustic_radius
+                                                      : camera_footprint_at_focus(scene.scene(), settings.height)),
+      cell_size_(first_cell_size_),
       fixed_radius_(settings.caustic_radius > 0.0f),
-      image_height_(settings.height),
       emit_(program, "emit_photons"),
       intersect_(program, "intersect_closest"),
       bounce_(program, "bounce_photons"),
@@ -84,18 +134,27 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
     gather_ = StageKernel(program, "gather_photons");
     visible_points_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixel_count_ * sizeof(VisiblePoint));
     pixels_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixel_count_ * sizeof(SppmPixel));
-    largest_radius2_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
+    gather_counters_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, GATHER_COUNTERS * sizeof(cl_ulong));
   }
-  glm::vec3 lo, hi;
-  scene_box(scene.scene(), &lo, &hi);
-  origin_ = {lo.x, lo.y, lo.z};
+  const std::vector<cs_float4> bounds = settings.photon_guiding ? caster_bounds(scene.scene()) : std::vector<cs_float4>{};
+  caster_count_ = uint32_t(bounds.size());
+  casters_ = bounds.empty() ? cl::Buffer(ctx, CL_MEM_READ_ONLY, sizeof(cs_float4)) : upload_buffer(ctx, bounds);
+  // Any origin works (cells are hashed); the camera's keeps the cells a
+  // query meets near it small numbers.
+  const glm::vec3 eye = scene.scene().camera.position;
+  origin_ = {eye.x, eye.y, eye.z};
   clear();
 }
 
 PhotonPass::~PhotonPass() = default;
 
 void PhotonPass::clear() {
-  cell_size_ = initial_radius_;
+  cell_size_ = first_cell_size_;
+  on_ = true;
+  maps_ = gathered_ = camera_passes_on_ = 0;
+  photons_per_pass_ = capacity_;
+  last_gathers_ = {};
+  last_photon_rays_ = last_stored_ = 0;
   stats_ = {};
   if (gather_mode_ != PhotonGather::PerPixel) return;
   SppmPixel start{};  // radius2 0: set by the pixel's first visible point
@@ -103,40 +162,59 @@ void PhotonPass::clear() {
   launcher_.runtime().fill(visible_points_, cl_uint(0), 0, pixel_count_ * sizeof(VisiblePoint));
 }
 
-float PhotonPass::shared_radius(uint32_t pass_index) const {
-  double r2 = double(initial_radius_) * initial_radius_;
-  for (uint32_t i = 1; i <= pass_index; ++i) r2 *= (i + double(kSppmAlpha)) / (i + 1.0);
+void PhotonPass::set_photons_per_pass(uint32_t n) { photons_per_pass_ = std::clamp<uint32_t>(n, 1, capacity_); }
+
+float PhotonPass::shared_radius(uint32_t map_index) const {
+  const double r0 = first_cell_size_;
+  double r2 = r0 * r0;
+  for (uint32_t i = 1; i <= map_index; ++i) r2 *= (i + double(kSppmAlpha)) / (i + 1.0);
   return float(std::sqrt(r2));
 }
 
-KernelArgs& PhotonPass::bind_photon_map(KernelArgs& args, uint32_t pass_index) const {
-  return grid_.bind(args).arg("caustic_radius", shared_radius(pass_index));
+float PhotonPass::later_receiver_radius() const {
+  if (!on_ || maps_ == 0) return 0.0f;
+  return std::min(shared_radius(maps_ - 1), cell_size_);
 }
 
-PhotonPassParams PhotonPass::params(uint32_t pass_index) const {
+KernelArgs& PhotonPass::bind_photon_map(KernelArgs& args) const {
+  const uint32_t latest = maps_ > 0 ? maps_ - 1 : 0;
+  if (gather_mode_ == PhotonGather::SharedRadius) return grid_.bind(args).arg("caustic_radius", shared_radius(latest));
+  return grid_.bind(args)
+      .arg("caustic_radius", later_receiver_radius())
+      .arg("gather_counters", gather_counters_);
+}
+
+PhotonPassParams PhotonPass::params(uint32_t map_index) const {
   PhotonPassParams p{};
   p.photon_count = photons_per_pass_;
   p.light_count = light_count_;
-  p.pass_index = pass_index;
+  p.pass_index = map_index;
   p.seed = seed_;
   p.max_depth = max_depth_;
   p.pixel_count = cl_uint(pixel_count_);
   p.alpha = kSppmAlpha;
-  p.radius_cap = initial_radius_;
   // With --caustic-radius every pixel starts there; otherwise at its
-  // footprint (the camera's angle per pixel times the distance), capped.
-  const CameraDesc& cam = scene_.scene().camera;
-  p.camera = to_float4(cam.position, fixed_radius_ ? 0.0f
-                                                   : 2.0f * std::tan(glm::radians(cam.fov_y_degrees) * 0.5f) /
-                                                         float(std::max(1, image_height_)));
+  // footprint; never above one cell of this pass's grid.
+  p.radius_cap = fixed_radius_ ? std::min(first_cell_size_, cell_size_) : cell_size_;
+  p.camera = cs_float4{0.0f, 0.0f, 0.0f, fixed_radius_ ? 0.0f : 1.0f};
   return p;
 }
 
-void PhotonPass::trace(uint32_t pass_index, RenderStats* stats) {
+void PhotonPass::trace(RenderStats* stats) {
+  const uint32_t pass_index = maps_++;
+  if (gather_mode_ == PhotonGather::PerPixel && pass_index == 0)
+    launcher_.runtime().fill(gather_counters_, cl_ulong(0), 0, GATHER_COUNTERS * sizeof(cl_ulong));
+  last_photon_rays_ = 0;
   const PhotonPassParams p = params(pass_index);
   DeviceQueue* current = &queues_[0];
   DeviceQueue* next = &queues_[1];
-  KernelArgs(emit_).arg("lights", lights_).arg("params", p).queue("out", *current).finish();
+  KernelArgs(emit_)
+      .arg("lights", lights_)
+      .arg("params", p)
+      .arg("casters", casters_)
+      .arg("caster_count", caster_count_)
+      .queue("out", *current)
+      .finish();
   launcher_.launch(emit_, photons_per_pass_, stats);
   launcher_.write_count(current->count(), photons_per_pass_, stats);
   launcher_.runtime().fill(stored_, cl_uint(0), 0, size_t(photons_per_pass_) * sizeof(cl_uint));
@@ -157,6 +235,7 @@ void PhotonPass::trace(uint32_t pass_index, RenderStats* stats) {
         .finish();
     launcher_.launch(bounce_, count, stats);
     if (stats) stats->photon_rays += count;
+    last_photon_rays_ += count;
     count = std::min(launcher_.read_count(next->count(), stats), photons_per_pass_);
     std::swap(current, next);
   }
@@ -181,32 +260,103 @@ void PhotonPass::trace(uint32_t pass_index, RenderStats* stats) {
   const uint32_t stored = grid_.build(launcher_, photons_, stored_count_, photons_per_pass_, shape, stats);
   stats_.emitted += photons_per_pass_;
   stats_.stored += stored;
+  stats_.photon_rays += last_photon_rays_;
+  stats_.photons_per_pass = photons_per_pass_;
+  stats_.cell_size = cell_size_;
+  last_stored_ = stored;
 }
 
-void PhotonPass::gather(uint32_t pass_index, RenderStats* stats) {
-  launcher_.write_count(largest_radius2_, 0, stats);
+void PhotonPass::gather(RenderStats* stats) {
+  if (maps_ == 0) return;
   KernelArgs gather(gather_);
-  gather.arg("params", params(pass_index));
+  gather.arg("params", params(maps_ - 1));
   grid_.bind(gather)
       .arg("visible_points", visible_points_)
       .arg("pixels", pixels_)
-      .arg("largest_radius2_bits", largest_radius2_)
+      .arg("gather_counters", gather_counters_)
       .finish();
   launcher_.launch(gather_, pixel_count_, stats);
-  // The next grid's cells: the largest radius any pixel will query with,
-  // so that a query visits at most 2 x 2 x 2 cells.
-  const uint32_t bits = launcher_.read_count(largest_radius2_, stats);
-  float radius2;
-  std::memcpy(&radius2, &bits, sizeof radius2);
-  if (radius2 > 0.0f && std::isfinite(radius2)) cell_size_ = std::sqrt(radius2);
+  ++gathered_;
+  read_counters(stats);
+  // The next grid's cells follow the visible points' radii.
+  uint64_t radii = 0;
+  for (uint64_t c : radii_) radii += c;
+  if (radii == 0) return;  // no visible point: the cells stay
+  uint64_t below = 0;
+  for (uint32_t i = 0; i < PHOTON_RADIUS_BINS; ++i) {
+    below += radii_[i];
+    if (double(below) >= kCellQuantile * double(radii)) {
+      // bin i holds radii in [2^((i - 128) / 4), 2^((i - 127) / 4)) (radii
+      // never grow, and are at most one cell, so the cells follow them
+      // down, and up no further than the first footprints).
+      const float edge = float(std::exp2((int(i) - 127) / 4.0));
+      if (edge > 0.0f && std::isfinite(edge)) cell_size_ = edge;
+      break;
+    }
+  }
+}
+
+void PhotonPass::read_counters(RenderStats* stats) {
+  if (gather_mode_ != PhotonGather::PerPixel) return;
+  std::array<cl_ulong, GATHER_COUNTERS> c{};
+  launcher_.runtime().queue().enqueueReadBuffer(gather_counters_, CL_TRUE, 0, sizeof(c), c.data());
+  launcher_.runtime().fill(gather_counters_, cl_ulong(0), 0, GATHER_COUNTERS * sizeof(cl_ulong));
+  if (stats) ++stats->blocking_transfers;
+  PhotonGatherStats g;
+  g.visits_d1 = c[GATHER_COUNT_VISITS_D1];
+  g.visits_later = c[GATHER_COUNT_VISITS_LATER];
+  for (uint32_t i = 0; i < PHOTON_VISIT_BINS; ++i) {
+    g.histogram_d1[i] = c[GATHER_COUNT_HISTOGRAM_D1 + i];
+    g.histogram_later[i] = c[GATHER_COUNT_HISTOGRAM_LATER + i];
+    g.gathers_d1 += g.histogram_d1[i];
+    g.gathers_later += g.histogram_later[i];
+  }
+  for (uint32_t i = 0; i < PHOTON_RADIUS_BINS; ++i) radii_[i] = c[GATHER_COUNT_RADIUS + i];
+  last_gathers_ = g;
+  stats_.gathers.add(g);
+}
+
+double PhotonPass::film_share(int passes) const {
+  return passes > 0 ? std::min(1.0, double(camera_passes_on_) / double(passes)) : 0.0;
+}
+
+std::vector<SppmPixel> PhotonPass::read_pixels() const {
+  std::vector<SppmPixel> px(pixel_count_);
+  launcher_.runtime().queue().enqueueReadBuffer(pixels_, CL_TRUE, 0, px.size() * sizeof(SppmPixel), px.data());
+  return px;
+}
+
+double PhotonPass::caustic_total(int passes) const {
+  if (gather_mode_ != PhotonGather::PerPixel || gathered_ == 0) return 0.0;
+  const double share = film_share(passes);
+  double total = 0.0;
+  for (const SppmPixel& p : read_pixels())
+    if (p.radius2 > 0.0f) total += (double(p.tau.x) + p.tau.y + p.tau.z) / (double(gathered_) * M_PI * p.radius2);
+  return total * share;
+}
+
+void PhotonPass::add_variance_to(ImageF& variance, int passes) const {
+  if (gather_mode_ != PhotonGather::PerPixel || gathered_ < 2) return;
+  const std::vector<SppmPixel> px = read_pixels();
+  const double n = gathered_, share = film_share(passes);
+  for (size_t i = 0; i < pixel_count_ && i < variance.pixel_count(); ++i) {
+    const float sum[3] = {px[i].sum_l.x, px[i].sum_l.y, px[i].sum_l.z};
+    const float sum2[3] = {px[i].sum_l2.x, px[i].sum_l2.y, px[i].sum_l2.z};
+    for (int c = 0; c < 3; ++c) {
+      const double mean = sum[c] / n;
+      const double spread = std::max(0.0, sum2[c] / n - mean * mean);
+      variance.rgb[3 * i + c] += float(share * share * spread / (n - 1.0));
+    }
+  }
 }
 
 void PhotonPass::add_to(ImageF& image, int passes) const {
   if (gather_mode_ != PhotonGather::PerPixel) return;  // phong's caustics are in the film's passes
-  std::vector<SppmPixel> px(pixel_count_);
-  launcher_.runtime().queue().enqueueReadBuffer(pixels_, CL_TRUE, 0, px.size() * sizeof(SppmPixel), px.data());
+  if (gathered_ == 0) return;
+  const double share = film_share(passes);
+  const std::vector<SppmPixel> px = read_pixels();
   for (size_t i = 0; i < pixel_count_ && i < image.pixel_count(); ++i) {
-    const double scale = px[i].radius2 > 0.0f ? 1.0 / (double(passes) * M_PI * px[i].radius2) : 0.0;
+    const double scale = px[i].radius2 > 0.0f ? share / (double(gathered_) * M_PI * px[i].radius2) : 0.0;
     const float tau[3] = {px[i].tau.x, px[i].tau.y, px[i].tau.z};
     for (int c = 0; c < 3; ++c) image.rgb[3 * i + c] += float(tau[c] * scale);
   }

@@ -22,11 +22,13 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "host/image/image.h"
 #include "host/render/film.h"
 #include "host/render/kernel_args.h"
 #include "host/render/photon_grid.h"
+#include "host/render/photon_stats.h"
 
 namespace caustica {
 
@@ -36,14 +38,25 @@ struct RenderSettings;
 struct RenderStats;
 struct Scene;
 
-// The largest initial gather radius when none is given: photons spread
-// evenly over the scene box's surface area A would put 32 within it,
-// sqrt(32 A / (pi M)) for M photons a pass, at most 0.5% of the box's
-// diagonal. Each pixel starts at its footprint where that is smaller (a
-// caustic stays sharp to the pixel from the first pass; SPPM keeps early
-// photons in its estimate, so a large first radius blurs it for long), and
-// the shared radius of later receivers starts at this one.
-float default_caustic_radius(const Scene& scene, uint32_t photons_per_pass);
+// The radii follow what the camera sees, never the scene's extent (issue
+// 19). A visible point starts at its camera path's footprint (the ray cone,
+// shade_surface_path); a later receiver gathers within its path's footprint
+// there. The first pass's grid cells are one pixel footprint at the
+// camera's focus distance (its look-at point unless the file says
+// otherwise); every later pass's cells are the 90th percentile of the
+// visible points' radii after the previous gather (a histogram the gather
+// fills on the device). No radius exceeds one cell, so a query visits at
+// most 2 x 2 x 2 cells: a visible point's larger radius is reduced to that
+// (tau and N scaled by the areas' ratio), and a later receiver's radius is
+// also at most Knaus & Zwicker's shared radius, which starts at one
+// first-pass cell and shrinks as r^2 prod (i + alpha) / (i + 1).
+float camera_footprint_at_focus(const Scene& scene, int image_height);
+
+// Guided emission (kernels/photon/emit_photons.cl): a bounding sphere (xyz
+// centre, w radius) per caster object: each caster sphere and cylinder, and
+// the box of each caster material's triangles. Empty (emission unguided)
+// when there are more than 64 or any is not finite.
+std::vector<cs_float4> caster_bounds(const Scene& scene);
 
 // Photons a pass when none are asked for: one per pixel (as pbrt-v4's SPPM),
 // at least 2^14 and at most 2^20, so photon tracing costs about what the
@@ -51,7 +64,10 @@ float default_caustic_radius(const Scene& scene, uint32_t photons_per_pass);
 uint32_t default_photons_per_pass(int width, int height);
 
 struct PhotonPassStats {
-  uint64_t emitted = 0, stored = 0;  // over the render
+  uint64_t emitted = 0, stored = 0, photon_rays = 0;  // over the render
+  PhotonGatherStats gathers;
+  uint32_t photons_per_pass = 0;  // the latest pass's
+  float cell_size = 0.0f;         // the latest grid's
 };
 
 // How the photons are gathered: path mode's per-pixel SPPM statistics at
@@ -68,41 +84,80 @@ class PhotonPass final : public SeparateEstimate {
   ~PhotonPass() override;
 
   void clear();  // a new render: radii back to the initial one, no photons
-  // Before pass `pass_index`'s camera chunks: this pass's photon map.
-  void trace(uint32_t pass_index, RenderStats* stats);
-  // After them: every pixel gathers (PerPixel).
-  void gather(uint32_t pass_index, RenderStats* stats);
-  // SharedRadius: pass k's radius, r0^2 prod_{i=1..k} (i + alpha) / (i + 1)
-  // squared (Knaus & Zwicker 2011), and the photon map with it:
-  // PHOTON_GRID_PARAMS plus "caustic_radius".
-  float shared_radius(uint32_t pass_index) const;
-  KernelArgs& bind_photon_map(KernelArgs& args, uint32_t pass_index) const;
+  // A new photon map (the next photon pass; in path mode `auto` may trace
+  // one every few camera passes, integrator_path.cpp), before a camera
+  // pass's chunks.
+  void trace(RenderStats* stats);
+  // After that pass's chunks: every pixel gathers the map (PerPixel).
+  void gather(RenderStats* stats);
+  // Every camera pass while the photon pass is on (those passes leave the
+  // caustic paths to it).
+  void count_camera_pass() { ++camera_passes_on_; }
+  uint32_t photon_passes() const { return maps_; }
+  // SharedRadius: photon pass k's radius, r0^2 prod_{i=1..k} (i + alpha) /
+  // (i + 1) squared (Knaus & Zwicker 2011), and the latest photon map with
+  // it: PHOTON_GRID_PARAMS plus "caustic_radius".
+  float shared_radius(uint32_t map_index) const;
+  // PerPixel: the largest radius of a later receiver's inline gather, 0
+  // when the pass is off (the shade stage then leaves out every photon-map
+  // step and counts every path itself).
+  float later_receiver_radius() const;
+  KernelArgs& bind_photon_map(KernelArgs& args) const;
+  // Reads the gather counters into the stats and zeroes them (the gather
+  // does it after every map; the integrator once more at the end).
+  void read_counters(RenderStats* stats);
+  // `auto` (issue 19): the photon pass turned off for the rest of a render
+  // (what it gathered stays in the image), or its photons per pass changed.
+  void turn_off() { on_ = false; }
+  bool on() const { return on_; }
+  void set_photons_per_pass(uint32_t n);
+  uint32_t photons_per_pass() const { return photons_per_pass_; }
+  const PhotonGatherStats& last_pass_gathers() const { return last_gathers_; }
+  uint64_t last_pass_photon_rays() const { return last_photon_rays_; }
+  uint64_t last_pass_stored() const { return last_stored_; }
+  // The caustic radiance image's sum over pixels and channels (add_to's
+  // terms), reading the pixels back.
+  double caustic_total(int passes) const;
+  // Adds each pixel's variance of the caustic radiance to `variance`: the
+  // spread of the photon maps' own estimates L_k, (sum L^2 / n - (sum L /
+  // n)^2) / (n - 1) for n maps, times add_to's share squared.
+  void add_variance_to(ImageF& variance, int passes) const override;
   // What shade_surface_path writes: "visible_points".
   KernelArgs& bind_visible_points(KernelArgs& args) const { return args.arg("visible_points", visible_points_); }
-  // Adds the caustic radiance tau / (passes pi r^2) to the film's image.
+  // Adds the caustic radiance to the film's image: tau / (maps pi r^2), the
+  // mean over the photon maps, times the share of the film's passes that
+  // left the caustic paths to it (all of them unless `auto` turned it off).
   void add_to(ImageF& image, int passes) const override;
 
   const PhotonPassStats& stats() const { return stats_; }
   const PhotonGrid& grid() const { return grid_; }  // this pass's photon map
 
  private:
-  PhotonPassParams params(uint32_t pass_index) const;
+  PhotonPassParams params(uint32_t map_index) const;
+  double film_share(int passes) const;  // add_to's factor: passes that left the caustic to the map
+
+  std::vector<SppmPixel> read_pixels() const;
 
   PhotonGather gather_mode_;
   StageLauncher& launcher_;
   const DeviceScene& scene_;
   const cl::Buffer& lights_;
-  uint32_t light_count_, photons_per_pass_, max_depth_, seed_;
+  uint32_t light_count_, photons_per_pass_, capacity_, max_depth_, seed_, caster_count_ = 0;
   size_t pixel_count_;
-  float initial_radius_;
+  float first_cell_size_;  // the first pass's cells
   std::array<float, 3> origin_{};
   float cell_size_;
   bool fixed_radius_;  // --caustic-radius: every pixel starts at it
-  int image_height_;
+  bool on_ = true;
+  uint32_t maps_ = 0, gathered_ = 0, camera_passes_on_ = 0;
+  std::array<uint64_t, PHOTON_RADIUS_BINS> radii_{};  // the latest gather's radius histogram
+  PhotonGatherStats last_gathers_;
+  uint64_t last_photon_rays_ = 0, last_stored_ = 0;
   StageKernel emit_, intersect_, bounce_, compact_, gather_;  // gather_: PerPixel only
   DeviceQueue queues_[2];
+  cl::Buffer casters_;
   cl::Buffer hits_, candidates_, stored_, offsets_, photons_, stored_count_, visible_points_, pixels_,
-      largest_radius2_;
+      gather_counters_;
   ExclusiveScan scan_;
   PhotonGrid grid_;
   PhotonPassStats stats_;

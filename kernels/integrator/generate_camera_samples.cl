@@ -5,7 +5,8 @@
  * sequence (dimension pairs 0 and 1), so the samples of a pixel stratify
  * its area and its lens. A ray through the lens aims at the point where the
  * pinhole ray meets the focus plane (focus distance along forward). Slot i
- * belongs to pixel pixel_offset + i; the host sets the queue count. */
+ * belongs to pixel pixel_offset + i; the host sets the queue count. The
+ * ray's cone starts here: origin.w its width (0), dir.w its spread. */
 
 #include "lib/queue.h"
 #include "lib/rng.h"
@@ -30,5 +31,9 @@ __kernel void generate_camera_samples(CameraGPU camera, PathParams params, PATH_
     origin += lens.x * normalize(camera.right.xyz) + lens.y * normalize(camera.up.xyz);
     dir = normalize(focus - origin);
   }
-  path_store(PATH_QUEUE_ARGS(out), i, camera_path(origin, dir, pixel));
+  PathRecord ray = camera_path(origin, dir, pixel);
+  /* The ray cone (shade_surface_path): no width at the camera, spreading by
+   * the angle one pixel subtends (up is scaled by tan(fov / 2)). */
+  ray.dir.w = 2.0f * length(camera.up.xyz) / (float)camera.height;
+  path_store(PATH_QUEUE_ARGS(out), i, ray);
 }

@@ -16,9 +16,21 @@
  * normal so that the side tells inside from outside. No direction below the
  * geometric surface of an opaque material is followed (no light leaks
  * through shading normals). With the photon pass (PATH_WITH_CAUSTICS), the
- * first receiving vertex records the pixel's visible point, later ones
- * gather the photon map inline, and the paths the photon map covers are
- * dropped here (lib/caustics.h). */
+ * first receiving vertex records the pixel's visible point (in passes that
+ * trace a photon map: record_visible_points), later ones gather the latest
+ * photon map inline, and the paths the photon map covers are dropped here
+ * (lib/caustics.h).
+ *
+ * Ray cones (Amanatides 1984; Akenine-Moller et al. 2019): a path carries
+ * its footprint's width at its origin (origin.w) and its spread angle
+ * (dir.w); at a hit the width is origin.w + dir.w t. A delta lobe keeps the
+ * spread, plus the focusing of a curved surface (a sphere of radius R
+ * changes it by 2 w / R on reflection, |1 - 1/eta| w / R on refraction,
+ * counted as widening: a cone that narrows widens again past its focus); a
+ * glossy lobe adds PATH_CONE_GLOSSY_SPREAD alpha, a diffuse one
+ * PATH_CONE_DIFFUSE_SPREAD (shared/photon.h). The photon pass's radii are
+ * the footprints: a visible point's initial radius, and a later receiver's
+ * inline gather radius (at most the pass's cap, caustic_radius). */
 
 #ifndef PATH_WITH_CAUSTICS
 #define PATH_WITH_CAUSTICS 0
@@ -73,7 +85,8 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
                                  PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits, FILM_PARAMS,
                                  PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)
 #if PATH_WITH_CAUSTICS
-                                 , __global VisiblePoint* restrict visible_points, PHOTON_GRID_PARAMS, float caustic_radius
+                                 , __global VisiblePoint* restrict visible_points, uint record_visible_points,
+                                 PHOTON_GRID_PARAMS, float caustic_radius, volatile __global ulong* restrict gather_counters
 #endif
 #if PATH_CHECK_NUMERICS
                                  , volatile __global ulong* restrict numerics
@@ -92,18 +105,25 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   }
   const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, ray.origin.xyz, d);
   __global const Material* mat = &materials[sp.material];
+  const float cone_width = ray.origin.w + ray.dir.w * hit.t; /* the footprint here */
 
   /* Emission seen by this path: from the front side (sp.normal is the
    * outward / counter-clockwise normal), or either side of a two-sided one. */
   const bool arrived_by_delta = (ray.flags & PATH_SPECULAR) != 0u;
   bool sees_front = dot(d, sp.normal) < 0.0f || (mat->flags & MATERIAL_TWO_SIDED) != 0u;
-#if PATH_WITH_CAUSTICS
-  /* light -> caster+ -> receiver: the photon map's */
-  if ((ray.flags & PATH_AFTER_RECEIVER) && (ray.flags & PATH_CASTER_SINCE_RECEIVER)) sees_front = false;
-#endif
   const uint light_index = params.light_count > 0u
                                ? light_of_hit(light_of_sphere, light_of_cylinder, light_of_triangle, hit.prim)
                                : LIGHT_NONE;
+#if PATH_WITH_CAUSTICS
+  /* The photon pass is on for this pass unless `auto` turned it off. */
+  const bool photon_map_on = caustic_radius > 0.0f;
+  /* light -> caster+ -> receiver: the photon map's, when the photons
+   * leave that light (every light in the table emits them; an emissive
+   * surface outside it stays the path tracer's, as does the background) */
+  if (photon_map_on && light_index != LIGHT_NONE && (ray.flags & PATH_AFTER_RECEIVER) &&
+      (ray.flags & PATH_CASTER_SINCE_RECEIVER))
+    sees_front = false;
+#endif
   if (!sees_front) {
     /* the dark back of an emitter (its reflectance still scatters below) */
   } else if (light_index != LIGHT_NONE) {
@@ -131,12 +151,12 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   const float3 t = frame.t, b = frame.b, n = frame.n, ng = frame.ng;
   const float3 wo = frame_to_local(-d, t, b, n);
 #if PATH_WITH_CAUSTICS
-  const bool caster = bsdf_casts_caustics(bsdf);
-  if (!caster && !(ray.flags & PATH_PAST_RECEIVER)) {
+  const bool caster = photon_map_on && bsdf_casts_caustics(bsdf);
+  if (!caster && photon_map_on && record_visible_points && !(ray.flags & PATH_PAST_RECEIVER)) {
     VisiblePoint vp;
     vp.position = (float4)(sp.position, 1.0f);
     vp.normal = (float4)(n, (float)ray.depth);
-    vp.wo = (float4)(-d, 0.0f);
+    vp.wo = (float4)(-d, cone_width);
     vp.beta = (float4)(throughput, 0.0f);
     vp.diffuse = (float4)(bsdf.diffuse, bsdf.alpha);
     vp.specular = (float4)(bsdf.specular, bsdf.ior);
@@ -144,10 +164,16 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
     vp.pad0 = vp.pad1 = vp.pad2 = 0u;
     visible_points[ray.pixel] = vp;
   }
-  if (!caster && (ray.flags & PATH_PAST_RECEIVER)) /* a later receiver gathers inline */
-    film_add(FILM_ARGS, ray.pixel,
-             throughput * caustic_radiance(PHOTON_GRID_ARGS, bsdf, t, b, n, wo, sp.position, caustic_radius,
-                                           (float)params.max_depth - 1.0f - (float)ray.depth));
+  if (!caster && photon_map_on && (ray.flags & PATH_PAST_RECEIVER) && grid.photon_count > 0u) { /* a later receiver gathers inline */
+    const float radius = fmin(cone_width, caustic_radius);
+    if (radius > 0.0f)
+      film_add(FILM_ARGS, ray.pixel,
+               throughput * caustic_radiance(PHOTON_GRID_ARGS, bsdf, t, b, n, wo, sp.position, radius,
+                                             (float)params.max_depth - 1.0f - (float)ray.depth,
+                                             random_float(hash3(ray.pixel, params.sample_index, params.seed),
+                                                          0x9a7e0000u + ray.depth),
+                                             gather_counters));
+  }
   /* Light reaching a caster that leads back to a receiver is the photon map's. */
   const bool nee_is_photon_maps = caster && (ray.flags & PATH_AFTER_RECEIVER);
 #else
@@ -207,9 +233,20 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
     continued_throughput /= survive;
   }
   if (!(max3_of(continued_throughput) > 0.0f)) return;
+  /* The cone past this vertex (the rules above). */
+  float spread = ray.dir.w;
+  if (flags & BSDF_SAMPLED_SPECULAR) {
+    if (prim_ref_type(hit.prim) == PRIM_SPHERE) {
+      const float inv_r = 1.0f / spheres[prim_ref_index(hit.prim)].center_radius.w;
+      spread += cone_width * inv_r *
+                ((flags & BSDF_SAMPLED_TRANSMIT) ? fabs(1.0f - 1.0f / dielectric_eta(bsdf, wo)) : 2.0f);
+    }
+  } else {
+    spread += bsdf.kind == BSDF_PLASTIC ? PATH_CONE_DIFFUSE_SPREAD : PATH_CONE_GLOSSY_SPREAD * bsdf.alpha;
+  }
   PathRecord child;
-  child.origin = (float4)(spawn_ray_origin(sp.position, sp.p_error, sp.normal, wi), 0.0f);
-  child.dir = (float4)(wi, 0.0f);
+  child.origin = (float4)(spawn_ray_origin(sp.position, sp.p_error, sp.normal, wi), cone_width);
+  child.dir = (float4)(wi, spread);
   child.throughput = (float4)(continued_throughput, 0.0f);
   child.pixel = ray.pixel;
   child.depth = ray.depth + 1u;

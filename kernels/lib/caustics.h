@@ -61,18 +61,91 @@ inline Bsdf bsdf_of_visible_point(VisiblePoint v) {
  * flux times the squared length it travelled, which turns the 1/d^2 of its
  * density back into phong's constant irradiance. */
 #ifdef CAUSTICA_LIB_PHOTON_GRID_H
-/* Path mode, receivers after D1: the caustic radiance toward wo (local
- * frame t, b, n) from this pass's photons within `radius` whose light paths
- * fit in the bounces left (photon bounces <= bounces_left). */
-inline float3 caustic_radiance(PHOTON_GRID_PARAMS, Bsdf bsdf, float3 t, float3 b, float3 n, float3 wo, float3 p,
-                               float radius, float bounces_left) {
+/* Bounded work (issue 19): the sum over this pass's photons within
+ * `radius` of p (|x - p|^2 <= radius^2, each photon once, in grid order as
+ * lib/photon_grid.h hands them out) of f(wo, wi) * flux, for photons whose
+ * light paths fit in the bounces left (photon bounces <= bounces_left),
+ * reading at most about max_visits photons: the loops first add up the
+ * sizes of the buckets they will visit, and when those exceed max_visits
+ * they read only the slots s * j + offset of each bucket (stride s =
+ * ceil(total / max_visits), offset uniform in [0, s) from u) and weigh each
+ * photon by s. Every photon within the radius is then read with
+ * probability exactly 1 / s, so the sum and *found (the photons counted)
+ * are unbiased estimates of the full ones, at a cost of at most max_visits
+ * photons plus the cells' bucket reads, however many photons a focused
+ * caustic piles into them. *visits: the slots read. */
+inline float3 gather_photon_flux(PHOTON_GRID_PARAMS, Bsdf bsdf, float3 t, float3 b, float3 n, float3 wo, float3 p,
+                                 float radius, float bounces_left, uint max_visits, float u, float* found,
+                                 uint* visits) {
   float3 sum = (float3)(0.0f);
-  PhotonQuery query = photon_query_begin(PHOTON_GRID_ARGS, p, radius);
-  for (int slot; (slot = photon_query_next(&query, PHOTON_GRID_ARGS)) >= 0;) {
-    const Photon photon = grid_photons[slot];
-    if (photon.position.w > bounces_left) continue;
-    sum += bsdf_eval(bsdf, wo, frame_to_local(photon.wi.xyz, t, b, n)) * photon.power.xyz;
-  }
+  *found = 0.0f;
+  *visits = 0u;
+  const float radius2 = radius * radius;
+  const float reach = radius * 1.00001f; /* as photon_query_begin */
+  const int3 lo = photon_grid_cell(grid, p - reach), hi = photon_grid_cell(grid, p + reach);
+  /* A radius within one cell spans at most 2 x 2 x 2 cells: their buckets
+   * are read once and kept; a larger one (phong's, tests') reads them twice. */
+  const int3 span = hi - lo + 1;
+  const bool few = span.x <= 2 && span.y <= 2 && span.z <= 2;
+  uint starts[8], ends[8];
+  uint total = 0u;
+  for (int z = lo.z, k = 0; z <= hi.z; ++z)
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int x = lo.x; x <= hi.x; ++x, ++k) {
+        const uint bucket = photon_grid_bucket(grid, (int3)(x, y, z));
+        const uint start = grid_bucket_start[bucket], end = grid_bucket_start[bucket + 1u];
+        total += end - start;
+        if (few) {
+          starts[k] = start;
+          ends[k] = end;
+        }
+      }
+  if (total == 0u) return sum;
+  const uint stride = total > max_visits ? (total + max_visits - 1u) / max_visits : 1u;
+  const uint offset = min((uint)(u * (float)stride), stride - 1u);
+  uint read = 0u, counted = 0u;
+  for (int z = lo.z, k = 0; z <= hi.z; ++z)
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int x = lo.x; x <= hi.x; ++x, ++k) {
+        const int3 cell = (int3)(x, y, z);
+        uint start, end;
+        if (few) {
+          start = starts[k];
+          end = ends[k];
+        } else {
+          const uint bucket = photon_grid_bucket(grid, cell);
+          start = grid_bucket_start[bucket];
+          end = grid_bucket_start[bucket + 1u];
+        }
+        for (uint slot = start + offset; slot < end; slot += stride) {
+          ++read;
+          const Photon photon = grid_photons[slot];
+          if (photon_distance2(photon.position.xyz, p) > radius2) continue;
+          /* another cell's photon in a shared bucket: counted with its own cell */
+          if (any(photon_grid_cell(grid, photon.position.xyz) != cell)) continue;
+          if (photon.position.w > bounces_left) continue;
+          sum += bsdf_eval(bsdf, wo, frame_to_local(photon.wi.xyz, t, b, n)) * photon.power.xyz;
+          ++counted;
+        }
+      }
+  *visits = read;
+  *found = (float)counted * (float)stride;
+  return sum * (float)stride;
+}
+
+/* Path mode, receivers after D1: the caustic radiance toward wo from this
+ * pass's photons within `radius` (gather_photon_flux, at most
+ * PHOTON_INLINE_GATHER_MAX_VISITS read); the visits go to the gather
+ * counters. */
+inline float3 caustic_radiance(PHOTON_GRID_PARAMS, Bsdf bsdf, float3 t, float3 b, float3 n, float3 wo, float3 p,
+                               float radius, float bounces_left, float u,
+                               volatile __global ulong* gather_counters) {
+  float found;
+  uint visits;
+  const float3 sum = gather_photon_flux(PHOTON_GRID_ARGS, bsdf, t, b, n, wo, p, radius, bounces_left,
+                                        PHOTON_INLINE_GATHER_MAX_VISITS, u, &found, &visits);
+  atom_add(&gather_counters[GATHER_COUNT_VISITS_LATER], (ulong)visits);
+  atom_inc(&gather_counters[GATHER_COUNT_HISTOGRAM_LATER + min(visits / PHOTON_VISIT_BIN_WIDTH, PHOTON_VISIT_BINS - 1u)]);
   return sum / (M_PI_F * radius * radius);
 }
 

@@ -23,7 +23,12 @@
  *   }
  *
  * A query visits (2 radius / cell_size + 1)^3 cells or so: callers keep the
- * radius near the cell size (SPPM's radii only shrink from it). */
+ * radius within one cell, 2 x 2 x 2 cells at most (host/render/photon_pass.h
+ * sizes the cells from the radii queried and caps the radii at one cell).
+ * The render's gathers do not use this iterator but direct loops over the
+ * cells with a bound on their work (lib/caustics.h, gather_photon_flux):
+ * PoCL keeps the iterator's state in memory, which made a gather cost
+ * about two camera rays. */
 #ifndef CAUSTICA_LIB_PHOTON_GRID_H
 #define CAUSTICA_LIB_PHOTON_GRID_H
 
@@ -41,8 +46,11 @@ inline int3 photon_grid_cell(PhotonGridParams grid, float3 p) {
   return convert_int3(fmin(fmax(c, -PHOTON_GRID_CELL_LIMIT), PHOTON_GRID_CELL_LIMIT));
 }
 
+/* Teschner et al.'s primes mixed by one hash_u32: a third of hash3's work,
+ * which the gathers' bucket reads were spending most of their time on. */
 inline uint photon_grid_bucket(PhotonGridParams grid, int3 cell) {
-  return hash3((uint)cell.x, (uint)cell.y, (uint)cell.z) & (grid.table_size - 1u);
+  return hash_u32(((uint)cell.x * 73856093u) ^ ((uint)cell.y * 19349663u) ^ ((uint)cell.z * 83492791u)) &
+         (grid.table_size - 1u);
 }
 
 /* |a - b|^2 as the host repeats it: std::fma(dz, dz, std::fma(dy, dy, dx * dx)). */

@@ -9,7 +9,22 @@
  * divided by the pass's photon count so that a pass's photons sum to the
  * lights' power. Random numbers come from the photon's index, the pass and
  * the seed (a counter-based hash), so every photon is the same on any
- * device; its index rides in the record's pixel field. */
+ * device; its index rides in the record's pixel field.
+ *
+ * Guided emission (issue 19): only photons that meet a caster before any
+ * receiver are ever stored, and on scenes where small glass and metal
+ * objects stand on a large ground most photons never do. With caster
+ * bounds (a bounding sphere per caster object, host/render/photon_pass.cpp)
+ * the direction is drawn instead from the cones those spheres subtend from
+ * the emitting point: cone j with probability Omega_j / sum Omega (a point
+ * inside a sphere gets the whole sphere of directions, 4 pi), uniformly
+ * within it. The density of a direction is then (the number of cones
+ * holding it) / sum Omega, and the flux Le |cos| A / (p_pick pdf) (point
+ * light: I / (p_pick pdf)). Every direction that can meet a caster first
+ * lies in a cone, so every stored photon path keeps a non-zero density and
+ * the photon map's expectation is unchanged; directions that miss every
+ * cone would have ended unstored. A direction behind a one-sided emitter
+ * carries no flux. */
 
 #include "lib/caustics.h"
 #include "lib/path_lights.h"
@@ -18,13 +33,60 @@
 #include "lib/surface.h"
 
 /* Light emission sample dimensions of a photon path: 0 pick, 1-2 point,
- * 3-4 direction, 5 side; bounce k uses 8 + 4k onward (bounce_photons.cl). */
+ * 3-4 direction, 5 side (guided: the caster's cone); bounce k uses 8 + 4k onward (bounce_photons.cl). */
 inline float photon_random(uint photon, PhotonPassParams params, uint dimension) {
   return random_float(hash3(photon, params.pass_index, params.seed), dimension);
 }
 
+/* The solid angle of caster bound c seen from o, and 1 - cos of its cone's
+ * half angle (2: o is inside, every direction). */
+inline float caster_solid_angle(float4 c, float3 o, float* one_minus_cos) {
+  const float3 d = c.xyz - o;
+  const float d2 = dot(d, d), r2 = c.w * c.w;
+  *one_minus_cos = d2 <= r2 ? 2.0f : sphere_cone_one_minus_cos(d2, r2);
+  return 2.0f * M_PI_F * *one_minus_cos;
+}
+
+/* Whether direction w from o is within bound c's cone: the line's
+ * distance from the centre, |w x d|, at most the radius, in front of o
+ * (the cross product keeps its precision for tiny cones, where a cosine
+ * rounds to 1). */
+inline bool caster_cone_holds(float4 c, float3 o, float3 w) {
+  const float3 d = c.xyz - o;
+  if (dot(d, d) <= c.w * c.w) return true;
+  const float3 x = cross(w, d);
+  return dot(w, d) > 0.0f && dot(x, x) <= c.w * c.w;
+}
+
+/* A direction from o toward the casters and its density (above). */
+inline float3 sample_toward_casters(__global const float4* restrict casters, uint count, float3 o, float pick,
+                                    float2 u, float* pdf) {
+  float total = 0.0f, omc;
+  for (uint j = 0u; j < count; ++j) total += caster_solid_angle(casters[j], o, &omc);
+  const float target = pick * total;
+  uint chosen = count - 1u;
+  float below = 0.0f;
+  for (uint j = 0u; j < count; ++j) {
+    below += caster_solid_angle(casters[j], o, &omc);
+    if (target < below) {
+      chosen = j;
+      break;
+    }
+  }
+  const float4 c = casters[chosen];
+  caster_solid_angle(c, o, &omc);
+  const float3 axis = omc >= 2.0f ? (float3)(0.0f, 0.0f, 1.0f) : normalize(c.xyz - o);
+  float3 t, b;
+  frame_from_normal(axis, &t, &b);
+  const float3 w = frame_to_world(sample_uniform_cone(u, omc), t, b, axis);
+  uint holding = 0u;
+  for (uint j = 0u; j < count; ++j) holding += caster_cone_holds(casters[j], o, w) ? 1u : 0u;
+  *pdf = (float)max(holding, 1u) / total; /* its own cone holds it, whatever the rounding says */
+  return w;
+}
+
 __kernel void emit_photons(__global const PathLight* restrict lights, PhotonPassParams params,
-                           PATH_QUEUE_PARAMS(out)) {
+                           __global const float4* restrict casters, uint caster_count, PATH_QUEUE_PARAMS(out)) {
   const uint i = get_global_id(0);
   if (i >= params.photon_count) return;
   const uint li = pick_light(lights, params.light_count, photon_random(i, params, 0u));
@@ -32,7 +94,22 @@ __kernel void emit_photons(__global const PathLight* restrict lights, PhotonPass
   const float2 u_point = (float2)(photon_random(i, params, 1u), photon_random(i, params, 2u));
   const float2 u_dir = (float2)(photon_random(i, params, 3u), photon_random(i, params, 4u));
   float3 origin, dir, flux;
-  if (l->kind == LIGHT_POINT) {
+  if (caster_count > 0u) {
+    float pdf;
+    if (l->kind == LIGHT_POINT) {
+      origin = l->p0.xyz;
+      dir = sample_toward_casters(casters, caster_count, origin, photon_random(i, params, 5u), u_dir, &pdf);
+      flux = l->emitted.xyz / pdf;
+    } else {
+      float3 n, p_error;
+      const float3 point = sample_light_surface(l, u_point, &p_error, &n);
+      dir = sample_toward_casters(casters, caster_count, point, photon_random(i, params, 5u), u_dir, &pdf);
+      const float cosine = dot(dir, n);
+      const float weight = (l->flags & LIGHT_TWO_SIDED) ? fabs(cosine) : fmax(cosine, 0.0f);
+      origin = spawn_ray_origin(point, p_error, cosine < 0.0f ? -n : n, dir);
+      flux = l->emitted.xyz * (l->emitted.w * weight / pdf);
+    }
+  } else if (l->kind == LIGHT_POINT) {
     origin = l->p0.xyz;
     dir = sample_uniform_sphere(u_dir);
     flux = l->emitted.xyz * (4.0f * M_PI_F);

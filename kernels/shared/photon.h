@@ -53,18 +53,52 @@ typedef struct {
  * photon map blurs, to path tracing. */
 #define CAUSTIC_CASTER_ALPHA 0.3f
 
-/* A pixel's initial gather radius, in pixel footprints at its first visible
- * point (capped by PhotonPassParams.radius_cap). SPPM keeps the photons of
+/* A pixel's initial gather radius, in footprints of its camera path at its
+ * first visible point (the ray cone's width there: the camera's angle per
+ * pixel times the distance travelled, widened through curved mirrors and
+ * glass and by glossy lobes; shade_surface_path). SPPM keeps the photons of
  * early passes in its estimate, so a wide start blurs a caustic for long:
- * on scenes/caustics.json two footprints (or the cap at 1% of the scene)
- * left 2x the error of one footprint (capped at 0.5%) after 40 s. Sparse
- * photons then speckle a little more at first. */
+ * on scenes/caustics.json two footprints left 2x the error of one after
+ * 40 s. Sparse photons then speckle a little more at first. */
 #define PHOTON_RADIUS_FOOTPRINTS 1.0f
+
+/* Bounded work per gather (lib/photon_grid.h's photon_query_begin_bounded):
+ * a visible point's gather (once per pixel and pass) reads at most about
+ * this many photons, an inline gather at a later receiver (once per path
+ * vertex) fewer. */
+#define PHOTON_GATHER_MAX_VISITS 256u
+#define PHOTON_INLINE_GATHER_MAX_VISITS 64u
+
+/* Ray cones (shade_surface_path): a path's footprint width grows by its
+ * spread angle times the distance; a diffuse lobe adds this much spread
+ * (radians), a glossy one PATH_CONE_GLOSSY_SPREAD times its GGX alpha. The
+ * inline gather at a later receiver uses the footprint there as its radius
+ * (at most the pass's cap), so these set how far an indirect caustic is
+ * blurred before the radii shrink. */
+#define PATH_CONE_DIFFUSE_SPREAD 0.25f
+#define PATH_CONE_GLOSSY_SPREAD 2.0f
+
+/* The gathers' counters of one pass (ulong each, zeroed before the pass and
+ * read after it, host/render/photon_pass.cpp): the visible points' radii
+ * after their update, as a histogram of quarter octaves (bin = floor(4
+ * log2 r) + 128, clamped to the table: the next pass's cells follow them),
+ * the photons read (visits) by both kinds of gather, and histograms of the
+ * visits per gather in bins of PHOTON_VISIT_BIN_WIDTH (the last bin holds
+ * everything above). The gather counts are the histograms' sums. */
+#define PHOTON_RADIUS_BINS 256u
+#define PHOTON_VISIT_BINS 64u
+#define PHOTON_VISIT_BIN_WIDTH 8u
+#define GATHER_COUNT_RADIUS 0u
+#define GATHER_COUNT_VISITS_D1 256u
+#define GATHER_COUNT_VISITS_LATER 257u
+#define GATHER_COUNT_HISTOGRAM_D1 258u
+#define GATHER_COUNT_HISTOGRAM_LATER (258u + PHOTON_VISIT_BINS)
+#define GATHER_COUNTERS (258u + 2u * PHOTON_VISIT_BINS)
 
 /* One pass of photons (kernels/photon/emit_photons.cl, bounce_photons.cl,
  * gather_photons.cl). */
 typedef struct {
-  cs_float4 camera;     /* gather: xyz the camera's position, w its angle per pixel (0: radius_cap for all) */
+  cs_float4 camera;     /* gather: xyz unused; w 1: start at the footprint, 0: at radius_cap (--caustic-radius) */
   cs_uint photon_count; /* photon paths emitted this pass */
   cs_uint light_count;
   cs_uint pass_index;   /* decorrelates the passes' random numbers */
@@ -72,7 +106,7 @@ typedef struct {
   cs_uint max_depth;    /* the scene's nbounces: scattering events of a whole path */
   cs_uint pixel_count;  /* gather: visible points */
   float alpha;          /* SPPM's radius reduction (2/3) */
-  float radius_cap;     /* gather: the largest initial radius */
+  float radius_cap;     /* gather: the largest radius (one grid cell) */
 } PhotonPassParams; /* 48 bytes */
 
 /* Where a camera path first reached a receiving surface in this pass (one
@@ -82,7 +116,7 @@ typedef struct {
 typedef struct {
   cs_float4 position; /* xyz; w: 1 when recorded this pass, else 0 */
   cs_float4 normal;   /* the shading frame's z (turned toward wo for opaque surfaces); w: camera depth */
-  cs_float4 wo;       /* xyz unit, toward the camera along the path */
+  cs_float4 wo;       /* xyz unit, toward the camera along the path; w: the path's footprint width there */
   cs_float4 beta;     /* rgb throughput of the camera path */
   cs_float4 diffuse;  /* Bsdf.diffuse; w: Bsdf.alpha */
   cs_float4 specular; /* Bsdf.specular; w: Bsdf.ior */
@@ -93,12 +127,17 @@ typedef struct {
 /* A pixel's SPPM statistics (Hachisuka & Jensen 2009): accumulated flux tau,
  * photon count N and squared radius (0 until its first visible point sets
  * it). The caustic radiance is tau / (passes * pi * radius2), photon powers
- * being per pass already. */
+ * being per pass already. For the error estimate (issue 19), the sums of
+ * each pass's own estimate L_k = beta sum_k / (pi r_k^2) and of its square:
+ * their spread over the passes estimates the variance of the pixel's
+ * caustic radiance (host/render/photon_pass.cpp, add_variance_to). */
 typedef struct {
-  cs_float4 tau;  /* rgb; w unused */
-  float photons;  /* N */
+  cs_float4 tau;     /* rgb; w unused */
+  cs_float4 sum_l;   /* rgb sum over passes of L_k; w unused */
+  cs_float4 sum_l2;  /* rgb sum of L_k^2; w unused */
+  float photons;     /* N */
   float radius2;
   cs_uint pad0, pad1;
-} SppmPixel; /* 32 bytes */
+} SppmPixel; /* 64 bytes */
 
 #endif /* CAUSTICA_SHARED_PHOTON_H */
