@@ -330,8 +330,9 @@ int run_render(RenderArgs& a) {
       const PhotonGatherStats& g = stats.photon_gathers;
       auto per = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
       std::fprintf(stderr,
-                   "[caustica] photons: %llu rays, %llu stored; gathers at visible points %llu (%.1f photons visited "
-                   "each), at later receivers %llu (%.1f each)\n",
+                   "[caustica] photons: %u maps in %.3f s (%.1f%% of the render), %llu rays, %llu stored; gathers at "
+                   "visible points %llu (%.1f photons visited each), at later receivers %llu (%.1f each)\n",
+                   stats.photon_maps, stats.photon_seconds, 100.0 * stats.photon_seconds / (stats.render_ms * 1e-3),
                    (unsigned long long)stats.photon_rays, (unsigned long long)stats.photons_stored,
                    (unsigned long long)g.gathers_d1, per(g.visits_d1, g.gathers_d1),
                    (unsigned long long)g.gathers_later, per(g.visits_later, g.gathers_later));

@@ -51,8 +51,8 @@ class SeparateEstimate {
  public:
   virtual ~SeparateEstimate() = default;
   virtual void add_to(ImageF& image, int passes) const = 0;
-  // Adds the estimate's own per-pixel variance (for the error estimate);
-  // nothing if it has none to add.
+  // Adds the estimate's own per-pixel expected squared error (variance and
+  // squared bias, for the error estimate); nothing if it has none to add.
   virtual void add_variance_to(ImageF& /*variance*/, int /*passes*/) const {}
 };
 

@@ -83,6 +83,8 @@ struct RenderStats {
   PhotonGatherStats photon_gathers;
   uint32_t photons_per_pass = 0;
   uint64_t photons_stored = 0;
+  double photon_seconds = 0.0;  // host wall time tracing and gathering photon maps (not the inline gathers)
+  uint32_t photon_maps = 0;     // photon maps traced
   std::string caustics_decision;
   uint64_t rays() const { return camera_rays + secondary_rays + shadow_rays + photon_rays; }
 };
@@ -120,6 +122,10 @@ class Integrator {
   // pass traces its photons before and gathers after).
   virtual void begin_pass(Film& /*film*/, RenderStats* /*stats*/) {}
   virtual void end_pass(Film& /*film*/, RenderStats* /*stats*/) {}
+  // What kind of pass comes next, for the driver's time prediction (passes
+  // of one kind take about as long): path mode's passes that trace a photon
+  // map are 1, the others 0.
+  virtual int next_pass_kind(const Film& /*film*/) const { return 0; }
   // After the last pass: whatever the integrator counted on the device.
   virtual void collect(RenderStats* /*stats*/) {}
 

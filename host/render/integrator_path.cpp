@@ -86,6 +86,10 @@ class PathIntegrator final : public Integrator {
     photon_pass_now_ = passes_since_photons_ == 0;
     if (photon_pass_now_) photons_->trace(stats);
   }
+  int next_pass_kind(const Film& film) const override {
+    if (!photons_ || (film.passes() > 0 && !photons_->on())) return 0;
+    return film.passes() == 0 || passes_since_photons_ == 0 ? 1 : 0;
+  }
   void end_pass(Film& film, RenderStats* stats) override {
     if (!photons_ || !photons_->on()) return;
     photons_->count_camera_pass();  // this pass left the caustic paths to the map
@@ -101,6 +105,8 @@ class PathIntegrator final : public Integrator {
       stats->photon_gathers = photons_->stats().gathers;
       stats->photons_per_pass = photons_->on() ? photons_->photons_per_pass() : 0u;
       stats->photons_stored = photons_->stats().stored;
+      stats->photon_seconds = photons_->stats().seconds;
+      stats->photon_maps = photons_->photon_passes();
       stats->caustics_decision = decision_;
     }
     if (!numerics_() || !stats) return;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 
 #include "host/error.h"
 
@@ -17,25 +18,50 @@ void PassDriver::trace_chunk(size_t first_pixel, size_t pixel_count, RenderStats
   trace_chunk(first_pixel + half, pixel_count - half, stats);
 }
 
+double time_limit_tolerance(double limit_s) { return std::max(0.5, 0.05 * limit_s); }
+
 void PassDriver::run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress,
                      const PassDoneCallback& pass_done) {
   const size_t pixels = film_.pixel_count();
   const size_t chunk = std::max<size_t>(1, integrator_.chunk_pixels());
   const auto t0 = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  const bool timed = stop.seconds > 0.0;
+  const double tolerance = timed ? time_limit_tolerance(stop.seconds) : 0.0;
+  std::map<int, double> latest_pass_s;  // by kind
+  double longest_pass_s = 0.0;
   for (int pass = 0; pass < stop.passes; ++pass) {
+    const int kind = integrator_.next_pass_kind(film_);
+    const double start = seconds();
+    if (timed && pass > 0) {
+      const auto known = latest_pass_s.find(kind);
+      const double predicted = known != latest_pass_s.end() ? known->second : longest_pass_s;
+      if (start + predicted > stop.seconds + 0.75 * tolerance) break;
+    }
     integrator_.begin_pass(film_, stats);
+    bool abandoned = false;
     for (size_t first = 0; first < pixels; first += chunk) {
+      if (timed && pass > 0 && first > 0 && seconds() > stop.seconds + 0.9 * tolerance) {
+        abandoned = true;
+        break;
+      }
       trace_chunk(first, std::min(chunk, pixels - first), stats);
       if (progress)
         progress(PassProgress{pass, stop.passes, seconds(), stop.seconds, std::min(pixels, first + chunk), pixels,
                               stats});
     }
+    if (abandoned) {
+      film_.clear_pass_range(0, pixels);
+      break;
+    }
     integrator_.end_pass(film_, stats);
     film_.accumulate_pass(launcher_, stats);
     if (stats) ++stats->passes;
+    const double took = seconds() - start;
+    latest_pass_s[kind] = took;
+    longest_pass_s = std::max(longest_pass_s, took);
     if (pass_done && !pass_done(film_, seconds())) break;
-    if (stop.seconds > 0.0 && seconds() >= stop.seconds) break;
+    if (timed && seconds() >= stop.seconds) break;
   }
 }
 

@@ -7,6 +7,13 @@
 // After each pass the film accumulates it; progress is reported after every
 // chunk; the driver stops after the requested passes, at the time limit, or
 // when the pass-done callback says so (a target error), whichever first.
+//
+// The time limit T is kept within max(0.5 s, 5% of T) (issue 19): a pass is
+// started only if the latest pass of its kind (Integrator::next_pass_kind;
+// the longest pass so far for a kind not seen yet) would end within 3/4 of
+// that tolerance after T, and a pass still running at T plus 9/10 of it is
+// abandoned between chunks (its contributions cleared, never accumulated).
+// The first pass always runs to the end.
 #pragma once
 
 #include <functional>
@@ -33,8 +40,11 @@ using PassDoneCallback = std::function<bool(const Film& film, double seconds)>;
 // The driver stops at whichever comes first.
 struct StopConditions {
   int passes = 1;
-  double seconds = 0.0;  // wall-time limit, checked after each pass (at least one pass runs); 0: none
+  double seconds = 0.0;  // wall-time limit (above; at least one pass runs); 0: none
 };
+
+// How far past a time limit T a render may end: max(0.5 s, 5% of T).
+double time_limit_tolerance(double limit_s);
 
 class PassDriver {
  public:

@@ -1,6 +1,7 @@
 #include "host/render/photon_pass.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 
@@ -201,6 +202,7 @@ PhotonPassParams PhotonPass::params(uint32_t map_index) const {
 }
 
 void PhotonPass::trace(RenderStats* stats) {
+  const auto t0 = std::chrono::steady_clock::now();
   const uint32_t pass_index = maps_++;
   if (gather_mode_ == PhotonGather::PerPixel && pass_index == 0)
     launcher_.runtime().fill(gather_counters_, cl_ulong(0), 0, GATHER_COUNTERS * sizeof(cl_ulong));
@@ -264,10 +266,12 @@ void PhotonPass::trace(RenderStats* stats) {
   stats_.photons_per_pass = photons_per_pass_;
   stats_.cell_size = cell_size_;
   last_stored_ = stored;
+  stats_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void PhotonPass::gather(RenderStats* stats) {
   if (maps_ == 0) return;
+  const auto t0 = std::chrono::steady_clock::now();
   KernelArgs gather(gather_);
   gather.arg("params", params(maps_ - 1));
   grid_.bind(gather)
@@ -278,6 +282,7 @@ void PhotonPass::gather(RenderStats* stats) {
   launcher_.launch(gather_, pixel_count_, stats);
   ++gathered_;
   read_counters(stats);
+  stats_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // The next grid's cells follow the visible points' radii.
   uint64_t radii = 0;
   for (uint64_t c : radii_) radii += c;
@@ -339,15 +344,51 @@ void PhotonPass::add_variance_to(ImageF& variance, int passes) const {
   if (gather_mode_ != PhotonGather::PerPixel || gathered_ < 2) return;
   const std::vector<SppmPixel> px = read_pixels();
   const double n = gathered_, share = film_share(passes);
-  for (size_t i = 0; i < pixel_count_ && i < variance.pixel_count(); ++i) {
+  const int width = variance.width, height = variance.height;
+  if (size_t(width) * size_t(height) != pixel_count_) return;
+  // The variance of each pixel's caustic radiance (its noise).
+  std::vector<double> noise(3 * pixel_count_, 0.0), radiance(3 * pixel_count_, 0.0);
+  for (size_t i = 0; i < pixel_count_; ++i) {
+    if (!(px[i].radius2 > 0.0f)) continue;
+    // A map's estimate L_k has variance c / r_k^2; c from the spread of the
+    // maps' estimates (passes without a visible point add L = 0 and r = 0),
+    // and the pixel's estimate, a mean over n maps at its current radius r,
+    // c / (n r^2).
+    const double r2_sum = px[i].sum_l.w;
     const float sum[3] = {px[i].sum_l.x, px[i].sum_l.y, px[i].sum_l.z};
     const float sum2[3] = {px[i].sum_l2.x, px[i].sum_l2.y, px[i].sum_l2.z};
+    const float tau[3] = {px[i].tau.x, px[i].tau.y, px[i].tau.z};
     for (int c = 0; c < 3; ++c) {
       const double mean = sum[c] / n;
-      const double spread = std::max(0.0, sum2[c] / n - mean * mean);
-      variance.rgb[3 * i + c] += float(share * share * spread / (n - 1.0));
+      const double spread = std::max(0.0, (sum2[c] - mean * mean * r2_sum) / (n - 1.0));
+      noise[3 * i + c] = share * share * spread / (n * double(px[i].radius2));
+      radiance[3 * i + c] = share * tau[c] / (n * M_PI * px[i].radius2);
     }
   }
+  // Its bias: a disk of radius r averages L to L + r^2 / 8 lap L, and the
+  // radius in pixels is about r / r_0 (r_0 was one footprint), so bias ~
+  // (r / r_0)^2 / 8 times the image's 5-point Laplacian; its square less
+  // the Laplacian's own noise (the neighbours' variances plus 16 times the
+  // pixel's) estimates the squared bias (Hachisuka et al. 2010 estimate
+  // SPPM's bias from the Laplacian the same way).
+  auto at = [&](int x, int y) { return size_t(y) * size_t(width) + size_t(x); };
+  for (int y = 1; y + 1 < height; ++y)
+    for (int x = 1; x + 1 < width; ++x) {
+      const size_t i = at(x, y);
+      if (!(px[i].radius2 > 0.0f && px[i].footprint2 > 0.0f)) continue;
+      const double rho2 = double(px[i].radius2) / double(px[i].footprint2);
+      const size_t nb[4] = {at(x - 1, y), at(x + 1, y), at(x, y - 1), at(x, y + 1)};
+      for (int c = 0; c < 3; ++c) {
+        double lap = -4.0 * radiance[3 * i + c], lap_noise = 16.0 * noise[3 * i + c];
+        for (size_t j : nb) {
+          lap += radiance[3 * j + c];
+          lap_noise += noise[3 * j + c];
+        }
+        const double bias = rho2 / 8.0;
+        noise[3 * i + c] += bias * bias * std::max(0.0, lap * lap - lap_noise);
+      }
+    }
+  for (size_t i = 0; i < 3 * pixel_count_; ++i) variance.rgb[i] += float(noise[i]);
 }
 
 void PhotonPass::add_to(ImageF& image, int passes) const {

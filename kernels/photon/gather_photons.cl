@@ -22,8 +22,8 @@
  * r^2 (k + alpha) / (k + 1) in pass k (from 1) instead: nothing within the
  * larger radius means nothing within the smaller, so its zero estimate
  * stays valid, and later queries stay cheap. Every pixel also adds this
- * pass's own estimate beta sum / (pi r^2) and its square to sum_l, sum_l2
- * (the error estimate's variance), and its radius to the histogram the
+ * pass's own estimate L = beta sum / (pi r^2) to sum_l, r^2 to sum_l.w and
+ * L^2 r^2 to sum_l2 (the error estimate's variance, photon_pass.h), and its radius to the histogram the
  * next pass's cells follow; the visits go to the gather counters
  * (shared/photon.h). */
 
@@ -58,6 +58,7 @@ __kernel void gather_photons(PhotonPassParams params, PHOTON_GRID_PARAMS,
     const float r = params.camera.w > 0.0f && footprint > 0.0f ? fmin(params.radius_cap, footprint)
                                                                 : params.radius_cap;
     px.radius2 = r * r;
+    px.footprint2 = px.radius2;
   } else if (px.radius2 > cap2) {
     const float scale = cap2 / px.radius2;
     px.tau *= scale;
@@ -79,8 +80,8 @@ __kernel void gather_photons(PhotonPassParams params, PHOTON_GRID_PARAMS,
                              random_float(hash3(i, params.pass_index, params.seed), 0x5eedu), &found, &visits);
   }
   const float3 pass_estimate = vp.beta.xyz * sum / (M_PI_F * px.radius2);
-  px.sum_l += (float4)(pass_estimate, 0.0f);
-  px.sum_l2 += (float4)(pass_estimate * pass_estimate, 0.0f);
+  px.sum_l += (float4)(pass_estimate, px.radius2);
+  px.sum_l2 += (float4)(pass_estimate * pass_estimate * px.radius2, 0.0f);
   if (found > 0.0f) {
     const float n_next = px.photons + params.alpha * found;
     const float shrink = n_next / (px.photons + found);

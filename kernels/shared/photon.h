@@ -127,17 +127,20 @@ typedef struct {
 /* A pixel's SPPM statistics (Hachisuka & Jensen 2009): accumulated flux tau,
  * photon count N and squared radius (0 until its first visible point sets
  * it). The caustic radiance is tau / (passes * pi * radius2), photon powers
- * being per pass already. For the error estimate (issue 19), the sums of
- * each pass's own estimate L_k = beta sum_k / (pi r_k^2) and of its square:
- * their spread over the passes estimates the variance of the pixel's
- * caustic radiance (host/render/photon_pass.cpp, add_variance_to). */
+ * being per pass already. For the error estimate (issue 19), the sums over
+ * the passes with a visible point of each pass's own estimate L_k = beta
+ * sum_k / (pi r_k^2), of r_k^2 and of L_k^2 r_k^2: a pass's variance goes
+ * as 1 / r_k^2 (its photon count as r_k^2), so their spread estimates the
+ * variance the pixel's estimate has at its current radius
+ * (host/render/photon_pass.cpp, add_variance_to). */
 typedef struct {
   cs_float4 tau;     /* rgb; w unused */
-  cs_float4 sum_l;   /* rgb sum over passes of L_k; w unused */
-  cs_float4 sum_l2;  /* rgb sum of L_k^2; w unused */
+  cs_float4 sum_l;   /* rgb sum of L_k; w sum of r_k^2 */
+  cs_float4 sum_l2;  /* rgb sum of L_k^2 r_k^2; w unused */
   float photons;     /* N */
   float radius2;
-  cs_uint pad0, pad1;
+  float footprint2;  /* the squared initial radius (one footprint): scales the bias estimate */
+  cs_uint pad0;
 } SppmPixel; /* 64 bytes */
 
 #endif /* CAUSTICA_SHARED_PHOTON_H */
