@@ -108,6 +108,9 @@ __kernel void emit_photons(__global const PathLight* restrict lights, PhotonPass
       const float weight = (l->flags & LIGHT_TWO_SIDED) ? fabs(cosine) : fmax(cosine, 0.0f);
       origin = spawn_ray_origin(point, p_error, cosine < 0.0f ? -n : n, dir);
       flux = l->emitted.xyz * (l->emitted.w * weight / pdf);
+      /* behind a one-sided emitter: no flux, and a zero direction, which
+       * the traversal rejects without visiting a node (ray_traceable) */
+      if (!(weight > 0.0f)) dir = (float3)(0.0f);
     }
   } else if (l->kind == LIGHT_POINT) {
     origin = l->p0.xyz;
