@@ -205,11 +205,11 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
       ->check(CLI::PositiveNumber);
   render_cmd->add_option_function<std::string>(
       "--caustics", [&a](const std::string& m) { a.session.caustics = parse_caustics_mode(m); },
-      "path: photon-mapped caustics: auto (default: when the scene has smooth metal or glass), on, off");
-  render_cmd->add_option("--photons", a.session.photons, "path: photons emitted per pass (default: one per pixel, 16384 to 1048576)")
+      "path: photon-mapped caustics: auto (default: with smooth metal or glass, where its work pays), on, off");
+  render_cmd->add_option("--photons", a.session.photons, "path: photons emitted per photon map (default: one per pixel, 16384 to 1048576)")
       ->check(CLI::Range(1u, 1u << 22));
   render_cmd->add_option("--caustic-radius", a.session.caustic_radius,
-                         "path: initial photon gather radius (default: from the scene's size and --photons)")
+                         "path: every pixel's initial photon gather radius (default: its camera path's footprint)")
       ->check(CLI::PositiveNumber);
   render_cmd->add_flag("--check-numerics", a.session.check_numerics,
                        "path: count NaN/Inf and negative samples and the BSDF weights of every bounce (energy gain), "
