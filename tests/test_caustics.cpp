@@ -25,46 +25,17 @@
 #include "host/image/image_io.h"
 #include "host/image/metrics.h"
 #include "host/render/film.h"
+#include "tests/support/pixel_boxes.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
 namespace {
 
-struct Box {
-  int x0, x1, y0, y1;  // inclusive
-};
-const Box kCausticRegion[2] = {{36, 46, 32, 34}, {10, 20, 10, 21}};
+const std::vector<test::PixelBox> kCausticRegion = {{36, 46, 32, 34}, {10, 20, 10, 21}};
 
-template <typename Fn>
-void for_each_region_value(const ImageF& img, Fn fn) {
-  for (const Box& b : kCausticRegion)
-    for (int y = b.y0; y <= b.y1; ++y)
-      for (int x = b.x0; x <= b.x1; ++x)
-        for (int c = 0; c < 3; ++c) fn(size_t(3 * (y * img.width + x) + c));
-}
-
-double region_rel_mse(const ImageF& img, const ImageF& ref) {
-  double sum = 0.0;
-  size_t n = 0;
-  for_each_region_value(img, [&](size_t i) {
-    const double d = img.rgb[i] - ref.rgb[i];
-    sum += d * d / (double(ref.rgb[i]) * ref.rgb[i] + kRelMseEpsilon);
-    ++n;
-  });
-  return sum / n;
-}
-
-double region_sum(const ImageF& img) {
-  double sum = 0.0;
-  for_each_region_value(img, [&](size_t i) { sum += img.rgb[i]; });
-  return sum;
-}
-
-double image_sum(const ImageF& img) {
-  double sum = 0.0;
-  for (float v : img.rgb) sum += v;
-  return sum;
-}
+double region_rel_mse(const ImageF& img, const ImageF& ref) { return test::boxes_rel_mse(img, ref, kCausticRegion); }
+double region_sum(const ImageF& img) { return test::boxes_sum(img, kCausticRegion); }
+using test::image_sum;
 
 const ImageF& reference() {
   static const ImageF ref = read_pfm(test::source_dir() + "/tests/references/caustics_pt_64x48.pfm");

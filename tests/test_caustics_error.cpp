@@ -22,19 +22,18 @@
 #include "host/image/image_io.h"
 #include "host/image/metrics.h"
 #include "host/render/film.h"
+#include "tests/support/pixel_boxes.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
 namespace {
 
-struct Box {
-  int x0, x1, y0, y1;  // inclusive (test_caustics.cpp's caustic region)
-};
-const Box kCausticRegion[2] = {{36, 46, 32, 34}, {10, 20, 10, 21}};
+// test_caustics.cpp's caustic region
+const std::vector<test::PixelBox> kCausticRegion = {{36, 46, 32, 34}, {10, 20, 10, 21}};
 
 bool in_region(int x, int y) {
-  for (const Box& b : kCausticRegion)
-    if (x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1) return true;
+  for (const test::PixelBox& b : kCausticRegion)
+    if (b.holds(x, y)) return true;
   return false;
 }
 

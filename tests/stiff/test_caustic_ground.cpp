@@ -23,50 +23,22 @@
 #include "host/app/session.h"
 #include "host/image/image_io.h"
 #include "host/image/metrics.h"
+#include "tests/support/pixel_boxes.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
 namespace {
 
-struct Box {
-  int x0, x1, y0, y1;  // inclusive, rows from the top
-};
-const Box kCausticRegion = {33, 39, 30, 32};
+const std::vector<test::PixelBox> kCausticRegion = {{33, 39, 30, 32}};
 
 const ImageF& reference() {
   static const ImageF ref = read_pfm(test::source_dir() + "/tests/references/stiff_ground_pt_72x48.pfm");
   return ref;
 }
 
-template <typename Fn>
-void for_each_region_value(const ImageF& img, Fn fn) {
-  for (int y = kCausticRegion.y0; y <= kCausticRegion.y1; ++y)
-    for (int x = kCausticRegion.x0; x <= kCausticRegion.x1; ++x)
-      for (int c = 0; c < 3; ++c) fn(size_t(3 * (y * img.width + x) + c));
-}
-
-double region_rel_mse(const ImageF& img) {
-  double sum = 0.0;
-  size_t n = 0;
-  for_each_region_value(img, [&](size_t i) {
-    const double d = img.rgb[i] - reference().rgb[i];
-    sum += d * d / (double(reference().rgb[i]) * reference().rgb[i] + kRelMseEpsilon);
-    ++n;
-  });
-  return sum / double(n);
-}
-
-double region_sum(const ImageF& img) {
-  double sum = 0.0;
-  for_each_region_value(img, [&](size_t i) { sum += img.rgb[i]; });
-  return sum;
-}
-
-double image_sum(const ImageF& img) {
-  double sum = 0.0;
-  for (float v : img.rgb) sum += v;
-  return sum;
-}
+double region_rel_mse(const ImageF& img) { return test::boxes_rel_mse(img, reference(), kCausticRegion); }
+double region_sum(const ImageF& img) { return test::boxes_sum(img, kCausticRegion); }
+using test::image_sum;
 
 struct GroundRender {
   ImageF image;
