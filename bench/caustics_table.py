@@ -8,7 +8,9 @@ read in place), path mode at W x H for S seconds with `--caustics auto` and
 shade stage are not in it), the estimated relMSE of each, how far past the
 time limit the render ended, and what `auto` decided. Then equal-time error
 against a long reference for scenes/caustics.json, scenes/caustics_point.json
-and scenes/stiff_ground.json (auto, on, off). Prints Markdown.
+and scenes/stiff_ground.json, and the official scene.json and mirror_image.json
+(point lights: their caustics are the photon map's alone) (auto, on, off).
+Prints Markdown.
 
   bench/caustics_table.py [--seconds 10] [--width 240 --height 160]
                           [--reference-seconds 240] [--only SUBSTRING]
@@ -152,9 +154,13 @@ def main():
     print("| scene | mode | spp | est. relMSE | relMSE vs reference |")
     print("|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
-        for scene in ("caustics.json", "caustics_point.json", "stiff_ground.json"):
-            path = os.path.join(ROOT, "scenes", scene)
-            ref = os.path.join(tmp, scene + ".pfm")
+        for scene in ("caustics.json", "caustics_point.json", "stiff_ground.json", "official/scene.json",
+                      "official/mirror_image.json"):
+            path = (os.path.join(SHARED, scene) if scene.startswith("official/") else
+                    os.path.join(ROOT, "scenes", scene))
+            if not os.path.exists(path):
+                continue
+            ref = os.path.join(tmp, os.path.basename(scene) + ".pfm")
             rc, err = run(a.binary, ["render", path, "--mode", "path", "--width", str(size[0]), "--height",
                                      str(size[1]), "--time", str(a.reference_seconds), "--caustics", "on",
                                      "--seed", "99", "--no-error-estimate", "-q", "-o", ref])

@@ -12,7 +12,8 @@
 // - a gather reads fewer than 64 photons on average;
 // - the photon work (photon rays plus gathers) stays within a few times
 //   the camera rays (a count, for the table the bench script makes).
-// The official scenes with casters are checked the same way.
+// The official scenes with casters are checked the same way. On Oclgrind
+// (test::sized) the first three such scenes, 32 pixels wide, one pass.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -38,8 +39,8 @@ bool check_scene(const std::filesystem::path& file) {
   SessionOptions probe;
   probe.scene_path = file.string();
   probe.mode = RenderMode::Path;
-  probe.width = 96;
-  probe.spp = 4;
+  probe.width = int(test::sized(96, 32));
+  probe.spp = int(test::sized(4, 1));
   probe.device = test::device_spec();
   probe.caustics = CausticsMode::On;
   std::unique_ptr<Session> s;
@@ -85,9 +86,11 @@ TEST(CommunityPhotons, GathersReadBoundedPhotonsOnEverySceneWithCasters) {
   std::sort(files.begin(), files.end());
   ASSERT_GE(files.size(), 34u);
   int checked = 0;
-  for (const auto& f : files) checked += check_scene(f) ? 1 : 0;
+  const int most = int(test::sized(files.size(), 3));
+  for (const auto& f : files)
+    if (checked < most) checked += check_scene(f) ? 1 : 0;
   std::printf("[photons] %d scenes with casters checked\n", checked);
-  EXPECT_GE(checked, 10);
+  EXPECT_GE(checked, int(test::sized(10, 3)));
 }
 
 }  // namespace

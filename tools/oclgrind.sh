@@ -66,14 +66,16 @@ export OCLGRIND_UNINITIALIZED=${CAUSTICA_OCLGRIND_UNINITIALIZED:-0}
 #   ignoring #line: test_runtime checks the mapped line elsewhere only.
 # Left out, one line each: binary, test, why. Only whole-image statistics
 # over many renders, whose kernels the run covers elsewhere (photon pass and
-# gather: test_photon_pass, test_photon_grid, stiff_light_limits and
-# stiff_determinism's caustics scene; path tracing with MIS: test_path;
+# gather: test_photon_pass, test_photon_grid, stiff_light_limits,
+# stiff_caustic_ground, test_caustics_paths, test_community_photons (three
+# scenes there) and stiff_determinism's caustics scene; path tracing with MIS: test_path;
 # phong over every feature:
 # test_official_scenes, test_textures, stiff_invariance).
 left_out=(
   "test_caustics Caustics.PhotonMapConvergesToThePathTracedReferenceWithoutDoubleCounting  # convergence slope over 8..256 passes against a reference"
   "test_community_render CommunityCorpus.EveryLoadableSceneRendersInPhong  # the whole community corpus of ../shared rendered in phong, scene after scene"
   "test_error_report ErrorReport.CornellBoxReportsConvergeAndEstimateTheirError  # the error report's Cornell box: MSE against spp at the Monte Carlo rate over many renders and a long reference"
+  "test_caustics_error CausticsErrorEstimate.CoversThePhotonMapWithinTwiceTheTrueError  # the photon map's error estimate against the truth, four seeds of 256 passes (its gathers: stiff_caustic_ground, test_caustics_paths, test_community_photons)"
 )
 
 # Every test as "binary test.name", parameterised ones included.

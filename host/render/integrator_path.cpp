@@ -13,7 +13,9 @@
 #include <string>
 
 #include "host/cl/runtime.h"
+#include "host/image/metrics.h"
 #include "host/render/device_scene.h"
+#include "host/render/error_estimate.h"
 #include "host/render/integrator.h"
 #include "host/render/kernel_args.h"
 #include "host/render/path_lights.h"
@@ -45,6 +47,9 @@ constexpr double kMostPhotonShare = 0.35;
 constexpr double kLeastCausticShare = 1e-3;
 // A photon map every this many passes at the most; beyond it, off.
 constexpr int kLongestInterval = 64;
+// The errors are balanced at the first map after this many passes (the
+// half-buffer estimate needs a few).
+constexpr int kBalanceAfterPasses = 4;
 
 // Owns its light table (PathLight and the per-primitive light indices), two
 // path queues and the shadow slots, all sized for one chunk.
@@ -58,6 +63,9 @@ class PathIntegrator final : public Integrator {
   uint64_t pass_rays_ = 0;                // this pass's camera-path rays (closest + shadow)
   std::string decision_;                  // what `auto` decided, for --verbose and the bench
   uint32_t interval_ = 1;                 // a photon map every interval_ passes (`auto` sets it)
+  uint32_t least_interval_ = 1;           // the work share's bound on it
+  bool balanced_ = false;                 // the errors' balance has set interval_
+  uint32_t passes_counted_ = 0;           // passes whose inline gathers the counters hold
   uint32_t passes_since_photons_ = 0;     // 0: this pass traces and gathers a photon map
   bool photon_pass_now_ = false;
 
@@ -76,8 +84,9 @@ class PathIntegrator final : public Integrator {
     if (film.passes() == 0) {
       photons_->clear();
       decision_.clear();
-      interval_ = 1;
-      passes_since_photons_ = 0;
+      interval_ = least_interval_ = 1;
+      balanced_ = false;
+      passes_since_photons_ = passes_counted_ = 0;
     }
     film.set_separate_estimate(photons_.get());
     if (!photons_->on()) return;
@@ -93,9 +102,11 @@ class PathIntegrator final : public Integrator {
   void end_pass(Film& film, RenderStats* stats) override {
     if (!photons_ || !photons_->on()) return;
     photons_->count_camera_pass();  // this pass left the caustic paths to the map
+    ++passes_counted_;
     if (photon_pass_now_) {
-      photons_->gather(stats);
+      photons_->gather(stats);  // reads the counters of the passes since the last map
       if (settings_.caustics_auto) decide_photon_pass(film);
+      passes_counted_ = 0;
     }
     passes_since_photons_ = (passes_since_photons_ + 1) % interval_;
   }
@@ -224,11 +235,12 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
 // on the shade stage counts every path itself.
 void PathIntegrator::decide_photon_pass(const Film& film) {
   const uint32_t maps = photons_->photon_passes();
-  if (maps != 1 && maps != 2) return;
   const int done = film.passes() + 1;
   const PhotonGatherStats& g = photons_->last_pass_gathers();
   const double camera_work = double(pass_rays_);
-  const double inline_work = kLaterGatherWork * double(g.gathers_later) + kVisitWork * double(g.visits_later);
+  // the inline gathers of one pass (the counters hold passes_counted_ of them)
+  const double inline_work = (kLaterGatherWork * double(g.gathers_later) + kVisitWork * double(g.visits_later)) /
+                             double(std::max(1u, passes_counted_));
   const double map_work = kPhotonRayWork * double(photons_->last_pass_photon_rays()) +
                           kStoredPhotonWork * double(photons_->last_pass_stored()) +
                           kVisiblePointGatherWork * double(g.gathers_d1) + kVisitWork * double(g.visits_d1);
@@ -249,7 +261,7 @@ void PathIntegrator::decide_photon_pass(const Film& film) {
       say();
       return;
     }
-    interval_ = uint32_t(std::max(1.0, m));
+    interval_ = least_interval_ = uint32_t(std::max(1.0, m));
     const double share = (inline_work + map_work / interval_) / (camera_work + inline_work + map_work / interval_);
     std::snprintf(line, sizeof line,
                   "caustics auto: a photon map (%u photons) every %u pass%s after pass %d: a map costs %.3g "
@@ -260,22 +272,50 @@ void PathIntegrator::decide_photon_pass(const Film& film) {
     say();
     return;
   }
-  // The accumulated passes (this one is not yet) with the caustic image.
-  const ImageF image = film.mean();
-  double total = 0.0;
-  for (float v : image.rgb) total += v;
-  const double caustic = photons_->caustic_total(film.passes());
-  const double light_share = total > 0.0 ? caustic / total : 0.0;
-  if (light_share < kLeastCausticShare) {
-    photons_->turn_off();
+  if (maps == 2) {
+    // The accumulated passes (this one is not yet) with the caustic image.
+    const ImageF image = film.mean();
+    double total = 0.0;
+    for (float v : image.rgb) total += v;
+    const double caustic = photons_->caustic_total(film.passes());
+    const double light_share = total > 0.0 ? caustic / total : 0.0;
+    if (light_share < kLeastCausticShare) {
+      photons_->turn_off();
+      std::snprintf(line, sizeof line,
+                    "caustics auto: off after pass %d: the photon map carries %.2g of the image's light (below %.2g)",
+                    done, light_share, kLeastCausticShare);
+      say();
+      return;
+    }
     std::snprintf(line, sizeof line,
-                  "caustics auto: off after pass %d: the photon map carries %.2g of the image's light (below %.2g)",
-                  done, light_share, kLeastCausticShare);
-  } else {
-    std::snprintf(line, sizeof line, "caustics auto: kept after pass %d: the photon map carries %.2g of the image's light",
-                  done, light_share);
+                  "caustics auto: kept after pass %d: the photon map carries %.2g of the image's light", done,
+                  light_share);
+    say();
   }
+  if (balanced_ || film.passes() < kBalanceAfterPasses || !film.has_half_buffer()) return;
+  // Balance the two errors (both estimated by the render itself): after W
+  // work with a map every m passes, E(m) = (C + P / m)(a + b m) / W, where
+  // a = E_passes x passes and b = E_map x maps (each error ~ 1 / its
+  // count), C a pass's work and P a map's; the best m is sqrt(P a / (C b)),
+  // at least the interval the work share allows and at most
+  // kLongestInterval.
+  balanced_ = true;
+  const ImageF mean = film.mean(), half = film.half_mean(), map_error = film.separate_variance();
+  const double passes_error = estimated_rel_mse(mean, half, film.passes(), film.half_passes());
+  double map_sum = 0.0;
+  for (size_t i = 0; i < mean.rgb.size(); ++i)
+    map_sum += map_error.rgb[i] / (double(mean.rgb[i]) * mean.rgb[i] + kRelMseEpsilon);
+  const double map_rel_mse = mean.rgb.empty() ? 0.0 : map_sum / double(mean.rgb.size());
+  const double a = passes_error * film.passes(), b = map_rel_mse * photons_->photon_passes();
+  const double best = b > 0.0 ? std::sqrt(map_work * a / ((camera_work + inline_work) * b)) : INFINITY;
+  const uint32_t chosen = uint32_t(std::clamp(std::ceil(best), double(least_interval_), double(kLongestInterval)));
+  std::snprintf(line, sizeof line,
+                "caustics auto: a map every %u pass%s after pass %d: the passes' estimated relMSE %.3g at %d "
+                "passes and the photon map's %.3g at %u maps balance at %.1f (at least %u for the work share)",
+                chosen, chosen == 1 ? "" : "es", done, passes_error, film.passes(), map_rel_mse,
+                photons_->photon_passes(), best, least_interval_);
   say();
+  interval_ = chosen;
 }
 
 }  // namespace
