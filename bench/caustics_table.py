@@ -79,9 +79,9 @@ def decision_summary(r):
     text = " ".join(r["decisions"])
     if "off after" in text:
         return "off after the first map" if "no map interval" in text else "off: caustic < 0.1% of the light"
-    m = re.search(r"every (\d+) pass", text)
-    if m:
-        return "kept, a map every %s pass%s" % (m.group(1), "" if m.group(1) == "1" else "es")
+    every = re.findall(r"every (\d+) pass", text)  # the latest: the errors' balance, if it came
+    if every:
+        return "kept, a map every %s pass%s" % (every[-1], "" if every[-1] == "1" else "es")
     return "on"
 
 
