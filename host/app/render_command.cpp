@@ -265,6 +265,14 @@ int run_render(RenderArgs& a) {
   if (a.target_error > 0.0 && session->mode != RenderMode::Path)
     throw Error("--target-error: only path mode is stochastic; binary and phong images are exact after one pass");
   const Scene& scene = session->scene;
+  // Path tracing never reaches a point light through glass or in a mirror:
+  // without the photon pass those caustics are missing, and the error
+  // estimate, which sees only noise, cannot tell.
+  if (!a.quiet && session->mode == RenderMode::Path && a.session.caustics == CausticsMode::Off &&
+      !scene.point_lights.empty() && analyse_scene(scene, RenderMode::Path, CausticsMode::Auto).caustics)
+    std::fprintf(stderr,
+                 "[caustica] warning: --caustics off: the caustics of this scene's point lights (through glass, in "
+                 "mirrors) are missing from the image, and from its error estimate\n");
   if (a.verbose) {
     std::fprintf(stderr, "[caustica] scene %s: %zu spheres, %zu cylinders, %zu triangles, %zu lights, %zu materials (load %.1f ms)\n",
                  scene.source_path.c_str(), scene.spheres.size(), scene.cylinders.size(), scene.triangles.size(),
