@@ -36,7 +36,8 @@ const char* kGlassUnderSky = R"({"nbounces": 8, "rendermode": "pathtracer",
 ImageF render(const std::string& scene, CausticsMode caustics, int spp, RenderStats* stats) {
   SessionOptions o;
   o.scene_path = scene;
-  o.width = int(test::sized(48, 12));  // 12 x 8 on Oclgrind
+  o.width = int(test::sized(48, 12));           // 12 x 8 on Oclgrind,
+  o.photons = uint32_t(test::sized(0, 1024));    // with 1024 photons a map (default: 16384 at least)
   o.device = test::device_spec();
   o.spp = spp;
   o.seed = 7;
