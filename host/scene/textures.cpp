@@ -153,6 +153,69 @@ std::string read_pnm(const std::string& data, LinearImage& out) {
   return "";
 }
 
+// Debian's stb_image is built with its assertions on, and its JPEG decoder
+// asserts (aborting the process) when a scan uses a Huffman table the file
+// never defined: a corrupt texture must be an error, not a crash (found by
+// fuzz_texture). This walks the JPEG's markers as stb would and checks that
+// every scan's DC and AC tables were defined before it (a progressive DC
+// scan needs only DC tables, an AC scan only AC ones; a DC refinement
+// none). Returns why the file is corrupt, or "" (stb checks the rest).
+std::string check_jpeg_huffman_tables(const std::string& data) {
+  const auto* b = reinterpret_cast<const unsigned char*>(data.data());
+  const size_t n = data.size();
+  if (n < 4 || b[0] != 0xFF || b[1] != 0xD8) return "";
+  bool defined[2][4] = {};
+  bool progressive = false;
+  size_t at = 2;
+  while (at + 4 <= n) {
+    if (b[at] != 0xFF) {  // padding between segments: stb scans past it to the next marker
+      ++at;
+      continue;
+    }
+    const unsigned marker = b[at + 1];
+    if (marker == 0xFF) {  // fill byte
+      ++at;
+      continue;
+    }
+    if (marker == 0xD9) return "";  // end of image
+    if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD7)) {
+      at += 2;
+      continue;
+    }
+    const size_t length = (size_t(b[at + 2]) << 8) | b[at + 3];
+    if (length < 2 || at + 2 + length > n) return "";
+    const unsigned char* seg = b + at + 4;
+    const size_t seg_len = length - 2;
+    if (marker == 0xC2) progressive = true;
+    if (marker == 0xC4) {  // DHT: one or more tables
+      for (size_t p = 0; p + 17 <= seg_len;) {
+        const unsigned cls = seg[p] >> 4, id = seg[p] & 15;
+        size_t count = 0;
+        for (int i = 1; i <= 16; ++i) count += seg[p + i];
+        if (cls < 2 && id < 4) defined[cls][id] = true;
+        p += 17 + count;
+      }
+    } else if (marker == 0xDA) {  // SOS: components, then Ss, Se, Ah/Al
+      if (seg_len < 1) return "";
+      const size_t components = seg[0];
+      if (seg_len < 1 + 2 * components + 3) return "";
+      const unsigned ss = seg[1 + 2 * components], ah = seg[3 + 2 * components] >> 4;
+      const bool needs_dc = !progressive || (ss == 0 && ah == 0), needs_ac = !progressive || ss > 0;
+      for (size_t c = 0; c < components; ++c) {
+        const unsigned dc = seg[2 + 2 * c] >> 4, ac = seg[2 + 2 * c] & 15;
+        if ((needs_dc && (dc > 3 || !defined[0][dc])) || (needs_ac && (ac > 3 || !defined[1][ac])))
+          return "corrupt JPEG: a scan uses a Huffman table the file does not define";
+      }
+      // Entropy-coded data up to the next marker (FF 00 is a byte, FF D0-D7 a restart).
+      at += 2 + length;
+      while (at + 1 < n && !(b[at] == 0xFF && b[at + 1] != 0x00 && !(b[at + 1] >= 0xD0 && b[at + 1] <= 0xD7))) ++at;
+      continue;
+    }
+    at += 2 + length;
+  }
+  return "";
+}
+
 }  // namespace
 
 std::string decode_texture_image(const std::string& data, LinearImage& out) {
@@ -175,6 +238,7 @@ std::string decode_texture_image(const std::string& data, LinearImage& out) {
     return stbi_failure_reason() ? stbi_failure_reason() : "unknown image format";
   }
   if (std::string why = check_texture_size(w, h, data); !why.empty()) return why;
+  if (std::string why = check_jpeg_huffman_tables(data); !why.empty()) return why;
   if (stbi_is_hdr_from_memory(bytes, len)) {
     float* pixels = stbi_loadf_from_memory(bytes, len, &w, &h, &n, 3);
     if (!pixels) return stbi_failure_reason() ? stbi_failure_reason() : "unknown stb_image error";
