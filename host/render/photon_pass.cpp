@@ -108,7 +108,6 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
       light_count_(light_count),
       photons_per_pass_(settings.photons_per_pass > 0 ? settings.photons_per_pass
                                                       : default_photons_per_pass(settings.width, settings.height)),
-      capacity_(photons_per_pass_),
       max_depth_(uint32_t(std::max(0, scene.scene().nbounces))),
       seed_(settings.seed),
       pixel_count_(size_t(settings.width) * size_t(settings.height)),
@@ -153,7 +152,6 @@ void PhotonPass::clear() {
   cell_size_ = first_cell_size_;
   on_ = true;
   maps_ = gathered_ = camera_passes_on_ = 0;
-  photons_per_pass_ = capacity_;
   last_gathers_ = {};
   last_photon_rays_ = last_stored_ = 0;
   stats_ = {};
@@ -162,8 +160,6 @@ void PhotonPass::clear() {
   launcher_.runtime().fill(pixels_, start, 0, pixel_count_ * sizeof(SppmPixel));
   launcher_.runtime().fill(visible_points_, cl_uint(0), 0, pixel_count_ * sizeof(VisiblePoint));
 }
-
-void PhotonPass::set_photons_per_pass(uint32_t n) { photons_per_pass_ = std::clamp<uint32_t>(n, 1, capacity_); }
 
 float PhotonPass::shared_radius(uint32_t map_index) const {
   const double r0 = first_cell_size_;
@@ -263,8 +259,6 @@ void PhotonPass::trace(RenderStats* stats) {
   stats_.emitted += photons_per_pass_;
   stats_.stored += stored;
   stats_.photon_rays += last_photon_rays_;
-  stats_.photons_per_pass = photons_per_pass_;
-  stats_.cell_size = cell_size_;
   last_stored_ = stored;
   stats_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }

@@ -67,8 +67,6 @@ struct PhotonPassStats {
   uint64_t emitted = 0, stored = 0, photon_rays = 0;  // over the render
   double seconds = 0.0;  // host wall time in trace and gather (both end in a blocking read)
   PhotonGatherStats gathers;
-  uint32_t photons_per_pass = 0;  // the latest pass's
-  float cell_size = 0.0f;         // the latest grid's
 };
 
 // How the photons are gathered: path mode's per-pixel SPPM statistics at
@@ -108,10 +106,9 @@ class PhotonPass final : public SeparateEstimate {
   // does it after every map; the integrator once more at the end).
   void read_counters(RenderStats* stats);
   // `auto` (issue 19): the photon pass turned off for the rest of a render
-  // (what it gathered stays in the image), or its photons per pass changed.
+  // (what it gathered stays in the image).
   void turn_off() { on_ = false; }
   bool on() const { return on_; }
-  void set_photons_per_pass(uint32_t n);
   uint32_t photons_per_pass() const { return photons_per_pass_; }
   const PhotonGatherStats& last_pass_gathers() const { return last_gathers_; }
   uint64_t last_pass_photon_rays() const { return last_photon_rays_; }
@@ -151,7 +148,7 @@ class PhotonPass final : public SeparateEstimate {
   StageLauncher& launcher_;
   const DeviceScene& scene_;
   const cl::Buffer& lights_;
-  uint32_t light_count_, photons_per_pass_, capacity_, max_depth_, seed_, caster_count_ = 0;
+  uint32_t light_count_, photons_per_pass_, max_depth_, seed_, caster_count_ = 0;
   size_t pixel_count_;
   float first_cell_size_;  // the first pass's cells
   std::array<float, 3> origin_{};

@@ -233,8 +233,9 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
     continued_throughput /= survive;
   }
   if (!(max3_of(continued_throughput) > 0.0f)) return;
-  /* The cone past this vertex (the rules above). */
+  /* The cone past this vertex (the rules above); only the photon pass reads it. */
   float spread = ray.dir.w;
+#if PATH_WITH_CAUSTICS
   if (flags & BSDF_SAMPLED_SPECULAR) {
     if (prim_ref_type(hit.prim) == PRIM_SPHERE) {
       const float inv_r = 1.0f / spheres[prim_ref_index(hit.prim)].center_radius.w;
@@ -244,6 +245,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   } else {
     spread += bsdf.kind == BSDF_PLASTIC ? PATH_CONE_DIFFUSE_SPREAD : PATH_CONE_GLOSSY_SPREAD * bsdf.alpha;
   }
+#endif
   PathRecord child;
   child.origin = (float4)(spawn_ray_origin(sp.position, sp.p_error, sp.normal, wi), cone_width);
   child.dir = (float4)(wi, spread);
