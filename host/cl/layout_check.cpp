@@ -39,15 +39,17 @@ static_assert(sizeof(CameraGPU) == 96 && offsetof(CameraGPU, lens) == 64 && offs
 static_assert(sizeof(ShadeParams) == 64 && offsetof(ShadeParams, ambient_light) == 16 &&
                   offsetof(ShadeParams, light_count) == 32 && offsetof(ShadeParams, min_weight) == 44,
               "ShadeParams layout");
-static_assert(sizeof(PathParams) == 48 && offsetof(PathParams, light_count) == 16 &&
-                  offsetof(PathParams, rr_depth) == 40,
+static_assert(sizeof(PathParams) == 64 && offsetof(PathParams, light_count) == 16 &&
+                  offsetof(PathParams, rr_depth) == 40 && offsetof(PathParams, wave_samples) == 52,
               "PathParams layout");
 static_assert(sizeof(Hit) == 16 && offsetof(Hit, prim) == 12, "Hit layout");
 static_assert(sizeof(FilmParams) == 16 && offsetof(FilmParams, max_contribution) == 4, "FilmParams layout");
-static_assert(sizeof(FilmAccumulate) == 16 && offsetof(FilmAccumulate, inv_scale) == 12, "FilmAccumulate layout");
-static_assert(sizeof(PathRecord) == 64 && offsetof(PathRecord, throughput) == 32 && offsetof(PathRecord, pixel) == 48 &&
+static_assert(sizeof(FilmAccumulate) == 32 && offsetof(FilmAccumulate, inv_scale) == 12 &&
+                  offsetof(FilmAccumulate, pass_count) == 16,
+              "FilmAccumulate layout");
+static_assert(sizeof(PathRecord) == 80 && offsetof(PathRecord, throughput) == 32 && offsetof(PathRecord, pixel) == 48 &&
                   offsetof(PathRecord, depth) == 52 && offsetof(PathRecord, bsdf_pdf) == 56 &&
-                  offsetof(PathRecord, flags) == 60,
+                  offsetof(PathRecord, flags) == 60 && offsetof(PathRecord, sample) == 64,
               "PathRecord layout");
 static_assert(sizeof(ShadowRecord) == 64 && offsetof(ShadowRecord, contribution) == 32 &&
                   offsetof(ShadowRecord, pixel) == 48,

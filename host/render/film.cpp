@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
 
 #include "host/cl/runtime.h"
 #include "host/error.h"
@@ -54,15 +55,40 @@ void Film::clear_pass_range(size_t first_pixel, size_t count) {
   runtime_.fill(pass_, cl_ulong(0), first_pixel * 3 * sizeof(cl_ulong), count * 3 * sizeof(cl_ulong));
 }
 
-void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats) {
+namespace {
+// The half buffer's next restart after `passes`: the smallest power of two
+// above it (accumulate_film_pass.cl; pass 0 is never in the half).
+int next_half_restart(int passes) {
+  int p = 1;
+  while (p <= passes) p *= 2;
+  return p;
+}
+}  // namespace
+
+void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats, int pass_count) {
+  if (pass_count < 1 || pass_count > kMostWavePasses)
+    throw Error("film: a wave of " + std::to_string(pass_count) + " passes (1 to " + std::to_string(kMostWavePasses) +
+                ")");
+  // The half buffer restarts at each power of two: a wave may start there
+  // but not cross one.
+  const int next_restart = next_half_restart(passes_);
+  if (passes_ + pass_count > next_restart)
+    throw Error("film: a wave of passes [" + std::to_string(passes_) + ", " + std::to_string(passes_ + pass_count) +
+                ") crosses the half buffer's restart at " + std::to_string(next_restart));
   FilmAccumulate a{};
   a.value_count = cl_uint(pixel_count() * 3);
   a.half_offset = cl_uint(half_offset_);
   a.pass_index = cl_uint(passes_);
   a.inv_scale = 1.0f / params_.scale;
+  a.pass_count = cl_uint(pass_count);
   KernelArgs(*accumulate_).arg("film", pass_).arg("passes", accumulated_).arg("params", a).finish();
-  ++passes_;
+  passes_ += pass_count;
   launcher.launch(*accumulate_, a.value_count, stats);
+}
+
+int Film::most_passes_from(int passes, int wanted) {
+  const int next_restart = next_half_restart(passes);
+  return std::max(1, std::min({wanted, kMostWavePasses, next_restart - passes}));
 }
 
 ImageF Film::read_pass(size_t offset, int passes) const {

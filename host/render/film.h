@@ -73,8 +73,16 @@ class Film {
 
   void clear();  // everything: accumulated passes, the pass in progress, counters
   void clear_pass_range(size_t first_pixel, size_t pixel_count);  // of the pass in progress only
-  // Adds the pass in progress to the accumulated passes and clears it.
-  void accumulate_pass(StageLauncher& launcher, RenderStats* stats = nullptr);
+  // Adds the pass in progress, which holds pass_count passes (a wave), to
+  // the accumulated passes and clears it. A wave may not cross the half
+  // buffer's restart at a power of two (most_passes_from).
+  void accumulate_pass(StageLauncher& launcher, RenderStats* stats = nullptr, int pass_count = 1);
+  // At most this many passes in one pass in progress: each pass's sum is at
+  // most pass_bound, which the scale fits in 2^56, so 2^7 of them fit 2^63.
+  static constexpr int kMostWavePasses = 128;
+  // How many passes a wave that starts after `passes` may hold: up to
+  // `wanted`, kMostWavePasses and the next power of two (0 and 1: one).
+  static int most_passes_from(int passes, int wanted);
 
   // Adds `estimate` to every image read from now on (nullptr: none).
   void set_separate_estimate(const SeparateEstimate* estimate) { separate_ = estimate; }

@@ -41,6 +41,12 @@ void StageLauncher::write_count(const cl::Buffer& counter, uint32_t value, Rende
   if (stats) ++stats->blocking_transfers;
 }
 
+void StageLauncher::read_async(const cl::Buffer& buffer, size_t bytes, void* destination, cl::Event* done,
+                               RenderStats* stats) {
+  runtime_.queue().enqueueReadBuffer(buffer, CL_FALSE, 0, bytes, destination, nullptr, done);
+  if (stats) ++stats->count_reads;
+}
+
 CameraGPU Integrator::chunk_camera(size_t first_pixel, size_t pixel_count) const {
   CameraGPU camera = camera_for_image(scene_.scene().camera, settings_.width, settings_.height);
   camera.pixel_offset = cl_uint(first_pixel);

@@ -1,7 +1,8 @@
 // An integrator: one render mode, owning its stages, queues and lights.
 //
-// Rules: an integrator traces one sample of a chunk of pixels into the
-// film's pass in progress and nothing else; the pass driver
+// Rules: an integrator traces a wave of samples (one pass, or several where
+// it says so: wave_passes) of a chunk of pixels into the film's pass in
+// progress and nothing else; the pass driver
 // (host/render/pass_driver.h) decides chunks, retries, passes and when to
 // stop, and the film keeps what finished passes added. An integrator builds
 // from its own program (kernels/integrator_<mode>.cl: only its stages, one
@@ -71,9 +72,13 @@ struct RenderStats {
   uint64_t shadow_rays = 0;   // traced: slots holding a ray (counted per work-group on the device)
   uint64_t shadow_slots = 0;  // addressed shadow slots, traced or empty
   int chunk_retries = 0;  // chunks traced again in halves after a queue overflow
-  // Host traffic: kernel launches and blocking reads/writes (queue counts).
+  // Host traffic: kernel launches and blocking reads/writes (queue counts),
+  // and the path tracer's count reads: non-blocking, each waited for only
+  // after the next iteration is queued behind it, so the device never idles
+  // for them (integrator_path.cpp).
   uint64_t launches = 0;
   uint64_t blocking_transfers = 0;
+  uint64_t count_reads = 0;
   FilmCounts film;  // contributions dropped or clamped
   // Device time per stage kernel, ms (only on a profiling runtime).
   std::map<std::string, double> stage_ms;
@@ -100,6 +105,9 @@ class StageLauncher {
   void launch(StageKernel& stage, size_t count, RenderStats* stats);
   uint32_t read_count(const cl::Buffer& counter, RenderStats* stats);
   void write_count(const cl::Buffer& counter, uint32_t value, RenderStats* stats);
+  // A non-blocking read of `bytes` from `buffer` into `destination`, done
+  // when `done` completes (a count read).
+  void read_async(const cl::Buffer& buffer, size_t bytes, void* destination, cl::Event* done, RenderStats* stats);
   // Adds the device time of the launches since the last collect to
   // stats->stage_ms (waits for them).
   void collect(RenderStats* stats);
@@ -114,10 +122,16 @@ class StageLauncher {
 class Integrator {
  public:
   virtual ~Integrator() = default;
-  // One sample for pixels [first_pixel, first_pixel + pixel_count) into the
-  // film's pass in progress. False when a queue overflowed: the driver then
-  // clears that range of the pass and traces it again in halves.
-  virtual bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) = 0;
+  // `passes` samples (passes film.passes() on) for pixels [first_pixel,
+  // first_pixel + pixel_count) into the film's pass in progress. False when
+  // a queue overflowed: the driver then clears that range of the pass and
+  // traces it again in halves.
+  virtual bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int passes, RenderStats* stats) = 0;
+  // The most passes the next wave may trace at once (the driver caps it
+  // further: the passes asked for, the time limit, the film's rules). It
+  // depends on the film's pass count and the image only, never on timing,
+  // so that a render's waves, and so its bits, are the same on any machine.
+  virtual int wave_passes(const Film& /*film*/) const { return 1; }
   // Around each pass's chunks: work that spans the whole image (the photon
   // pass traces its photons before and gathers after).
   virtual void begin_pass(Film& /*film*/, RenderStats* /*stats*/) {}

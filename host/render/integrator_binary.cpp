@@ -25,7 +25,7 @@ class BinaryIntegrator final : public Integrator {
     rays_ = DeviceQueue(context, path_record_layout(), chunk_pixels_);
     hits_ = cl::Buffer(context, CL_MEM_READ_WRITE, chunk_pixels_ * sizeof(Hit));
   }
-  bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
+  bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int passes, RenderStats* stats) override;
 
  private:
   StageKernel generate_, intersect_, shade_;
@@ -35,7 +35,8 @@ class BinaryIntegrator final : public Integrator {
 
 }  // namespace
 
-bool BinaryIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) {
+bool BinaryIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int /*passes: always 1*/,
+                                   RenderStats* stats) {
   generate_camera_rays(generate_, rays_, first_pixel, pixel_count, stats);
 
   KernelArgs intersect(intersect_);

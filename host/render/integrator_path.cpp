@@ -1,13 +1,28 @@
 // Path mode: unidirectional path tracing with next-event estimation and
 // BSDF sampling combined by multiple importance sampling (power heuristic),
 // Russian roulette, Sobol-Burley samples. Stages: generate_camera_samples ->
-// { intersect_closest -> shade_surface_path -> intersect_shadow }*, over two
-// ping-pong path queues (each path pushes at most one continuation, so a
-// queue never holds more than the chunk) and one addressed shadow slot per
-// path. Every pass is one sample per pixel; the film averages the passes.
-// With caustics, a PhotonPass traces photons before each pass's chunks and
-// gathers them after (host/render/photon_pass.h); with `--caustics auto`
-// it is kept only where it pays (decide_photon_pass below).
+// { intersect_closest -> shade_surface_path -> intersect_shadow }*.
+//
+// Waves: one wave traces several passes of the whole image (wave_passes:
+// about kWaveSamples samples) through a fixed number of path slots. The
+// generate stage starts the first samples; when a path ends, the shade
+// stage starts the wave's next sample in its place (path regeneration,
+// Novak et al. 2010), so the queues stay full until the wave's samples run
+// out and the launches per sample are few. Two ping-pong path queues (each
+// path pushes one record at most, so a queue never overflows), one
+// addressed shadow slot per path, and three rotating queue counts on the
+// device (kernels/shared/types.h): the host writes nothing between waves
+// or iterations. It launches each stage over the slots until a count read
+// tells it a smaller bound: after queueing iteration j it waits for the
+// non-blocking read of the counters after iteration j - kCountLag, which
+// the device finished while it worked on the iterations after it. Once the
+// wave's samples have all started, the counts only fall; the first read of
+// zero ends the wave, and it carries the wave's ray counts too. The film
+// sums in fixed point, so the order in which slots take samples changes no
+// bit. With caustics, a PhotonPass traces photons before a pass and
+// gathers them after (host/render/photon_pass.h), so those passes are
+// waves of one; with `--caustics auto` it is kept only where it pays
+// (decide_photon_pass below).
 #include <algorithm>
 #include <cstdio>
 #include <string>
@@ -51,13 +66,35 @@ constexpr int kLongestInterval = 64;
 // half-buffer estimate needs a few).
 constexpr int kBalanceAfterPasses = 4;
 
+// A wave holds about this many samples (more passes per wave for smaller
+// images, up to Film::kMostWavePasses): at 2-core PoCL speeds about a
+// second of work, so the time limit and progress keep their grain, while
+// the tail of its last paths (launches over few paths) is amortised.
+constexpr size_t kWaveSamples = size_t(1) << 22;
+// Count reads are waited for this many iterations late (see above).
+constexpr int kCountLag = 2;
+
 // Owns its light table (PathLight and the per-primitive light indices), two
 // path queues and the shadow slots, all sized for one chunk.
 class PathIntegrator final : public Integrator {
   StageKernel generate_, intersect_, shade_, shadow_stage_;
   size_t light_count_ = 0;
-  cl::Buffer lights_, light_of_sphere_, light_of_cylinder_, light_of_triangle_, hits_, shadow_traced_;
+  size_t slots_ = 0;  // paths in flight
+  cl::Buffer lights_, light_of_sphere_, light_of_cylinder_, light_of_triangle_, hits_;
   DeviceQueue rays_[2], shadow_;
+  // The wave counters (kernels/shared/types.h): one buffer, each counter in
+  // its own sub-buffer at counter_stride_ bytes, read all at once.
+  enum { kQueueCount0 = 0, kShadowRays = 3, kWaveProgress = 4, kCounterBuffers = 5 };
+  size_t counter_stride_ = 0;
+  cl::Buffer counters_;
+  cl::Buffer counter_[kCounterBuffers];
+  struct CountRead {
+    std::vector<cl_uint> values;
+    cl::Event done;
+    cl_uint at(size_t counter, size_t value = 0) const { return values[counter * (values.size() / kCounterBuffers) + value]; }
+  };
+  CountRead reads_[kCountLag + 1];
+  cl_uint closest_rays_seen_ = 0, shadow_rays_seen_ = 0;  // the counters at the end of the latest wave
   std::unique_ptr<PhotonPass> photons_;  // only with the caustics feature
   cl::Buffer numerics_;                   // only with --check-numerics
   uint64_t pass_rays_ = 0;                // this pass's camera-path rays (closest + shadow)
@@ -74,7 +111,11 @@ class PathIntegrator final : public Integrator {
  public:
   PathIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                  const RenderSettings& settings);
-  bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
+  bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int passes, RenderStats* stats) override;
+  int wave_passes(const Film& film) const override {
+    if (photons_ && (film.passes() == 0 || photons_->on())) return 1;
+    return int(std::clamp<size_t>(kWaveSamples / std::max<size_t>(1, film.pixel_count()), 1, Film::kMostWavePasses));
+  }
   void begin_pass(Film& film, RenderStats* stats) override {
     if (numerics_() && film.passes() == 0)
       launcher_.runtime().fill(numerics_, cl_ulong(0), 0, NUMERICS_COUNTERS * sizeof(cl_ulong));
@@ -141,54 +182,74 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
   light_of_sphere_ = upload_buffer(ctx, table.light_of_sphere);
   light_of_cylinder_ = upload_buffer(ctx, table.light_of_cylinder);
   light_of_triangle_ = upload_buffer(ctx, table.light_of_triangle);
-  chunk_pixels_ = std::min(size_t(settings.width) * size_t(settings.height), settings.chunk_pixels);
+  // A wave covers the whole image; settings.chunk_pixels bounds the slots.
+  chunk_pixels_ = size_t(settings.width) * size_t(settings.height);
+  slots_ = std::max<size_t>(1, std::min({settings.chunk_pixels, kWaveSamples, chunk_pixels_ * Film::kMostWavePasses}));
+  if (getenv("CAUSTICA_SLOTS")) slots_ = std::min<size_t>(slots_, atoi(getenv("CAUSTICA_SLOTS")));
   // One path's sample can carry far more than the scene's radiance
   // (throughput / pdf); the bound only picks the fixed-point scale, and
   // anything beyond 2^56 / scale is clamped and counted.
   const glm::vec3 bg = scene.scene().background;
   pass_bound_ = 1e6f * std::max(1.0f, std::max(table.max_radiance, std::max(bg.x, std::max(bg.y, bg.z))));
-  for (DeviceQueue& q : rays_) q = DeviceQueue(ctx, path_record_layout(), chunk_pixels_);
-  shadow_ = DeviceQueue(ctx, shadow_record_layout(), chunk_pixels_);
-  hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, chunk_pixels_ * sizeof(Hit));
-  shadow_traced_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
+  for (DeviceQueue& q : rays_) q = DeviceQueue(ctx, path_record_layout(), slots_);
+  shadow_ = DeviceQueue(ctx, shadow_record_layout(), slots_);
+  hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, slots_ * sizeof(Hit));
+  // Sub-buffers start at multiples of the device's base address alignment.
+  const cl_uint align_bits = ctx.getInfo<CL_CONTEXT_DEVICES>().at(0).getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>();
+  counter_stride_ = std::max<size_t>(16, align_bits / 8);
+  counters_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, kCounterBuffers * counter_stride_);
+  launcher.runtime().fill(counters_, cl_uint(0), 0, kCounterBuffers * counter_stride_);
+  for (int c = 0; c < kCounterBuffers; ++c) {
+    const cl_buffer_region region{c * counter_stride_, c == kWaveProgress ? WAVE_PROGRESS_VALUES * sizeof(cl_uint)
+                                                                          : sizeof(cl_uint)};
+    counter_[c] = counters_.createSubBuffer(CL_MEM_READ_WRITE, CL_BUFFER_CREATE_TYPE_REGION, &region);
+  }
+  for (CountRead& read : reads_) read.values.assign(kCounterBuffers * counter_stride_ / sizeof(cl_uint), 0);
   if (settings.check_numerics) numerics_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, NUMERICS_COUNTERS * sizeof(cl_ulong));
   if (settings.caustics && light_count_ > 0)
     photons_ = std::make_unique<PhotonPass>(launcher, scene, program, lights_, uint32_t(light_count_), settings);
 }
 
-bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) {
+bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int passes,
+                                 RenderStats* stats) {
   const Scene& scene = scene_.scene();
+  const size_t samples = pixel_count * size_t(passes);
   PathParams params{};
   params.background = to_float4(scene.background);
   params.light_count = cl_uint(light_count_);
   params.max_depth = cl_uint(std::max(0, scene.nbounces));
-  params.ray_capacity = cl_uint(chunk_pixels_);
-  params.sample_index = cl_uint(film.passes());
+  params.ray_capacity = cl_uint(slots_);
+  params.first_pass = cl_uint(film.passes());
   params.seed = settings_.seed;
   params.strategy = settings_.path_strategy;
   params.rr_depth = 3;
   params.sampler = settings_.sampler;
+  params.wave_pixels = cl_uint(pixel_count);
+  params.wave_samples = cl_uint(samples);
+  const CameraGPU camera = chunk_camera(first_pixel, pixel_count);
 
-  DeviceQueue* current = &rays_[0];
-  DeviceQueue* next = &rays_[1];
   KernelArgs(generate_)
-      .arg("camera", chunk_camera(first_pixel, pixel_count))
+      .arg("camera", camera)
       .arg("params", params)
-      .queue("out", *current)
+      .queue("out", rays_[0], counter_[kQueueCount0])
+      .arg("next_count", counter_[kQueueCount0 + 1])
+      .arg("wave_progress", counter_[kWaveProgress])
       .finish();
-  launcher_.launch(generate_, pixel_count, stats);
-  launcher_.write_count(current->count(), cl_uint(pixel_count), stats);
-  launcher_.write_count(shadow_traced_, 0, stats);
-  if (stats) stats->camera_rays += pixel_count;
+  const size_t started = std::min(samples, slots_);
+  launcher_.launch(generate_, started, stats);
+  if (stats) stats->camera_rays += samples;
 
-  for (uint32_t ray_count = uint32_t(pixel_count); ray_count > 0;) {
+  const bool shadows = light_count_ > 0 && settings_.path_strategy != PATH_STRATEGY_BSDF;
+  size_t bound = started;  // no iteration from here on has more paths
+  cl_uint closest_rays = closest_rays_seen_, shadow_rays = shadow_rays_seen_;
+  for (uint32_t j = 0;; ++j) {
+    const DeviceQueue& current = rays_[j % 2];
+    const DeviceQueue& next = rays_[(j + 1) % 2];
+    const cl::Buffer& current_count = counter_[kQueueCount0 + j % 3];
     KernelArgs intersect(intersect_);
-    scene_.bind_geometry(intersect).ray_view("rays", *current).arg("hits", hits_).finish();
-    launcher_.launch(intersect_, ray_count, stats);
-    pass_rays_ += ray_count;
+    scene_.bind_geometry(intersect).ray_view("rays", current, current_count).arg("hits", hits_).finish();
+    launcher_.launch(intersect_, bound, stats);
 
-    launcher_.write_count(next->count(), 0, stats);
-    launcher_.write_count(shadow_.count(), ray_count, stats);  // slot i: path i's shadow ray
     KernelArgs shade(shade_);
     scene_.bind_surfaces(shade)
         .arg("lights", lights_)
@@ -196,29 +257,52 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
         .arg("light_of_cylinder", light_of_cylinder_)
         .arg("light_of_triangle", light_of_triangle_)
         .arg("params", params)
-        .queue("in", *current)
+        .queue("in", current, current_count)
         .arg("hits", hits_);
-    film.bind(shade).queue("next", *next).queue("shadow", shadow_);
+    film.bind(shade)
+        .queue("next", next, counter_[kQueueCount0 + (j + 1) % 3])
+        .arg("cleared_count", counter_[kQueueCount0 + (j + 2) % 3])
+        .queue("shadow", shadow_, current_count)
+        .arg("camera", camera)
+        .arg("wave_progress", counter_[kWaveProgress]);
     if (photons_)
       photons_->bind_photon_map(photons_->bind_visible_points(shade).arg("record_visible_points",
                                                                           cl_uint(photon_pass_now_ ? 1 : 0)));
     if (numerics_()) shade.arg("numerics", numerics_);
     shade.finish();
-    launcher_.launch(shade_, ray_count, stats);
+    launcher_.launch(shade_, bound, stats);
 
-    if (light_count_ > 0 && settings_.path_strategy != PATH_STRATEGY_BSDF) {
+    if (shadows) {
       KernelArgs shadow(shadow_stage_);
-      film.bind(scene_.bind_geometry(shadow).queue("shadow", shadow_)).arg("traced", shadow_traced_).finish();
-      launcher_.launch(shadow_stage_, ray_count, stats);
+      film.bind(scene_.bind_geometry(shadow).queue("shadow", shadow_, current_count))
+          .arg("traced", counter_[kShadowRays])
+          .finish();
+      launcher_.launch(shadow_stage_, bound, stats);
     }
-    ray_count = launcher_.read_count(next->count(), stats);
-    if (ray_count > chunk_pixels_) return false;  // cannot happen: one continuation per path at most
-    if (stats) stats->secondary_rays += ray_count;
-    std::swap(current, next);
+    CountRead& read = reads_[j % (kCountLag + 1)];
+    launcher_.read_async(counters_, kCounterBuffers * counter_stride_, read.values.data(), &read.done, stats);
+    if (j < uint32_t(kCountLag)) continue;
+    // The counters after iteration j - kCountLag (the device has the
+    // iterations after it queued while the host waits).
+    const uint32_t seen = j - kCountLag;
+    const CountRead& after = reads_[seen % (kCountLag + 1)];
+    after.done.wait();
+    const cl_uint remaining = after.at(kQueueCount0 + (seen + 1) % 3);  // iteration seen + 1's paths
+    closest_rays = after.at(kWaveProgress, WAVE_CLOSEST_RAYS);
+    shadow_rays = after.at(kShadowRays);
+    if (after.at(kWaveProgress, WAVE_SAMPLES_STARTED) < samples) continue;  // slots still refill
+    if (remaining == 0) break;  // every later iteration is empty (they return at once)
+    bound = remaining;
   }
-  const uint32_t shadow_rays = launcher_.read_count(shadow_traced_, stats);
-  if (stats) stats->shadow_rays += shadow_rays;
-  pass_rays_ += shadow_rays;
+  // The wave's rays: the counters run over the render (modulo 2^32).
+  const cl_uint closest = closest_rays - closest_rays_seen_, shadow = shadow_rays - shadow_rays_seen_;
+  closest_rays_seen_ = closest_rays;
+  shadow_rays_seen_ = shadow_rays;
+  pass_rays_ += uint64_t(closest) + shadow;
+  if (stats) {
+    stats->secondary_rays += closest - std::min<uint64_t>(closest, samples);
+    stats->shadow_rays += shadow;
+  }
   return true;
 }
 

@@ -31,7 +31,7 @@ class PhongIntegrator final : public Integrator {
  public:
   PhongIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                   const RenderSettings& settings);
-  bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) override;
+  bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int passes, RenderStats* stats) override;
   void begin_pass(Film& film, RenderStats* stats) override {
     if (!photons_) return;
     if (film.passes() == 0) photons_->clear();
@@ -147,7 +147,8 @@ ShadeParams PhongIntegrator::shade_params() const {
   return params;
 }
 
-bool PhongIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, RenderStats* stats) {
+bool PhongIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int /*passes: always 1*/,
+                                   RenderStats* stats) {
   DeviceQueue* current = &rays_[0];
   DeviceQueue* next = &rays_[1];
   generate_camera_rays(generate_, *current, first_pixel, pixel_count, stats);

@@ -32,14 +32,20 @@ const cl::Buffer& DeviceQueue::field(const std::string& name) const {
   throw Error(std::string(layout_->name) + " record has no field \"" + name + "\"");
 }
 
-KernelArgs& KernelArgs::queue(const std::string& prefix, const DeviceQueue& q) {
-  arg(prefix + "_count", q.count());
+KernelArgs& KernelArgs::queue(const std::string& prefix, const DeviceQueue& q) { return queue(prefix, q, q.count()); }
+
+KernelArgs& KernelArgs::queue(const std::string& prefix, const DeviceQueue& q, const cl::Buffer& count) {
+  arg(prefix + "_count", count);
   for (size_t i = 0; i < q.fields().size(); ++i) arg(prefix + "_" + q.layout().fields[i].name, q.fields()[i]);
   return *this;
 }
 
 KernelArgs& KernelArgs::ray_view(const std::string& prefix, const DeviceQueue& q) {
-  return arg(prefix + "_count", q.count()).arg(prefix + "_origin", q.field("origin")).arg(prefix + "_dir", q.field("dir"));
+  return ray_view(prefix, q, q.count());
+}
+
+KernelArgs& KernelArgs::ray_view(const std::string& prefix, const DeviceQueue& q, const cl::Buffer& count) {
+  return arg(prefix + "_count", count).arg(prefix + "_origin", q.field("origin")).arg(prefix + "_dir", q.field("dir"));
 }
 
 std::vector<std::string> kernel_arg_names(const cl::Kernel& kernel) {

@@ -77,8 +77,12 @@ class KernelArgs {
   }
   // The whole queue: prefix_count, then prefix_<field> for every field.
   KernelArgs& queue(const std::string& prefix, const DeviceQueue& q);
+  // The same with another counter than the queue's own (the path tracer's
+  // rotating counts).
+  KernelArgs& queue(const std::string& prefix, const DeviceQueue& q, const cl::Buffer& count);
   // The ray view of a queue (RAY_VIEW_PARAMS): prefix_count, _origin, _dir.
   KernelArgs& ray_view(const std::string& prefix, const DeviceQueue& q);
+  KernelArgs& ray_view(const std::string& prefix, const DeviceQueue& q, const cl::Buffer& count);
   // On the stage's first binding: throws caustica::Error when the count or
   // (where reported) a name differs from the kernel's declaration.
   void finish();

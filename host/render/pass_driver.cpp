@@ -8,14 +8,14 @@
 
 namespace caustica {
 
-void PassDriver::trace_chunk(size_t first_pixel, size_t pixel_count, RenderStats* stats) {
-  if (integrator_.trace_chunk(film_, first_pixel, pixel_count, stats)) return;
+void PassDriver::trace_chunk(size_t first_pixel, size_t pixel_count, int passes, RenderStats* stats) {
+  if (integrator_.trace_chunk(film_, first_pixel, pixel_count, passes, stats)) return;
   if (pixel_count <= 1) throw Error("render: ray queue overflow on a single pixel (capacity too small)");
   film_.clear_pass_range(first_pixel, pixel_count);
   if (stats) ++stats->chunk_retries;
   const size_t half = pixel_count / 2;
-  trace_chunk(first_pixel, half, stats);
-  trace_chunk(first_pixel + half, pixel_count - half, stats);
+  trace_chunk(first_pixel, half, passes, stats);
+  trace_chunk(first_pixel + half, pixel_count - half, passes, stats);
 }
 
 double time_limit_tolerance(double limit_s) { return std::max(0.5, 0.05 * limit_s); }
@@ -28,15 +28,18 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   const bool timed = stop.seconds > 0.0;
   const double tolerance = timed ? time_limit_tolerance(stop.seconds) : 0.0;
-  std::map<int, double> latest_pass_s;  // by kind
+  std::map<int, double> latest_pass_s;  // seconds a pass, by kind (of the latest wave of that kind)
   double longest_pass_s = 0.0;
-  for (int pass = 0; pass < stop.passes; ++pass) {
+  for (int pass = 0; pass < stop.passes;) {
     const int kind = integrator_.next_pass_kind(film_);
     const double start = seconds();
+    int wave = Film::most_passes_from(film_.passes(), std::min(integrator_.wave_passes(film_), stop.passes - pass));
     if (timed && pass > 0) {
       const auto known = latest_pass_s.find(kind);
       const double predicted = known != latest_pass_s.end() ? known->second : longest_pass_s;
-      if (start + predicted > stop.seconds + 0.75 * tolerance) break;
+      const double room = stop.seconds + 0.75 * tolerance - start;
+      if (predicted > room) break;
+      if (predicted > 0.0) wave = std::max(1, std::min(wave, int(room / predicted)));
     }
     integrator_.begin_pass(film_, stats);
     bool abandoned = false;
@@ -45,19 +48,20 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
         abandoned = true;
         break;
       }
-      trace_chunk(first, std::min(chunk, pixels - first), stats);
+      trace_chunk(first, std::min(chunk, pixels - first), wave, stats);
       if (progress)
-        progress(PassProgress{pass, stop.passes, seconds(), stop.seconds, std::min(pixels, first + chunk), pixels,
-                              stats});
+        progress(PassProgress{pass + wave - 1, stop.passes, seconds(), stop.seconds, std::min(pixels, first + chunk),
+                              pixels, stats});
     }
     if (abandoned) {
       film_.clear_pass_range(0, pixels);
       break;
     }
     integrator_.end_pass(film_, stats);
-    film_.accumulate_pass(launcher_, stats);
-    if (stats) ++stats->passes;
-    const double took = seconds() - start;
+    film_.accumulate_pass(launcher_, stats, wave);
+    if (stats) stats->passes += wave;
+    pass += wave;
+    const double took = (seconds() - start) / wave;
     latest_pass_s[kind] = took;
     longest_pass_s = std::max(longest_pass_s, took);
     if (pass_done && !pass_done(film_, seconds())) break;

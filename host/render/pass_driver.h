@@ -1,17 +1,23 @@
 // The pass driver: runs an integrator over the image, pass after pass.
 //
 // Rules: a pass is one sample of every pixel, traced chunk by chunk (the
-// integrator's chunk size bounds queue memory). A chunk whose queues
+// integrator's chunk size bounds queue memory), and a wave is as many
+// passes as the integrator traces at once (Integrator::wave_passes; one for
+// all but path mode), capped by the passes left, by the time limit and by
+// the film (Film::most_passes_from: waves grow 1, 1, 2, 4, ... along the
+// half buffer's powers of two). Without a time limit the waves depend on
+// the pass count only, so a seed and spp give the same bits anywhere. A chunk whose queues
 // overflowed is cleared from the pass in progress, and only from it, then
 // traced again in halves, so a finished pass is never lost or counted twice.
-// After each pass the film accumulates it; progress is reported after every
+// After each wave the film accumulates it; progress is reported after every
 // chunk; the driver stops after the requested passes, at the time limit, or
 // when the pass-done callback says so (a target error), whichever first.
 //
-// The time limit T is kept within max(0.5 s, 5% of T) (issue 19): a pass is
-// started only if the latest pass of its kind (Integrator::next_pass_kind;
-// the longest pass so far for a kind not seen yet) would end within 3/4 of
-// that tolerance after T, and a pass still running at T plus 9/10 of it is
+// The time limit T is kept within max(0.5 s, 5% of T) (issue 19): a wave is
+// started only if its passes, each as long as a pass of the latest wave of
+// its kind (Integrator::next_pass_kind; the longest pass so far for a kind
+// not seen yet), would end within 3/4 of that tolerance after T (it is cut
+// to the passes that do), and a pass still running at T plus 9/10 of it is
 // abandoned between chunks (its contributions cleared, never accumulated).
 // The first pass always runs to the end.
 #pragma once
@@ -33,7 +39,7 @@ struct PassProgress {
   const RenderStats* stats = nullptr;
 };
 using ProgressCallback = std::function<void(const PassProgress&)>;
-// After each accumulated pass (the film holds film.passes() of them).
+// After each accumulated wave (the film holds film.passes() passes).
 // Returns false to end the render there (a target error reached).
 using PassDoneCallback = std::function<bool(const Film& film, double seconds)>;
 
@@ -55,7 +61,7 @@ class PassDriver {
            const PassDoneCallback& pass_done = {});
 
  private:
-  void trace_chunk(size_t first_pixel, size_t pixel_count, RenderStats* stats);
+  void trace_chunk(size_t first_pixel, size_t pixel_count, int passes, RenderStats* stats);
 
   Integrator& integrator_;
   Film& film_;

@@ -1,6 +1,7 @@
 #line 2 "kernels/film/accumulate_film_pass.cl"
-/* Film stage: a finished pass (fixed point, lib/film.h) becomes floats added
- * to the accumulated passes, and the pass buffer is cleared for the next.
+/* Film stage: a finished pass, or a wave of passes (fixed point, lib/film.h),
+ * becomes floats added to the accumulated passes, and the pass buffer is
+ * cleared for the next.
  * One work-item per channel value, each adding on its own in pass order, so
  * the accumulated film is deterministic as well. Layout of `passes` (floats):
  * the combined sum of every pass at 0; with FilmAccumulate.half_offset !=
@@ -19,6 +20,9 @@ __kernel void accumulate_film_pass(__global ulong* restrict film, __global float
   /* Rounds once, like the exact value / scale would: scale is a power of two. */
   const float value = convert_float(film[i]) * params.inv_scale;
   passes[i] += value;
+  /* A pass in progress may hold a wave of passes [pass_index, pass_index +
+   * pass_count): the host never lets one cross a power of two but at its
+   * start (host/render/pass_driver.cpp), so it lies in one half. */
   if (params.half_offset != FILM_PASS_ABSENT && params.pass_index > 0u) {
     const bool starts_half = (params.pass_index & (params.pass_index - 1u)) == 0u; /* a power of two */
     passes[params.half_offset + i] = (starts_half ? 0.0f : passes[params.half_offset + i]) + value;

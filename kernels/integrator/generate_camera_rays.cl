@@ -14,5 +14,5 @@ __kernel void generate_camera_rays(CameraGPU camera, PATH_QUEUE_PARAMS(out)) {
   float plane[3];
   camera_pixel_centre_point(&camera, pixel, plane);
   path_store(PATH_QUEUE_ARGS(out), i,
-             camera_path(camera.position.xyz, normalize((float3)(plane[0], plane[1], plane[2])), pixel));
+             camera_path(camera.position.xyz, normalize((float3)(plane[0], plane[1], plane[2])), pixel, 0u));
 }

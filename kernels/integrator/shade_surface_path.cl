@@ -41,6 +41,7 @@
 
 
 #include "lib/photon_grid.h" /* before caustics.h: its gathers need the grid */
+#include "lib/camera_sample.h"
 #include "lib/caustics.h"
 #include "lib/film.h"
 #include "lib/material.h"
@@ -78,30 +79,44 @@ inline uint light_of_hit(__global const uint* light_of_sphere, __global const ui
   return light_of_triangle[index];
 }
 
-__kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight* restrict lights,
-                                 __global const uint* restrict light_of_sphere,
-                                 __global const uint* restrict light_of_cylinder,
-                                 __global const uint* restrict light_of_triangle, PathParams params,
-                                 PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits, FILM_PARAMS,
-                                 PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)
+/* Everything a path vertex reads and writes (the kernel's parameters, less
+ * the wave's own). */
 #if PATH_WITH_CAUSTICS
-                                 , __global VisiblePoint* restrict visible_points, uint record_visible_points,
-                                 PHOTON_GRID_PARAMS, float caustic_radius, volatile __global ulong* restrict gather_counters
+#define PATH_CAUSTIC_PARAMS                                                                   \
+  , __global VisiblePoint *restrict visible_points, uint record_visible_points, PHOTON_GRID_PARAMS, \
+      float caustic_radius, volatile __global ulong *restrict gather_counters
+#define PATH_CAUSTIC_ARGS , visible_points, record_visible_points, PHOTON_GRID_ARGS, caustic_radius, gather_counters
+#else
+#define PATH_CAUSTIC_PARAMS
+#define PATH_CAUSTIC_ARGS
 #endif
 #if PATH_CHECK_NUMERICS
-                                 , volatile __global ulong* restrict numerics
+#define PATH_NUMERICS_PARAMS , volatile __global ulong *restrict numerics
+#define PATH_NUMERICS_ARGS , numerics
+#else
+#define PATH_NUMERICS_PARAMS
+#define PATH_NUMERICS_ARGS
 #endif
-) {
-  const uint i = get_global_id(0);
-  if (i >= *in_count) return;
+#define PATH_VERTEX_PARAMS                                                                                  \
+  SCENE_SURFACE_PARAMS, __global const PathLight *restrict lights, __global const uint *restrict light_of_sphere, \
+      __global const uint *restrict light_of_cylinder, __global const uint *restrict light_of_triangle,        \
+      const PathParams *params, PATH_QUEUE_PARAMS(in), __global const Hit *restrict hits, FILM_PARAMS,        \
+      PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow) PATH_CAUSTIC_PARAMS PATH_NUMERICS_PARAMS
+#define PATH_VERTEX_ARGS                                                                                   \
+  spheres, cylinders, triangles, triangle_shading, materials, textures, texels, lights, light_of_sphere,     \
+      light_of_cylinder, light_of_triangle, &params, PATH_QUEUE_ARGS(in), hits, FILM_ARGS, PATH_QUEUE_ARGS(next), \
+      SHADOW_QUEUE_ARGS(shadow) PATH_CAUSTIC_ARGS PATH_NUMERICS_ARGS
+
+/* Path i's vertex: true when the path goes on, as *child. */
+inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out) {
   shadow_mark_empty(SHADOW_QUEUE_ARGS(shadow), i);
   const Hit hit = hits[i];
   const PathRecord ray = path_load(PATH_QUEUE_ARGS(in), i);
   const float3 throughput = ray.throughput.xyz;
   const float3 d = ray.dir.xyz;
   if (hit.prim == PRIM_NONE) {
-    film_add(FILM_ARGS, ray.pixel, throughput * params.background.xyz);
-    return;
+    film_add(FILM_ARGS, ray.pixel, throughput * params->background.xyz);
+    return false;
   }
   const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, ray.origin.xyz, d);
   __global const Material* mat = &materials[sp.material];
@@ -111,7 +126,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
    * outward / counter-clockwise normal), or either side of a two-sided one. */
   const bool arrived_by_delta = (ray.flags & PATH_SPECULAR) != 0u;
   bool sees_front = dot(d, sp.normal) < 0.0f || (mat->flags & MATERIAL_TWO_SIDED) != 0u;
-  const uint light_index = params.light_count > 0u
+  const uint light_index = params->light_count > 0u
                                ? light_of_hit(light_of_sphere, light_of_cylinder, light_of_triangle, hit.prim)
                                : LIGHT_NONE;
 #if PATH_WITH_CAUSTICS
@@ -130,8 +145,8 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
     __global const PathLight* light = &lights[light_index];
     float weight = 1.0f;
     if (!arrived_by_delta) {
-      if (params.strategy == PATH_STRATEGY_NEE) weight = 0.0f;
-      else if (params.strategy == PATH_STRATEGY_MIS)
+      if (params->strategy == PATH_STRATEGY_NEE) weight = 0.0f;
+      else if (params->strategy == PATH_STRATEGY_MIS)
         weight = power_heuristic(ray.bsdf_pdf, light_pdf(light, light->select_probability, ray.origin.xyz,
                                                          sp.position, d));
     }
@@ -139,7 +154,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   } else if (max3_of(mat->emission.xyz) > 0.0f) {
     film_add(FILM_ARGS, ray.pixel, throughput * mat->emission.xyz); /* not sampled: BSDF rays find it alone */
   }
-  if (ray.depth >= params.max_depth) return;
+  if (ray.depth >= params->max_depth) return false;
 
   float3 diffuse_colour = mat->diffuse.xyz;
 #ifdef HAS_TEXTURES
@@ -169,8 +184,8 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
     if (radius > 0.0f)
       film_add(FILM_ARGS, ray.pixel,
                throughput * caustic_radiance(PHOTON_GRID_ARGS, bsdf, t, b, n, wo, sp.position, radius,
-                                             (float)params.max_depth - 1.0f - (float)ray.depth,
-                                             random_float(hash3(ray.pixel, params.sample_index, params.seed),
+                                             (float)params->max_depth - 1.0f - (float)ray.depth,
+                                             random_float(hash3(ray.pixel, ray.sample, params->seed),
                                                           0x9a7e0000u + ray.depth),
                                              gather_counters));
   }
@@ -179,24 +194,24 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
 #else
   const bool nee_is_photon_maps = false;
 #endif
-  const uint pixel_seed = hash3(ray.pixel, 0u, params.seed);
+  const uint pixel_seed = hash3(ray.pixel, 0u, params->seed);
   const uint pair = 2u + 3u * ray.depth;
-  const float2 picks = pixel_sample_2d(params.sampler, params.sample_index, pair + 2u, pixel_seed);
+  const float2 picks = pixel_sample_2d(params->sampler, ray.sample, pair + 2u, pixel_seed);
 
   /* Next-event estimation toward one light. */
   const bool delta_only = bsdf_is_smooth(bsdf) && bsdf.kind != BSDF_PLASTIC;
-  if (params.light_count > 0u && params.strategy != PATH_STRATEGY_BSDF && !delta_only && !nee_is_photon_maps) {
-    const uint li = pick_light(lights, params.light_count, picks.x);
+  if (params->light_count > 0u && params->strategy != PATH_STRATEGY_BSDF && !delta_only && !nee_is_photon_maps) {
+    const uint li = pick_light(lights, params->light_count, picks.x);
     __global const PathLight* light = &lights[li];
     LightSample ls;
     if (sample_light(light, light->select_probability, sp.position,
-                     pixel_sample_2d(params.sampler, params.sample_index, pair, pixel_seed), &ls)) {
+                     pixel_sample_2d(params->sampler, ray.sample, pair, pixel_seed), &ls)) {
       const float3 wi = frame_to_local(ls.wi, t, b, n);
       const float side = dot(ls.wi, ng);
       if (!opaque || side > 0.0f) {
         const float3 f = bsdf_eval(bsdf, wo, wi);
         if (max3_of(f) > 0.0f) {
-          const float weight = ls.delta || params.strategy == PATH_STRATEGY_NEE
+          const float weight = ls.delta || params->strategy == PATH_STRATEGY_NEE
                                    ? 1.0f
                                    : power_heuristic(ls.pdf, bsdf_pdf(bsdf, wo, wi));
           const float3 contribution = throughput * f * fabs(wi.z) * ls.radiance * (weight / ls.pdf);
@@ -216,23 +231,23 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   }
 
   /* The continuation, by BSDF sampling. */
-  const float2 u_dir = pixel_sample_2d(params.sampler, params.sample_index, pair + 1u, pixel_seed);
+  const float2 u_dir = pixel_sample_2d(params->sampler, ray.sample, pair + 1u, pixel_seed);
   float3 wi_local, weight;
   float pdf;
   uint flags;
-  if (!bsdf_sample(bsdf, wo, (float3)(u_dir, picks.y), &wi_local, &weight, &pdf, &flags)) return;
+  if (!bsdf_sample(bsdf, wo, (float3)(u_dir, picks.y), &wi_local, &weight, &pdf, &flags)) return false;
 #if PATH_CHECK_NUMERICS
   count_bsdf_weight(numerics, ray.depth, weight);
 #endif
   const float3 wi = frame_to_world(wi_local, t, b, n);
-  if (opaque && dot(wi, ng) <= 0.0f) return;
+  if (opaque && dot(wi, ng) <= 0.0f) return false;
   float3 continued_throughput = throughput * weight;
-  if (ray.depth + 1u >= params.rr_depth) {
+  if (ray.depth + 1u >= params->rr_depth) {
     const float survive = fmin(0.95f, max3_of(continued_throughput));
-    if (!(random_float(hash3(ray.pixel, params.sample_index, params.seed), ray.depth) < survive)) return;
+    if (!(random_float(hash3(ray.pixel, ray.sample, params->seed), ray.depth) < survive)) return false;
     continued_throughput /= survive;
   }
-  if (!(max3_of(continued_throughput) > 0.0f)) return;
+  if (!(max3_of(continued_throughput) > 0.0f)) return false;
   /* The cone past this vertex (the rules above); only the photon pass reads it. */
   float spread = ray.dir.w;
 #if PATH_WITH_CAUSTICS
@@ -252,6 +267,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   child.throughput = (float4)(continued_throughput, 0.0f);
   child.pixel = ray.pixel;
   child.depth = ray.depth + 1u;
+  child.sample = ray.sample;
   child.bsdf_pdf = (flags & BSDF_SAMPLED_SPECULAR) ? 0.0f : pdf;
   child.flags = (flags & BSDF_SAMPLED_SPECULAR) ? PATH_SPECULAR : 0u;
 #if PATH_WITH_CAUSTICS
@@ -261,5 +277,53 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight*
   else
     child.flags |= (ray.flags & caustic_flags) | ((ray.flags & PATH_AFTER_RECEIVER) ? PATH_CASTER_SINCE_RECEIVER : 0u);
 #endif
-  path_push(PATH_QUEUE_ARGS(next), params.ray_capacity, child);
+  *child_out = child;
+  return true;
+}
+
+/* The kernel: path i's vertex, then, if the path ended, the wave's next
+ * sample in its place (regeneration). Samples and queue slots are taken
+ * per work-group, one global atomic each, not per path: every path of the
+ * wave would otherwise contend on the same two counters. No early return,
+ * so that every work-item reaches the barriers. */
+__kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight* restrict lights,
+                                 __global const uint* restrict light_of_sphere,
+                                 __global const uint* restrict light_of_cylinder,
+                                 __global const uint* restrict light_of_triangle, PathParams params,
+                                 PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits, FILM_PARAMS,
+                                 PATH_QUEUE_PARAMS(next), volatile __global uint* restrict cleared_count,
+                                 SHADOW_QUEUE_PARAMS(shadow), CameraGPU camera,
+                                 volatile __global uint* restrict wave_progress PATH_CAUSTIC_PARAMS
+                                     PATH_NUMERICS_PARAMS) {
+  __local uint group_starts, group_first_sample, group_pushes, group_first_slot;
+  const uint i = get_global_id(0);
+  const uint count = *in_count;
+  if (i == 0) {
+    *cleared_count = 0u; /* the queue iteration j + 1's shade stage pushes into */
+    atomic_add(&wave_progress[WAVE_CLOSEST_RAYS], count);
+  }
+  if (get_local_id(0) == 0) group_starts = group_pushes = 0u;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  PathRecord child;
+  bool goes_on = false, starts = false;
+  if (i < count) {
+    goes_on = shade_path_vertex(PATH_VERTEX_ARGS, i, &child);
+    starts = !goes_on;
+  }
+  const uint start_rank = starts ? atomic_inc(&group_starts) : 0u;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (get_local_id(0) == 0 && group_starts > 0u)
+    group_first_sample = atomic_add(&wave_progress[WAVE_SAMPLES_STARTED], group_starts);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (starts && group_first_sample + start_rank < params.wave_samples) {
+    child = camera_sample_path(&camera, &params, group_first_sample + start_rank);
+    goes_on = true;
+  }
+  const uint push_rank = goes_on ? atomic_inc(&group_pushes) : 0u;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (get_local_id(0) == 0 && group_pushes > 0u) group_first_slot = atomic_add(next_count, group_pushes);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  /* A slot past the capacity cannot happen: one record per path at most. */
+  if (goes_on && group_first_slot + push_rank < params.ray_capacity)
+    path_store(PATH_QUEUE_ARGS(next), group_first_slot + push_rank, child);
 }

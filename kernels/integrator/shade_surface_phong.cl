@@ -70,6 +70,7 @@ inline void push_specular(PATH_QUEUE_PARAMS(next), uint capacity, float min_weig
   child.throughput = (float4)(weight, 0.0f);
   child.pixel = parent.pixel;
   child.depth = parent.depth + 1u;
+  child.sample = parent.sample;
   child.bsdf_pdf = 0.0f;
   child.flags = PATH_SPECULAR;
   path_push(PATH_QUEUE_ARGS(next), capacity, child);

@@ -179,8 +179,9 @@ inline float bsdf_pdf(Bsdf b, float3 wo, float3 wi) {
   if (b.kind == BSDF_PLASTIC) {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
     const float ps = plastic_specular_probability(b); /* smooth: a delta lobe, no density */
-    return (bsdf_is_smooth(b) ? 0.0f : ps * ggx_reflection_pdf(b.alpha, wo, wi)) +
-           (1.0f - ps) * pdf_cosine_hemisphere(wi.z);
+    const float diffuse_pdf = (1.0f - ps) * pdf_cosine_hemisphere(wi.z);
+    if (ps == 0.0f || bsdf_is_smooth(b)) return diffuse_pdf; /* Lambert alone: no GGX term to evaluate */
+    return ps * ggx_reflection_pdf(b.alpha, wo, wi) + diffuse_pdf;
   }
   if (bsdf_is_smooth(b)) return 0.0f;
   if (b.kind == BSDF_CONDUCTOR) return ggx_reflection_pdf(b.alpha, wo, wi);

@@ -1,11 +1,13 @@
 #line 2 "kernels/lib/queue.h"
 /* Work queues: structure-of-arrays buffers plus one atomic counter, for the
  * records of shared/records.h. A push reserves a slot with atomic_inc and
- * then writes it (shadow queues are addressed instead, see below). The counter may run past the capacity: the slot is then
- * dropped and the host, which reads the counter back, sees the overflow and
- * re-traces the chunk in halves, so no ray is ever lost silently. Stage
- * kernels are launched over the count padded to the work-group size and
- * return early past the count.
+ * then writes it (shadow queues are addressed instead, see below). The
+ * counter may run past the capacity: the slot is then dropped and the host,
+ * which reads the counter back, sees the overflow and re-traces the chunk in
+ * halves, so no ray is ever lost silently (the path tracer's queues cannot
+ * overflow: a path pushes one record at most). Stage kernels are launched
+ * over at least the count (the path tracer: its queues' capacity until the
+ * host knows a smaller bound) and return early past the count.
  *
  * Everything below is generated from the field lists; a stage names a queue
  * by its prefix: PATH_QUEUE_PARAMS(next) declares next_count, next_origin,
@@ -39,7 +41,7 @@ inline uint queue_reserve(volatile __global uint* counter, uint capacity) {
 /* A path as the camera starts it: full throughput, no scattering yet,
  * counted as arriving by a delta lobe (emission seen directly is not
  * MIS-weighted). */
-inline PathRecord camera_path(float3 origin, float3 dir, uint pixel) {
+inline PathRecord camera_path(float3 origin, float3 dir, uint pixel, uint sample) {
   PathRecord ray;
   ray.origin = (float4)(origin, 0.0f);
   ray.dir = (float4)(dir, 0.0f);
@@ -48,6 +50,7 @@ inline PathRecord camera_path(float3 origin, float3 dir, uint pixel) {
   ray.depth = 0u;
   ray.bsdf_pdf = 0.0f;
   ray.flags = PATH_SPECULAR;
+  ray.sample = sample;
   return ray;
 }
 

@@ -94,9 +94,22 @@ inline uint nested_uniform_scramble(uint x, uint seed) {
  * pixel_seed mixes the pixel and the user's seed (hash3(pixel, 0, seed)). */
 inline float2 sobol_burley_2d(uint index, uint pair, uint pixel_seed) {
   const uint pair_seed = hash_combine(pixel_seed, pair);
-  const uint shuffled = nested_uniform_scramble(index, pair_seed);
-  const uint x = nested_uniform_scramble(sobol_dimension0(shuffled), hash_combine(pair_seed, 0x5ca1ab1eu));
-  const uint y = nested_uniform_scramble(sobol_dimension1(shuffled), hash_combine(pair_seed, 0xdecafbadu));
+  /* shuffled = nested_uniform_scramble(index, pair_seed); each output is
+   * nested_uniform_scramble(sobol_dimensionK(shuffled), seed_K). Written out,
+   * the bit reversals that cancel (reverse(reverse(v)) = v) are left out:
+   * four reversals instead of eight, the same bits. */
+  const uint shuffled_reversed = laine_karras_permutation(reverse_bits_u32(index), pair_seed);
+  const uint shuffled = reverse_bits_u32(shuffled_reversed);
+  /* sobol_dimension0(shuffled) = shuffled_reversed, reversed again inside the scramble */
+  const uint x = reverse_bits_u32(laine_karras_permutation(shuffled, hash_combine(pair_seed, 0x5ca1ab1eu)));
+  /* sobol_dimension1(shuffled) = reverse_bits_u32(y), likewise */
+  uint y = shuffled;
+  y ^= (y >> 1) & 0x55555555u;
+  y ^= (y >> 2) & 0x33333333u;
+  y ^= (y >> 4) & 0x0F0F0F0Fu;
+  y ^= (y >> 8) & 0x00FF00FFu;
+  y ^= (y >> 16) & 0x0000FFFFu;
+  y = reverse_bits_u32(laine_karras_permutation(y, hash_combine(pair_seed, 0xdecafbadu)));
   return (float2)(unit_float(x), unit_float(y));
 }
 

@@ -67,6 +67,7 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PATH
   child.dir = (float4)(wi, 0.0f);
   child.throughput = (float4)(flux, 0.0f);
   child.depth = photon.depth + 1u;
+  child.sample = photon.sample;
   child.bsdf_pdf = photon.bsdf_pdf + hit.t; /* length travelled (phong's gather, lib/caustics.h) */
   child.flags = PHOTON_AFTER_CASTER;
   path_push(PATH_QUEUE_ARGS(next), ray_capacity, child);

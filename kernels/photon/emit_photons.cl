@@ -136,6 +136,7 @@ __kernel void emit_photons(__global const PathLight* restrict lights, PhotonPass
   photon.throughput = (float4)(flux / (l->select_probability * (float)params.photon_count), 0.0f);
   photon.pixel = i;
   photon.depth = 0u;
+  photon.sample = 0u;
   photon.bsdf_pdf = 0.0f;
   photon.flags = 0u;
   path_store(PATH_QUEUE_ARGS(out), i, photon);

@@ -30,7 +30,8 @@
   F(q, cs_uint, depth)        /* scattering events so far */       \
   F(q, float, bsdf_pdf)       /* path: density of the sampled direction (MIS); 0 after a delta lobe; \
                                  photons: length travelled from the light */                     \
-  F(q, cs_uint, flags)        /* path: PATH_* bits */
+  F(q, cs_uint, flags)        /* path: PATH_* bits */                                         \
+  F(q, cs_uint, sample)       /* path: index into the pixel's sample sequence (its pass) */
 
 /* A segment toward a light, with what it adds to the film when unoccluded. */
 #define SHADOW_RECORD_FIELDS(F, q)                                   \
@@ -43,7 +44,7 @@
 #define RECORD_STRUCT_MEMBER(q, type, name) type name;
 typedef struct {
   PATH_RECORD_FIELDS(RECORD_STRUCT_MEMBER, _)
-} PathRecord; /* 64 bytes */
+} PathRecord; /* 68 bytes of fields (what a queue slot stores: queues are SoA), 80 with the struct's float4 alignment */
 
 /* PathRecord.flags */
 #define PATH_SPECULAR 1u /* arrived by a delta lobe or from the camera: emission hit counts fully */

@@ -250,13 +250,29 @@ typedef struct {
   cs_float4 background; /* rgb radiance of rays that leave the scene */
   cs_uint light_count;
   cs_uint max_depth;    /* nbounces: most scattering events of a path */
-  cs_uint ray_capacity; /* of the next-wave queue */
-  cs_uint sample_index; /* the pass: index into each pixel's sample sequence */
+  cs_uint ray_capacity; /* path slots: of each path queue */
+  cs_uint first_pass;   /* the wave's first pass: index into each pixel's sample sequence */
   cs_uint seed;
   cs_uint strategy;     /* PATH_STRATEGY_* */
   cs_uint rr_depth;     /* Russian roulette from this many scattering events on */
   cs_uint sampler;      /* SAMPLER_* */
-} PathParams; /* 48 bytes */
+  /* The wave's samples: sample s is pixel camera.pixel_offset + s % wave_pixels
+   * in pass first_pass + s / wave_pixels (kernels/lib/camera_sample.h). */
+  cs_uint wave_pixels;
+  cs_uint wave_samples;
+  cs_uint pad0, pad1;
+} PathParams; /* 64 bytes */
+
+/* The path tracer's wave counters (host/render/integrator_path.cpp), each in
+ * its own sub-buffer of one buffer so that the host reads them all at once:
+ * three path-queue counts that rotate (iteration j traces count j % 3, its
+ * shade stage pushes into (j + 1) % 3 and clears (j + 2) % 3 for the next),
+ * the shadow rays traced, and the wave's progress (WAVE_*: one uint each).
+ * Ray counts run over the whole render (the host takes differences, modulo
+ * 2^32); the samples started restart with each wave. */
+#define WAVE_SAMPLES_STARTED 0u /* samples handed to a path slot so far (runs past the wave's samples) */
+#define WAVE_CLOSEST_RAYS 1u    /* rays intersect_closest traced (the shade stages sum their queues) */
+#define WAVE_PROGRESS_VALUES 2u
 
 #define SAMPLER_SOBOL_BURLEY 0u /* low discrepancy, the default */
 #define SAMPLER_INDEPENDENT 1u  /* independent uniforms: what the default is measured against */
@@ -300,8 +316,10 @@ typedef struct {
 typedef struct {
   cs_uint value_count; /* pixels * 3 */
   cs_uint half_offset; /* float offset of the sum of passes [P, N), or FILM_PASS_ABSENT */
-  cs_uint pass_index;  /* 0-based index of the pass being added */
+  cs_uint pass_index;  /* 0-based index of the first pass being added */
   float inv_scale;     /* 1 / FilmParams.scale */
-} FilmAccumulate; /* 16 bytes */
+  cs_uint pass_count;  /* passes the pass in progress holds (a wave's) */
+  cs_uint pad0, pad1, pad2;
+} FilmAccumulate; /* 32 bytes */
 
 #endif /* CAUSTICA_SHARED_TYPES_H */
