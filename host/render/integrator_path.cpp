@@ -71,6 +71,10 @@ constexpr int kBalanceAfterPasses = 4;
 // second of work, so the time limit and progress keep their grain, while
 // the tail of its last paths (launches over few paths) is amortised.
 constexpr size_t kWaveSamples = size_t(1) << 22;
+// Paths in flight: 216 bytes each (two path records, a hit, a shadow
+// record), 54 MiB. On the 2-core PoCL CPU, 2^16 to 2^19 slots render the
+// Cornell box at 128^2 and 512^2 within the machine's noise of each other.
+constexpr size_t kPathSlots = size_t(1) << 18;
 // Count reads are waited for this many iterations late (see above).
 constexpr int kCountLag = 2;
 
@@ -184,8 +188,7 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
   light_of_triangle_ = upload_buffer(ctx, table.light_of_triangle);
   // A wave covers the whole image; settings.chunk_pixels bounds the slots.
   chunk_pixels_ = size_t(settings.width) * size_t(settings.height);
-  slots_ = std::max<size_t>(1, std::min({settings.chunk_pixels, kWaveSamples, chunk_pixels_ * Film::kMostWavePasses}));
-  if (getenv("CAUSTICA_SLOTS")) slots_ = std::min<size_t>(slots_, atoi(getenv("CAUSTICA_SLOTS")));
+  slots_ = std::max<size_t>(1, std::min({settings.chunk_pixels, kPathSlots, chunk_pixels_ * Film::kMostWavePasses}));
   // One path's sample can carry far more than the scene's radiance
   // (throughput / pdf); the bound only picks the fixed-point scale, and
   // anything beyond 2^56 / scale is clamped and counted.
