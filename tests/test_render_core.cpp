@@ -188,6 +188,46 @@ TEST(Film, HalfBufferHoldsThePassesSinceTheLatestPowerOfTwo) {
   }
 }
 
+// Waves (path mode): passes [N, N + k) added into one pass in progress and
+// accumulated at once. Waves grow 1, 1, 2, 4, ... along the half buffer's
+// restarts and give the sums and halves that pass-by-pass accumulation
+// gives; a wave across a restart, or past kMostWavePasses, is refused.
+TEST(Film, WavesOfPassesAccumulateLikeTheirPasses) {
+  EXPECT_EQ(Film::most_passes_from(0, 100), 1);
+  EXPECT_EQ(Film::most_passes_from(1, 100), 1);
+  EXPECT_EQ(Film::most_passes_from(2, 100), 2);
+  EXPECT_EQ(Film::most_passes_from(3, 100), 1);
+  EXPECT_EQ(Film::most_passes_from(4, 100), 4);
+  EXPECT_EQ(Film::most_passes_from(64, 100), 64);
+  EXPECT_EQ(Film::most_passes_from(256, 1000), Film::kMostWavePasses);
+  EXPECT_EQ(Film::most_passes_from(384, 1000), Film::kMostWavePasses);
+  EXPECT_EQ(Film::most_passes_from(8, 3), 3);
+  FilmRig waves(film_options(2, 1, 64.0f, true)), single(film_options(2, 1, 64.0f, true));
+  for (int n = 0; n < 40;) {
+    const int k = Film::most_passes_from(n, 100);
+    for (int p = n; p < n + k; ++p) {  // pass p adds p + 1 to pixel 0
+      waves.add_pass({{float(p + 1), 0.0f, 0.0f, 0.0f}}, {0u});
+      single.add_pass({{float(p + 1), 0.0f, 0.0f, 0.0f}}, {0u});
+      single.film.accumulate_pass(single.launcher);
+    }
+    waves.film.accumulate_pass(waves.launcher, nullptr, k);
+    n += k;
+    ASSERT_EQ(waves.film.passes(), n);
+    EXPECT_EQ(waves.film.mean().rgb[0], single.film.mean().rgb[0]) << n << " passes";  // integers: exact
+    if (n >= 2) {
+      ASSERT_EQ(waves.film.half_passes(), single.film.half_passes());
+      EXPECT_EQ(waves.film.half_mean().rgb[0], single.film.half_mean().rgb[0]) << n << " passes";
+    }
+  }
+  FilmRig crossing(film_options(2, 1, 64.0f, true));
+  crossing.film.accumulate_pass(crossing.launcher);
+  crossing.film.accumulate_pass(crossing.launcher);
+  crossing.film.accumulate_pass(crossing.launcher);  // 3 passes: the next restart is at 4
+  EXPECT_THROW(crossing.film.accumulate_pass(crossing.launcher, nullptr, 2), Error);
+  EXPECT_THROW(crossing.film.accumulate_pass(crossing.launcher, nullptr, Film::kMostWavePasses + 1), Error);
+  EXPECT_THROW(crossing.film.accumulate_pass(crossing.launcher, nullptr, 0), Error);
+}
+
 TEST(Film, NonFiniteAndNegativeAreCountedAndDroppedHugeValuesClamped) {
   FilmRig rig(film_options(4, 1));
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();

@@ -175,10 +175,15 @@ int run_bench(BenchArgs& a) {
       ms_at(last.camera_rays, primary) + ms_at(last.secondary_rays, diffuse) + ms_at(last.shadow_rays, shadow);
   std::printf("render         %.1f ms (median of %d after a warm-up render)\n", render_median, a.repetitions);
   std::printf("               %llu camera + %llu secondary + %llu shadow rays; %.1f ms of traversal at the rates "
-              "above (render / traversal %.2f); %llu launches, %llu blocking transfers\n",
+              "above (render / traversal %.2f)\n",
               (unsigned long long)last.camera_rays, (unsigned long long)last.secondary_rays,
-              (unsigned long long)last.shadow_rays, traversal_ms, traversal_ms > 0 ? render_median / traversal_ms : 0.0,
-              (unsigned long long)last.launches, (unsigned long long)last.blocking_transfers);
+              (unsigned long long)last.shadow_rays, traversal_ms, traversal_ms > 0 ? render_median / traversal_ms : 0.0);
+  const double per_pass = last.passes > 0 ? 1.0 / last.passes : 0.0;
+  std::printf("host traffic   %llu launches, %llu blocking transfers, %llu count reads (non-blocking, waited for "
+              "iterations later) for %d passes: %.2f launches, %.2f blocking transfers and %.2f count reads a pass\n",
+              (unsigned long long)last.launches, (unsigned long long)last.blocking_transfers,
+              (unsigned long long)last.count_reads, last.passes, double(last.launches) * per_pass,
+              double(last.blocking_transfers) * per_pass, double(last.count_reads) * per_pass);
   double device_ms = 0.0;
   std::string stages;
   for (const auto& [name, ms] : last.stage_ms) {
@@ -235,6 +240,8 @@ int run_bench(BenchArgs& a) {
                       {"render_traversal_ms", traversal_ms},
                       {"render_launches", last.launches},
                       {"render_blocking_transfers", last.blocking_transfers},
+                      {"render_count_reads", last.count_reads},
+                      {"render_passes", last.passes},
                       {"render_stage_ms", last.stage_ms}};
   if (path) {
     j["path_samples_per_s"] = samples_per_s;

@@ -328,8 +328,11 @@ int run_render(RenderArgs& a) {
                  (unsigned long long)stats.secondary_rays, (unsigned long long)stats.shadow_rays,
                  (unsigned long long)stats.photon_rays, stats.rays() / (stats.render_ms * 1e3),
                  stats.chunk_retries ? " (queue overflow: chunks split)" : "");
-    std::fprintf(stderr, "[caustica] host traffic: %llu kernel launches, %llu blocking transfers; film scale 2^%d\n",
+    std::fprintf(stderr,
+                 "[caustica] host traffic: %llu kernel launches, %llu blocking transfers, %llu count reads "
+                 "(non-blocking); film scale 2^%d\n",
                  (unsigned long long)stats.launches, (unsigned long long)stats.blocking_transfers,
+                 (unsigned long long)stats.count_reads,
                  int(std::log2(session->renderer->film().params().scale)));
     std::fprintf(stderr, "[caustica] film: %d passes; dropped %llu NaN/Inf and %llu negative contributions, clamped %llu\n",
                  stats.passes, (unsigned long long)stats.film.nonfinite, (unsigned long long)stats.film.negative,

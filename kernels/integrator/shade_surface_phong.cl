@@ -28,6 +28,15 @@
 inline float max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 
 #ifdef HAS_LIGHTS
+/* n_dot_h ^ exponent (n_dot_h in [0, 1], exponent >= 0) as exp2(e log2 x):
+ * within a few 1e-6 of pow where the lobe is above 1e-9, and 4x cheaper
+ * than PoCL's pow, whose extended-precision logarithm and exponential were
+ * a quarter of a phong render (Table 1's 400 spheres). 0^0 = 1. */
+inline float blinn_lobe(float n_dot_h, float exponent) {
+  if (!(n_dot_h > 0.0f)) return exponent == 0.0f ? 1.0f : 0.0f;
+  return exp2(exponent * log2(n_dot_h));
+}
+
 /* Blinn-Phong for one point light, pushed as a shadow ray. */
 inline void shade_point_light(__global const PointLight* light, __global const Material* mat, float3 diffuse_colour,
                               SurfacePoint sp, float3 n_facing, float3 view, float3 weight, uint pixel,
@@ -46,7 +55,7 @@ inline void shade_point_light(__global const PointLight* light, __global const M
   const float n_dot_h = fmax(dot(n_facing, h), 0.0f);
   if (dot(geometric, l) <= 0.0f) return; /* light behind the actual surface */
   const float3 diffuse = mat->diffuse.w * diffuse_colour * n_dot_l;
-  const float3 specular = mat->specular.w * mat->specular.xyz * pow(n_dot_h, mat->specular_exponent);
+  const float3 specular = mat->specular.w * mat->specular.xyz * blinn_lobe(n_dot_h, mat->specular_exponent);
   const float3 contribution = weight * light->intensity.xyz * (diffuse + specular);
   if (max3(contribution) <= 0.0f) return;
   ShadowRecord ray;

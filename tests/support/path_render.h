@@ -30,6 +30,7 @@ struct PathRenderOptions {
   CausticsMode caustics = CausticsMode::Auto;
   uint32_t strategy = PATH_STRATEGY_MIS;
   size_t local_size = 64;
+  size_t path_slots = 0;  // 0: the integrator's own (RenderSettings::chunk_pixels bounds it)
 };
 
 inline PathRender render_path(const std::string& scene, int spp, const PathRenderOptions& options = {}) {
@@ -46,6 +47,7 @@ inline PathRender render_path(const std::string& scene, int spp, const PathRende
   auto s = prepare_session(o);
   RenderSettings settings = s->settings;
   settings.path_strategy = options.strategy;
+  if (options.path_slots) settings.chunk_pixels = options.path_slots;
   settings.half_buffer = spp >= 2;
   Renderer r(*s->runtime, *s->device_scene, s->mode, s->program.program, settings);
   PathRender out;
