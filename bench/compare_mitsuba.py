@@ -11,7 +11,12 @@ time even where the runs' times differ a little.
 
     pip install mitsuba                 # 3.9.1 was used
     apt-get install libllvm19           # Mitsuba's fast llvm_ad_rgb variant
-    nice -n 19 bench/compare_mitsuba.py --seconds 10 --width 128 --height 128 --json out.json
+    nice -n 19 bench/compare_mitsuba.py --seconds 10 --width 128 --height 128 \
+        --reference-spp 16384 --json out.json
+
+(--reference-spp 16384 keeps the references' own noise near a tenth of the
+10 s renders' error; the default 4096 is faster to make, once: references
+are cached.)
 
 Without scene arguments it runs scenes/cornell_box.json, scenes/caustics.json
 and scenes/showcase_path.json. The Markdown (one table per scene and a
@@ -23,11 +28,14 @@ and the like; Debian 12's own libLLVM 14/15 abort inside LLVM) and a small
 test render in a child process succeeds; else scalar_rgb, and the output says
 why. Every sampler (independent, stratified, multijitter, ldsampler,
 orthogonal) gets a short probe that measures its rate, then one render of
-the spp that fills the wall time, rounded down to a count the sampler takes
-as it is (squares, powers of two, prime squares, ...); the table reports
-the spp that ran. Wall seconds are those of mi.render (JIT compilation
-included; "JIT s" says how much of it was compilation, ~0 when Drjit's
-kernel cache already had the kernel); scene loading is not counted.
+the spp that fills the wall time, rounded to the nearest count the sampler
+takes as it is (squares, powers of two, squares of primes, ...: the nearer
+by ratio of the two around it), and rendered again (at most twice) with
+the rate it measured when its time was more than 15% off; the table
+reports the spp that ran. Wall seconds are those of mi.render (JIT compilation included:
+"JIT s" says how much, ~0 when Dr.Jit's disk cache had the kernel; every
+sampler but independent compiles a new kernel for a new spp); scene loading
+is not counted.
 caustica: `caustica render SCENE --mode path --time S --width W --height H
 -v -o out.pfm --seed 1` with POCL_MAX_PTHREAD_COUNT = threads; its wall
 seconds are the whole process (start, scene load, cached kernel build).
@@ -35,9 +43,15 @@ seconds are the whole process (start, scene load, cached kernel build).
 Reference: --reference FILE.pfm (one scene), else a long Mitsuba render
 (independent sampler, --reference-spp, in chunks with distinct seeds) cached
 in bench/mitsuba/cache/ under the scene's name, a hash of its file and of
-this converter, the size and the spp. Its own noise is estimated from the
-difference of its two halves and printed: it adds the same amount to every
-row's relMSE.
+this converter, the size and the spp (--reference-renderer caustica: a long
+caustica render instead). Its own noise is estimated from the difference of
+its two halves and printed: it adds about the same amount to every row's
+relMSE, so raise --reference-spp when the output warns about it.
+For a scene whose conversion is approximate, the main reference belongs to
+one renderer and the other's error would include the conversion's bias, so
+(--own-references auto, the default) both renderers also render long
+references and each row is measured against its own renderer's too; those
+columns then pick the best sampler and give the ratio.
 
 Conversion (caustica's meaning: scenes/FORMAT.md, host/scene/*.cpp,
 kernels/lib/material.h, bsdf.h):
@@ -64,9 +78,8 @@ kernels/lib/material.h, bsdf.h):
   * backgroundcolor is a constant emitter; a thin-lens camera is thinlens
     (aperture = diameter, so aperture_radius = aperture / 2).
 Rough GGX models use Mitsuba's separable Smith masking where caustica's is
-height-correlated: a small difference, listed in the notes. With a Mitsuba
-reference, the conversion's bias is part of caustica's error (and not of
-Mitsuba's): the "mean / ref" column hints at it.
+height-correlated: a small difference, listed in the notes. The "mean / ref"
+column (image mean over the main reference's) hints at any bias.
 """
 import argparse
 import cmath
@@ -449,7 +462,8 @@ class Converter:
         self.add_triangle([q[0], q[1], q[2]], m, [uv[0], uv[1], uv[2]])
         self.add_triangle([q[0], q[2], q[3]], m, [uv[0], uv[2], uv[3]])
 
-    def shape_material(self, s):
+    @staticmethod
+    def shape_material(s):
         m = read_material(s.get("material", {}))
         if "texture" in s:
             m["texture"] = s["texture"]
@@ -494,7 +508,7 @@ class Converter:
                 p["emitter"] = e
             self.shapes["cylinder%d" % len(self.shapes)] = p
 
-    def add_mesh(self, s, m_override, base):
+    def add_mesh(self, s, m_override):
         t = s.get("transform", {}) if s["type"] == "mesh" else {
             "translate": s.get("offset", [0, 0, 0]), "rotate": s.get("euler", [0, 0, 0]), "scale": s.get("scale", 1)}
         _, f = find_any(s, ["file", "filename", "path"])
@@ -547,7 +561,7 @@ class Converter:
                 m = m_override
             else:
                 if name not in mats:
-                    mats[name] = mesh_material(mtl.get(name), mesh_dir, self)
+                    mats[name] = mesh_material(mtl.get(name), mesh_dir)
                 m = mats[name]
             for k in range(1, len(idx) - 1):
                 tri = [idx[0], idx[k], idx[k + 1]]
@@ -566,7 +580,7 @@ class Converter:
                 self.note("shape %d (%s) skipped, as caustica skips it" % (i, t))
                 continue
             if t in ("mesh", "ply"):
-                self.add_mesh(s, self.shape_material(s) if "material" in s else None, self.dir)
+                self.add_mesh(s, self.shape_material(s) if "material" in s else None)
                 continue
             m = self.shape_material(s)
             if t in ("sphere", "uvsphere"):
@@ -739,9 +753,10 @@ def read_mtl(path):
     return out
 
 
-def mesh_material(m, mesh_dir, conv):
+def mesh_material(m, mesh_dir):
     """caustica's mesh_material: Kd (kd 1), Ks (ks 1 when nonzero), Ns, Ke, map_Kd."""
-    m = m or {}
+    if m is None:  # faces without a material: the default one
+        return read_material({})
     ks = [max(0.0, v) for v in m.get("Ks", [0, 0, 0])]
     out = read_material({})
     out.update({"diffuse": [max(0.0, v) for v in m.get("Kd", [0.8, 0.8, 0.8])], "kd": 1.0, "specular": ks,
@@ -830,6 +845,16 @@ class Mitsuba:
             else:
                 hi = mid - 1
         return self.sample_count(sampler, lo)
+
+    def nearest(self, sampler, target):
+        """The sample count the sampler takes that is nearest to target by
+        ratio: the largest one below it or the one it rounds target up to
+        (so a power of two is at most a factor sqrt(2) off)."""
+        target = max(1, int(target))
+        below, above = self.admissible(sampler, target), self.sample_count(sampler, target)
+        if below > target or (above > target and above * below < target * target):
+            return above
+        return below
 
     def render(self, conv, w, h, sampler, spp, seed, folder):
         """(values mirrored into caustica's orientation, wall s, JIT s, spp run)."""
@@ -924,37 +949,40 @@ def scene_hash(path):
     return h.hexdigest()[:8]
 
 
-def make_reference(args, ms, conv, scene, folder):
-    """(values, info): the cached long render, or a new one."""
+def make_reference(args, ms, conv, scene, folder, renderer):
+    """(values, info): the cached long render of `renderer`, or a new one."""
     w, h, spp = args.width, args.height, args.reference_spp
     stem = os.path.splitext(os.path.basename(scene))[0]
     cache = os.path.join(HERE, "mitsuba", "cache")
     os.makedirs(cache, exist_ok=True)
-    name = "%s-%s-%dx%d-%dspp-%s" % (stem, scene_hash(scene), w, h, spp, args.reference_renderer)
+    name = "%s-%s-%dx%d-%dspp-%s" % (stem, scene_hash(scene), w, h, spp, renderer)
     path = os.path.join(cache, name + ".pfm")
     meta_path = os.path.join(cache, name + ".json")
     if os.path.isfile(path) and os.path.isfile(meta_path):
         with open(meta_path) as f:
             info = json.load(f)
         info.update(path=os.path.relpath(path, ROOT), cached=True)
+        log("%s: reference %s (cached)" % (stem, info["path"]))
         return read_pfm(path)[2], info
+    log("%s: making the %s reference (%d spp)" % (stem, renderer, spp))
     half = [None, None]
     t0 = time.perf_counter()
-    if args.reference_renderer == "caustica":
+    if renderer == "caustica":
+        n = max(1, spp // 2)
         for k in range(2):
             out = os.path.join(folder, "ref%d.pfm" % k)
             env = dict(os.environ, POCL_MAX_PTHREAD_COUNT=str(args.threads))
-            subprocess.run([args.caustica, "render", scene, "--mode", "path", "--spp", str(max(1, spp // 2)),
-                            "--width", str(w), "--height", str(h), "-q", "-o", out, "--seed", str(1000 + k)],
-                           check=True, env=env)
+            subprocess.run([args.caustica, "render", scene, "--mode", "path", "--spp", str(n), "--width", str(w),
+                            "--height", str(h), "-q", "-o", out, "--seed", str(1000 + k)], check=True, env=env)
             half[k] = read_pfm(out)[2]
-        desc = "caustica, %d spp (2 x %d, seeds 1000, 1001)" % (2 * max(1, spp // 2), max(1, spp // 2))
+            log("  reference %s: %d / %d spp (%.1f s)" % (stem, n * (k + 1), 2 * n, time.perf_counter() - t0))
+        desc = "caustica, %d spp (2 x %d, seeds 1000 and 1001)" % (2 * n, n)
     else:
         per_pass = max(1, min(spp // 2, (1 << 22) // (w * h))) if spp >= 2 else 1
         done, k, sums, counts = 0, 0, [None, None], [0, 0]
         while done < spp:
             n = min(per_pass, spp - done)
-            values, secs, _, _ = ms.render(conv, w, h, "independent", n, 1000 + k, folder)
+            values, _, _, _ = ms.render(conv, w, h, "independent", n, 1000 + k, folder)
             side = k % 2
             sums[side] = [v * n for v in values] if sums[side] is None else \
                 [a + v * n for a, v in zip(sums[side], values)]
@@ -965,10 +993,10 @@ def make_reference(args, ms, conv, scene, folder):
         half = [[v / counts[i] for v in sums[i]] if counts[i] else None for i in range(2)]
         if half[1] is None:
             half[1] = half[0]
-        desc = "Mitsuba %s, independent sampler, %d spp (%d passes, seeds from 1000)" % (ms.variant, spp, k)
+        desc = "Mitsuba %s, independent sampler, %d spp in %d passes, seeds from 1000" % (ms.variant, spp, k)
     seconds = time.perf_counter() - t0
     ref = [(a + b) / 2 for a, b in zip(half[0], half[1])]
-    # Each half's error variance is twice the mean's: E(a - b)^2 / 4 = the mean's.
+    # The halves' error variance is twice the mean's: E(a - b)^2 / 4 is the mean's.
     own = sum((a - b) ** 2 / (r * r + 0.01) for a, b, r in zip(half[0], half[1], ref)) / (4 * len(ref))
     write_pfm(path, w, h, ref)
     info = {"path": os.path.relpath(path, ROOT), "cached": False, "renderer": desc, "spp": spp,
@@ -982,14 +1010,28 @@ def make_reference(args, ms, conv, scene, folder):
 # ---------------------------------------------------------------- one scene
 
 
-def compare_scene(args, ms, scene, mi_version):
+def display_path(p):
+    a = os.path.abspath(p)
+    return os.path.relpath(a, ROOT) if a.startswith(ROOT + os.sep) else p
+
+
+def errors(values, refs, main):
+    """relMSE of an image against the main reference and each own one."""
+    out = {"rel_mse": rel_mse(values, refs[main]), "mean_over_ref": mean(values) / mean(refs[main])}
+    for name, ref in refs.items():
+        if name != main:
+            out["rel_mse_vs_" + name] = rel_mse(values, ref)
+    return out
+
+
+def compare_scene(args, ms, scene):
     stem = os.path.splitext(os.path.basename(scene))[0]
-    res = {"scene": scene, "name": stem, "status": "ok"}
+    res = {"scene": display_path(scene), "name": stem, "status": "ok"}
     folder = tempfile.mkdtemp(prefix="caustica_mitsuba_")
     try:
         try:
             conv = Converter(ms.mi, scene, folder).convert()
-        except (Unsupported, KeyError) as e:
+        except (Unsupported, KeyError, OSError) as e:
             res.update(status="skipped", reason="cannot convert: %s" % e)
             log("%s: skipped (%s)" % (stem, res["reason"]))
             return res
@@ -997,48 +1039,84 @@ def compare_scene(args, ms, scene, mi_version):
         res["notes"] = conv.notes
         w, h, S = args.width, args.height, args.seconds
 
+        # References: "main" for every row; with --own-references (default:
+        # for approximate scenes) each renderer's also against its own.
+        refs, infos = {}, {}
         if args.reference:
-            rw, rh, reference = read_pfm(args.reference)
+            rw, rh, refs["given"] = read_pfm(args.reference)
             if (rw, rh) != (w, h):
                 sys.exit("%s is %dx%d, not %dx%d" % (args.reference, rw, rh, w, h))
-            res["reference"] = {"path": args.reference, "renderer": "given with --reference", "own_rel_mse": None}
+            infos["given"] = {"path": args.reference, "renderer": "given with --reference", "own_rel_mse": None}
+            main = "given"
         else:
-            log("%s: reference (%s, %d spp)" % (stem, args.reference_renderer, args.reference_spp))
-            reference, res["reference"] = make_reference(args, ms, conv, scene, folder)
-        ref_mean = mean(reference)
+            main = args.reference_renderer
+        own = args.own_references == "always" or (args.own_references == "auto" and conv.approximate)
+        for renderer in ([main] if main != "given" else []) + (["mitsuba", "caustica"] if own else []):
+            if renderer not in refs:
+                refs[renderer], infos[renderer] = make_reference(args, ms, conv, scene, folder, renderer)
+        res["reference"] = dict(infos[main], role="main")
+        res["references"] = infos
+        res["own_references"] = own
 
         # Mitsuba: a warm-up for the scene's kernels and a first rate, then
         # each sampler's probe and its equal-time render.
         _, t, jit, _ = ms.render(conv, w, h, "independent", 4, 7, folder)
         rate0 = 4 / max(t - jit, 1e-3)
+        jit_seen = jit  # the longest compilation seen for this scene
         rows = []
         for sampler in args.samplers:
             probe_s = min(max(0.1 * S, 0.2), 2.0)
             p = ms.admissible(sampler, max(1, rate0 * probe_s))
             _, pt, pjit, pran = ms.render(conv, w, h, sampler, p, 11, folder)
             rate = pran / max(pt - pjit, 1e-3)
-            expect_jit = 0.0 if sampler == "independent" else pjit  # a new spp recompiles these
+            jit_seen = max(jit_seen, pjit)
+            # The samplers other than independent compile a new kernel for a
+            # new spp (unless Dr.Jit's disk cache has it from an earlier run,
+            # which can also make the probe's compilation look free).
+            expect_jit = 0.0 if sampler == "independent" else max(pjit, jit_seen)
             target = max(1, int(rate * max(S - expect_jit, 0.1 * S)))
-            spp = ms.admissible(sampler, target)
+            spp = ms.nearest(sampler, target)
             log("%s: Mitsuba %s: probe %d spp in %.2f s (JIT %.2f s) -> %d spp" % (stem, sampler, pran, pt, pjit, spp))
-            values, wall, jit, ran = ms.render(conv, w, h, sampler, spp, 1, folder)
-            err = rel_mse(values, reference)
-            rows.append({"sampler": sampler, "requested_spp": target, "spp": ran, "wall_s": wall, "jit_s": jit,
-                         "samples_per_s": w * h * ran / wall, "rel_mse": err, "rel_mse_x_s": err * wall,
-                         "mean_over_ref": mean(values) / ref_mean,
-                         "probe": {"spp": pran, "wall_s": pt, "jit_s": pjit, "spp_per_s": rate}})
-            log("%s: Mitsuba %s: %d spp in %.2f s, relMSE %.3e" % (stem, sampler, ran, wall, err))
+            # The timed render; again (at most twice) when its time is more
+            # than 15% off, with the rate it measured: a compilation that
+            # Dr.Jit's disk cache saved, or a probe too short, misjudge it.
+            attempts = []
+            while True:
+                values, wall, jit, ran = ms.render(conv, w, h, sampler, spp, 1, folder)
+                jit_seen = max(jit_seen, jit)
+                attempts.append({"spp": ran, "wall_s": wall, "jit_s": jit})
+                if abs(wall - S) <= 0.15 * S or len(attempts) == 3:
+                    break
+                rate = ran / max(wall - jit, 1e-3)
+                target = max(1, int(rate * max(S - expect_jit, 0.1 * S)))
+                again = ms.nearest(sampler, target)
+                if again == ran:
+                    break
+                log("%s: Mitsuba %s: %d spp took %.2f s (JIT %.2f s): again with %d spp"
+                    % (stem, sampler, ran, wall, jit, again))
+                spp = again
+            row = {"sampler": sampler, "requested_spp": target, "spp": ran, "wall_s": wall, "jit_s": jit,
+                   "samples_per_s": w * h * ran / wall, "attempts": attempts,
+                   "probe": {"spp": pran, "wall_s": pt, "jit_s": pjit, "spp_per_s": pran / max(pt - pjit, 1e-3)}}
+            row.update(errors(values, refs, main))
+            row["rel_mse_x_s"] = row["rel_mse"] * wall
+            row["own_rel_mse"] = row.get("rel_mse_vs_mitsuba", row["rel_mse"]) if own else None
+            row["own_rel_mse_x_s"] = row["own_rel_mse"] * wall if own else None
+            rows.append(row)
+            log("%s: Mitsuba %s: %d spp in %.2f s, relMSE %.3e" % (stem, sampler, ran, wall, row["rel_mse"]))
         res["mitsuba"] = rows
-        best = min(rows, key=lambda r: r["rel_mse_x_s"]) if rows else None
+        key = "own_rel_mse_x_s" if own else "rel_mse_x_s"
+        best = min(rows, key=lambda r: r[key]) if rows else None
         res["best_sampler"] = best["sampler"] if best else None
 
         # caustica
         out = os.path.join(folder, "caustica.pfm")
         c = run_caustica(args, scene, out)
         values = read_pfm(out)[2]
-        c["rel_mse"] = rel_mse(values, reference)
+        c.update(errors(values, refs, main))
         c["rel_mse_x_s"] = c["rel_mse"] * c["wall_s"]
-        c["mean_over_ref"] = mean(values) / ref_mean
+        c["own_rel_mse"] = c.get("rel_mse_vs_caustica", c["rel_mse"]) if own else None
+        c["own_rel_mse_x_s"] = c["own_rel_mse"] * c["wall_s"] if own else None
         log("%s: caustica: %s spp in %.2f s, relMSE %.3e" % (stem, c.get("spp", "?"), c["wall_s"], c["rel_mse"]))
         if not args.no_bench:
             log("%s: caustica bench --spp %d" % (stem, args.bench_spp))
@@ -1051,7 +1129,7 @@ def compare_scene(args, ms, scene, mi_version):
             c["samples_per_s_source"] = "caustica bench"
         res["caustica"] = c
         if best:
-            res["ratios"] = {"rel_mse_x_s": c["rel_mse_x_s"] / best["rel_mse_x_s"],
+            res["ratios"] = {"rel_mse_x_s": c[key] / best[key], "metric": key,
                              "samples_per_s": (c["samples_per_s"] / best["samples_per_s"]
                                                if c.get("samples_per_s") else None),
                              "against": best["sampler"]}
@@ -1061,6 +1139,13 @@ def compare_scene(args, ms, scene, mi_version):
 
 
 # ---------------------------------------------------------------- Markdown
+
+
+def describe_reference(ref):
+    own = ref.get("own_rel_mse")
+    return "`%s` (%s%s%s)" % (ref["path"], ref["renderer"],
+                              ", rendered in %.1f s" % ref["seconds"] if ref.get("seconds") else "",
+                              ", its own relMSE ~%.1e" % own if own is not None else "")
 
 
 def markdown(args, results, mi_version, variant, variant_note):
@@ -1074,42 +1159,66 @@ def markdown(args, results, mi_version, variant, variant_note):
             out.append("Skipped: %s." % r["reason"])
             out.append("")
             continue
-        ref = r["reference"]
-        own = ref.get("own_rel_mse")
-        out.append("Reference: `%s` (%s%s%s)." % (
-            ref["path"], ref["renderer"],
-            ", rendered in %.0f s" % ref["seconds"] if ref.get("seconds") else "",
-            ", its own relMSE ~%.1e" % own if own is not None else ""))
+        own = r["own_references"]
         if r["approximate"]:
-            out.append("Conversion: **approximate** (rows compare slightly different scenes: caustica's error "
-                       "includes the conversion's bias). " + "; ".join(r["notes"]) + ".")
+            out.append("Conversion: **approximate**: " + "; ".join(r["notes"]) + ".")
         else:
             out.append("Conversion: " + "; ".join(r["notes"]) + ".")
-        if own is not None and r["mitsuba"]:
-            smallest = min([x["rel_mse"] for x in r["mitsuba"]] + [r["caustica"]["rel_mse"]])
-            if own > 0.2 * smallest:
-                out.append("Warning: the reference's own error is %.0f%% of the smallest relMSE below; raise "
-                           "--reference-spp." % (100 * own / smallest))
         out.append("")
-        out.append("| renderer | sampler | wall s | JIT s | spp | samples/s | relMSE | relMSE x s | mean / ref |")
-        out.append("|---|---|---:|---:|---:|---:|---:|---:|---:|")
+        if own:
+            out.append("References: Mitsuba %s; caustica %s. \"relMSE\" is against the %s one; \"own ref\" "
+                       "against the row's renderer's own, which keeps the conversion's bias out of the "
+                       "comparison." % (describe_reference(r["references"]["mitsuba"]),
+                                        describe_reference(r["references"]["caustica"]),
+                                        "given" if "given" in r["references"] else
+                                        r["reference"]["renderer"].split()[0]))
+            if "given" in r["references"]:
+                out.append("Given reference: " + describe_reference(r["references"]["given"]) + ".")
+        else:
+            out.append("Reference: " + describe_reference(r["reference"]) + ".")
+        for name, ref in r["references"].items():
+            e = ref.get("own_rel_mse")
+            col = "own_rel_mse" if own and name in ("mitsuba", "caustica") else "rel_mse"
+            vals = [x[col] for x in r["mitsuba"] if x.get(col) is not None]
+            if r["caustica"].get(col) is not None:
+                vals.append(r["caustica"][col])
+            if e is not None and vals and e > 0.2 * min(vals):
+                out.append("Warning: the %s reference's own error is %.0f%% of the smallest relMSE measured "
+                           "against it; raise --reference-spp." % (name, 100 * e / min(vals)))
+        out.append("")
+        head = "| renderer | sampler | wall s | JIT s | spp | samples/s | relMSE | relMSE x s | mean / ref |"
+        rule = "|---|---|---:|---:|---:|---:|---:|---:|---:|"
+        if own:
+            head += " relMSE, own ref | relMSE x s, own ref |"
+            rule += "---:|---:|"
+        out.append(head)
+        out.append(rule)
+        key = "own_rel_mse_x_s" if own else "rel_mse_x_s"
+
+        def cells(x, best):
+            c = ["%.3e" % x["rel_mse"], "%.3e" % x["rel_mse_x_s"], "%.3f" % x["mean_over_ref"]]
+            if own:
+                c += ["%.3e" % x["own_rel_mse"], "%.3e" % x["own_rel_mse_x_s"]]
+            if best:
+                i = 1 if not own else 4
+                c[i] = "**%s**" % c[i]
+            return " | ".join(c)
+
         for m in r["mitsuba"]:
             best = m["sampler"] == r["best_sampler"]
-            out.append("| %s | %s | %.2f | %.2f | %d | %.3g | %.3e | %s | %.3f |" % (
-                mname, "**%s** (best)" % m["sampler"] if best else m["sampler"], m["wall_s"], m["jit_s"], m["spp"],
-                m["samples_per_s"], m["rel_mse"],
-                ("**%.3e**" if best else "%.3e") % m["rel_mse_x_s"], m["mean_over_ref"]))
+            out.append("| %s | %s | %.2f | %.2f | %d | %.3g | %s |" % (
+                mname, "**%s** (best)" % m["sampler"] if best else m["sampler"], m["wall_s"], m["jit_s"],
+                m["spp"], m["samples_per_s"], cells(m, best)))
         c = r["caustica"]
-        out.append("| caustica (PoCL CPU)%s | sobol | %.2f | - | %s | %s | %.3e | %.3e | %.3f |" % (
-            " *approx. scene*" if r["approximate"] else "", c["wall_s"],
-            "%g" % c["spp"] if "spp" in c else "-",
-            "%.3g" % c["samples_per_s"] if c.get("samples_per_s") else "-",
-            c["rel_mse"], c["rel_mse_x_s"], c["mean_over_ref"]))
+        out.append("| caustica (PoCL CPU) | sobol | %.2f | - | %s | %s | %s |" % (
+            c["wall_s"], "%g" % c["spp"] if "spp" in c else "-",
+            "%.3g" % c["samples_per_s"] if c.get("samples_per_s") else "-", cells(c, False)))
         out.append("")
         if r.get("ratios"):
             q = r["ratios"]
-            out.append("caustica / best Mitsuba (%s): relMSE x s **%.3g**, samples/s %s%s." % (
-                q["against"], q["rel_mse_x_s"], "%.3g" % q["samples_per_s"] if q["samples_per_s"] else "-",
+            out.append("caustica / best Mitsuba sampler (%s): relMSE x s%s **%.3g**, samples/s %s%s." % (
+                q["against"], " (own references)" if own else "", q["rel_mse_x_s"],
+                "%.3g" % q["samples_per_s"] if q["samples_per_s"] else "-",
                 "" if c.get("samples_per_s_source", "").startswith("render") else
                 " (caustica's samples/s from `caustica bench`)"))
             out.append("")
@@ -1123,17 +1232,19 @@ def markdown(args, results, mi_version, variant, variant_note):
             out.append("```")
             out.append("")
     done = [r for r in results if r["status"] == "ok" and r.get("ratios")]
-    parts = ["%s %.3g%s (vs %s; samples/s %s)" % (
-        r["name"], r["ratios"]["rel_mse_x_s"], " approx." if r["approximate"] else "", r["ratios"]["against"],
+    parts = ["%s %.3g (vs %s%s; samples/s %s)" % (
+        r["name"], r["ratios"]["rel_mse_x_s"], r["ratios"]["against"],
+        ", approximate scene, own references" if r["own_references"] and r["approximate"] else
+        ", own references" if r["own_references"] else ", approximate scene" if r["approximate"] else "",
         "%.3g" % r["ratios"]["samples_per_s"] if r["ratios"]["samples_per_s"] else "-") for r in done]
     gm = ""
     if done:
         g = math.exp(sum(math.log(r["ratios"]["rel_mse_x_s"]) for r in done) / len(done))
         gm = "; geometric mean %.3g" % g
     skipped = ["%s skipped" % r["name"] for r in results if r["status"] != "ok"]
-    summary = ("**Summary** (%dx%d, %g s, %d threads; %s; %s): caustica relMSE x s / best Mitsuba sampler's "
-               "(< 1: caustica better): %s%s." % (W, H, args.seconds, args.threads, mname, variant_note,
-                                                 ", ".join(parts + skipped) or "none", gm))
+    summary = ("**Summary** (%dx%d, %g s, %d threads; %s, %s): caustica's relMSE x s over the best Mitsuba "
+               "sampler's (below 1: caustica better): %s%s." % (W, H, args.seconds, args.threads, mname, variant_note,
+                                                                ", ".join(parts + skipped) or "none", gm))
     out.append(summary)
     return "\n".join(out), summary
 
@@ -1151,7 +1262,9 @@ def main():
     ap.add_argument("--reference", help="reference image (.pfm, linear, width x height) for the one scene given")
     ap.add_argument("--reference-spp", type=int, default=4096, help="spp of the made reference (default 4096)")
     ap.add_argument("--reference-renderer", choices=["mitsuba", "caustica"], default="mitsuba",
-                    help="who renders a missing reference (default mitsuba)")
+                    help="who renders the main reference when --reference is not given (default mitsuba)")
+    ap.add_argument("--own-references", choices=["auto", "always", "never"], default="auto",
+                    help="also measure each renderer against its own long render (auto: for approximate scenes)")
     ap.add_argument("--samplers", default=",".join(SAMPLERS), help="Mitsuba samplers (default: all five)")
     ap.add_argument("--variant", default="", help="Mitsuba variant (default: llvm_ad_rgb if it runs, else scalar_rgb)")
     ap.add_argument("--bench-spp", type=int, default=64, help="spp of the caustica bench run (default 64)")
@@ -1166,7 +1279,6 @@ def main():
     scenes = args.scenes or [os.path.join(ROOT, s) for s in DEFAULT_SCENES]
     if args.reference and len(scenes) != 1:
         sys.exit("--reference needs exactly one scene")
-    scenes = [os.path.relpath(s) if not os.path.isabs(s) else s for s in scenes]
 
     variant, lib, note = pick_variant(args.variant)
     log("Mitsuba variant %s (%s)" % (variant, note))
@@ -1174,7 +1286,7 @@ def main():
     mi_version = ms.mi.__version__
     results = []
     for scene in scenes:
-        results.append(compare_scene(args, ms, scene, mi_version))
+        results.append(compare_scene(args, ms, scene))
     text, summary = markdown(args, results, mi_version, variant, note)
     print(text)
     if args.json:

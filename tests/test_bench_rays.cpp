@@ -105,7 +105,8 @@ TEST(BenchRays, PrimaryRaysAreTheRenderersCameraRays) {
   const size_t n = f.rays.primary.size();
   const DeviceQueue rays(rt.context(), path_record_layout(), n);
   StageKernel generate(render.program, "generate_camera_rays");
-  KernelArgs(generate).arg("camera", cam).queue("out", rays).finish();
+  cl::Buffer next_count(rt.context(), CL_MEM_READ_WRITE, sizeof(cl_uint));
+  KernelArgs(generate).arg("camera", cam).queue("out", rays).arg("next_count", next_count).finish();
   rt.queue().enqueueNDRangeKernel(generate.kernel, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
   std::vector<cs_float4> o(n), d(n);
   rt.queue().enqueueReadBuffer(rays.field("origin"), CL_TRUE, 0, n * sizeof(cs_float4), o.data());

@@ -106,14 +106,14 @@ TEST(KernelArgs, BindingIsCheckedAgainstTheKernelsNames) {
   const CameraGPU camera{};
   {
     StageKernel generate(built.program, "generate_camera_rays");
-    KernelArgs(generate).arg("camera", camera).queue("out", rays).finish();  // as the integrators bind it
+    KernelArgs(generate).arg("camera", camera).queue("out", rays).arg("next_count", rays.count()).finish();  // as the integrators bind it
     EXPECT_TRUE(generate.binding_checked);
   }
   if (kernel_arg_names(StageKernel(built.program, "generate_camera_rays").kernel).empty())
     GTEST_SKIP() << "this device does not report kernel argument names";
   StageKernel wrong_prefix(built.program, "generate_camera_rays");
   try {
-    KernelArgs(wrong_prefix).arg("camera", camera).queue("in", rays).finish();
+    KernelArgs(wrong_prefix).arg("camera", camera).queue("in", rays).arg("next_count", rays.count()).finish();
     ADD_FAILURE() << "a binding under other names was accepted";
   } catch (const Error& e) {
     EXPECT_TRUE(test::Contains(e.what(), {"generate_camera_rays", "argument 1", "\"out_count\"", "\"in_count\""}));
@@ -123,7 +123,7 @@ TEST(KernelArgs, BindingIsCheckedAgainstTheKernelsNames) {
     KernelArgs(too_few).arg("camera", camera).finish();
     ADD_FAILURE() << "a binding with too few arguments was accepted";
   } catch (const Error& e) {
-    EXPECT_TRUE(test::Contains(e.what(), {"generate_camera_rays", "declares 10 arguments", "binds 1"}));
+    EXPECT_TRUE(test::Contains(e.what(), {"generate_camera_rays", "declares 11 arguments", "binds 1"}));
   }
 }
 
@@ -390,7 +390,17 @@ TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
   StageKernel shade(built.program, "shade_surface_phong");
   KernelArgs args(shade);
   device_scene.bind_surfaces(args).arg("lights", light_buffer).arg("params", params).queue("in", in).arg("hits", hit_buffer);
-  rig.film.bind(args).queue("next", next).queue("shadow", shadow).finish();
+  // The wave loop's counters: one the stage clears (seeded non-zero), the
+  // rays it traced (2).
+  const cl_uint seven = 7;
+  cl::Buffer cleared(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, 4, const_cast<cl_uint*>(&seven));
+  cl::Buffer traced(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, 4, const_cast<cl_uint*>(&zero));
+  rig.film.bind(args)
+      .queue("next", next)
+      .arg("cleared_count", cleared)
+      .queue("shadow", shadow)
+      .arg("rays_traced", traced)
+      .finish();
   q.enqueueNDRangeKernel(shade.kernel, cl::NullRange, cl::NDRange(64), cl::NDRange(64));
   rig.film.accumulate_pass(rig.launcher);
   q.finish();
@@ -405,9 +415,15 @@ TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
     EXPECT_NEAR(film.rgb[c], local * m.ka * diffuse, 1e-6f) << c;
     EXPECT_NEAR(film.rgb[3 + c], 0.5f * (&scene.background.x)[c], 1e-6f) << c;
   }
-  cl_uint next_count = 0, empty_slot_pixel = 0;
+  cl_uint next_count = 0, empty_slot_pixel = 0, cleared_value = 1, traced_value = 0, shadow_count = 0;
   q.enqueueReadBuffer(next.count(), CL_TRUE, 0, 4, &next_count);
   ASSERT_EQ(next_count, 1u);
+  q.enqueueReadBuffer(cleared, CL_TRUE, 0, 4, &cleared_value);
+  q.enqueueReadBuffer(traced, CL_TRUE, 0, 4, &traced_value);
+  q.enqueueReadBuffer(shadow.count(), CL_TRUE, 0, 4, &shadow_count);
+  EXPECT_EQ(cleared_value, 0u);
+  EXPECT_EQ(traced_value, 2u);
+  EXPECT_EQ(shadow_count, 2u);  // two rays, one light: two addressed slots
   // Shadow slots are addressed (ray i, light l at i * lights + l): the hit
   // fills slot 0, the miss leaves slot 1 marked empty.
   q.enqueueReadBuffer(shadow.field("pixel"), CL_TRUE, 4, 4, &empty_slot_pixel);

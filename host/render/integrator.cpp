@@ -54,11 +54,15 @@ CameraGPU Integrator::chunk_camera(size_t first_pixel, size_t pixel_count) const
   return camera;
 }
 
-void Integrator::generate_camera_rays(StageKernel& generate, const DeviceQueue& rays, size_t first_pixel,
-                                      size_t pixel_count, RenderStats* stats) {
-  KernelArgs(generate).arg("camera", chunk_camera(first_pixel, pixel_count)).queue("out", rays).finish();
+void Integrator::generate_camera_rays(StageKernel& generate, const DeviceQueue& rays, const cl::Buffer& count,
+                                      const cl::Buffer& next_count, size_t first_pixel, size_t pixel_count,
+                                      RenderStats* stats) {
+  KernelArgs(generate)
+      .arg("camera", chunk_camera(first_pixel, pixel_count))
+      .queue("out", rays, count)
+      .arg("next_count", next_count)
+      .finish();
   launcher_.launch(generate, pixel_count, stats);
-  launcher_.write_count(rays.count(), cl_uint(pixel_count), stats);
   if (stats) stats->camera_rays += pixel_count;
 }
 

@@ -154,9 +154,10 @@ class Integrator {
       : launcher_(launcher), scene_(scene), settings_(settings), name_(name) {}
   // The camera restricted to pixels [first_pixel, first_pixel + pixel_count).
   CameraGPU chunk_camera(size_t first_pixel, size_t pixel_count) const;
-  // generate_camera_rays for a chunk into `rays` (count set: one ray a pixel).
-  void generate_camera_rays(StageKernel& generate, const DeviceQueue& rays, size_t first_pixel, size_t pixel_count,
-                            RenderStats* stats);
+  // generate_camera_rays for a chunk into `rays`, whose count (`count`) it
+  // sets to one ray a pixel; it also zeroes `next_count`.
+  void generate_camera_rays(StageKernel& generate, const DeviceQueue& rays, const cl::Buffer& count,
+                            const cl::Buffer& next_count, size_t first_pixel, size_t pixel_count, RenderStats* stats);
 
   StageLauncher& launcher_;
   const DeviceScene& scene_;

@@ -24,20 +24,21 @@ class BinaryIntegrator final : public Integrator {
     pass_bound_ = 1.0f;  // red, once
     rays_ = DeviceQueue(context, path_record_layout(), chunk_pixels_);
     hits_ = cl::Buffer(context, CL_MEM_READ_WRITE, chunk_pixels_ * sizeof(Hit));
+    unused_count_ = cl::Buffer(context, CL_MEM_READ_WRITE, sizeof(cl_uint));
   }
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int passes, RenderStats* stats) override;
 
  private:
   StageKernel generate_, intersect_, shade_;
   DeviceQueue rays_;
-  cl::Buffer hits_;
+  cl::Buffer hits_, unused_count_;  // generate_camera_rays zeroes a next queue's count; binary has none
 };
 
 }  // namespace
 
 bool BinaryIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int /*passes: always 1*/,
                                    RenderStats* stats) {
-  generate_camera_rays(generate_, rays_, first_pixel, pixel_count, stats);
+  generate_camera_rays(generate_, rays_, rays_.count(), unused_count_, first_pixel, pixel_count, stats);
 
   KernelArgs intersect(intersect_);
   scene_.bind_geometry(intersect).ray_view("rays", rays_).arg("hits", hits_).finish();

@@ -10,14 +10,11 @@
 // Novak et al. 2010), so the queues stay full until the wave's samples run
 // out and the launches per sample are few. Two ping-pong path queues (each
 // path pushes one record at most, so a queue never overflows), one
-// addressed shadow slot per path, and three rotating queue counts on the
-// device (kernels/shared/types.h): the host writes nothing between waves
-// or iterations. It launches each stage over the slots until a count read
-// tells it a smaller bound: after queueing iteration j it waits for the
-// non-blocking read of the counters after iteration j - kCountLag, which
-// the device finished while it worked on the iterations after it. Once the
-// wave's samples have all started, the counts only fall; the first read of
-// zero ends the wave, and it carries the wave's ray counts too. The film
+// addressed shadow slot per path, and the bounce loop of every integrator
+// (host/render/wave_loop.h: counts on the device, read without blocking):
+// the host writes nothing between waves or iterations, and launches over
+// the slots until the wave's samples have all started; from then on the
+// counts only fall, and the first zero ends the wave. The film
 // sums in fixed point, so the order in which slots take samples changes no
 // bit. With caustics, a PhotonPass traces photons before a pass and
 // gathers them after (host/render/photon_pass.h), so those passes are
@@ -35,6 +32,7 @@
 #include "host/render/kernel_args.h"
 #include "host/render/path_lights.h"
 #include "host/render/photon_pass.h"
+#include "host/render/wave_loop.h"
 
 namespace caustica {
 namespace {
@@ -75,8 +73,6 @@ constexpr size_t kWaveSamples = size_t(1) << 22;
 // record), 54 MiB. On the 2-core PoCL CPU, 2^16 to 2^19 slots render the
 // Cornell box at 128^2 and 512^2 within the machine's noise of each other.
 constexpr size_t kPathSlots = size_t(1) << 18;
-// Count reads are waited for this many iterations late (see above).
-constexpr int kCountLag = 2;
 
 // Owns its light table (PathLight and the per-primitive light indices), two
 // path queues and the shadow slots, all sized for one chunk.
@@ -86,18 +82,10 @@ class PathIntegrator final : public Integrator {
   size_t slots_ = 0;  // paths in flight
   cl::Buffer lights_, light_of_sphere_, light_of_cylinder_, light_of_triangle_, hits_;
   DeviceQueue rays_[2], shadow_;
-  // The wave counters (kernels/shared/types.h): one buffer, each counter in
-  // its own sub-buffer at counter_stride_ bytes, read all at once.
-  enum { kQueueCount0 = 0, kShadowRays = 3, kWaveProgress = 4, kCounterBuffers = 5 };
-  size_t counter_stride_ = 0;
-  cl::Buffer counters_;
-  cl::Buffer counter_[kCounterBuffers];
-  struct CountRead {
-    std::vector<cl_uint> values;
-    cl::Event done;
-    cl_uint at(size_t counter, size_t value = 0) const { return values[counter * (values.size() / kCounterBuffers) + value]; }
-  };
-  CountRead reads_[kCountLag + 1];
+  // The bounce loop and its counters (host/render/wave_loop.h): extra
+  // counter 0 counts the shadow rays traced, 1 is the wave's progress.
+  enum { kShadowRays = 0, kWaveProgress = 1 };
+  std::unique_ptr<WaveLoop> loop_;
   cl_uint closest_rays_seen_ = 0, shadow_rays_seen_ = 0;  // the counters at the end of the latest wave
   std::unique_ptr<PhotonPass> photons_;  // only with the caustics feature
   cl::Buffer numerics_;                   // only with --check-numerics
@@ -197,17 +185,7 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
   for (DeviceQueue& q : rays_) q = DeviceQueue(ctx, path_record_layout(), slots_);
   shadow_ = DeviceQueue(ctx, shadow_record_layout(), slots_);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, slots_ * sizeof(Hit));
-  // Sub-buffers start at multiples of the device's base address alignment.
-  const cl_uint align_bits = ctx.getInfo<CL_CONTEXT_DEVICES>().at(0).getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>();
-  counter_stride_ = std::max<size_t>(16, align_bits / 8);
-  counters_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, kCounterBuffers * counter_stride_);
-  launcher.runtime().fill(counters_, cl_uint(0), 0, kCounterBuffers * counter_stride_);
-  for (int c = 0; c < kCounterBuffers; ++c) {
-    const cl_buffer_region region{c * counter_stride_, c == kWaveProgress ? WAVE_PROGRESS_VALUES * sizeof(cl_uint)
-                                                                          : sizeof(cl_uint)};
-    counter_[c] = counters_.createSubBuffer(CL_MEM_READ_WRITE, CL_BUFFER_CREATE_TYPE_REGION, &region);
-  }
-  for (CountRead& read : reads_) read.values.assign(kCounterBuffers * counter_stride_ / sizeof(cl_uint), 0);
+  loop_ = std::make_unique<WaveLoop>(launcher, std::vector<int>{1, int(WAVE_PROGRESS_VALUES)});
   if (settings.check_numerics) numerics_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, NUMERICS_COUNTERS * sizeof(cl_ulong));
   if (settings.caustics && light_count_ > 0)
     photons_ = std::make_unique<PhotonPass>(launcher, scene, program, lights_, uint32_t(light_count_), settings);
@@ -234,23 +212,20 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
   KernelArgs(generate_)
       .arg("camera", camera)
       .arg("params", params)
-      .queue("out", rays_[0], counter_[kQueueCount0])
-      .arg("next_count", counter_[kQueueCount0 + 1])
-      .arg("wave_progress", counter_[kWaveProgress])
+      .queue("out", rays_[0], loop_->traced_count(0))
+      .arg("next_count", loop_->pushed_count(0))
+      .arg("wave_progress", loop_->extra(kWaveProgress))
       .finish();
   const size_t started = std::min(samples, slots_);
   launcher_.launch(generate_, started, stats);
   if (stats) stats->camera_rays += samples;
 
   const bool shadows = light_count_ > 0 && settings_.path_strategy != PATH_STRATEGY_BSDF;
-  size_t bound = started;  // no iteration from here on has more paths
-  cl_uint closest_rays = closest_rays_seen_, shadow_rays = shadow_rays_seen_;
-  for (uint32_t j = 0;; ++j) {
+  auto enqueue = [&](uint32_t j, size_t bound) {
     const DeviceQueue& current = rays_[j % 2];
     const DeviceQueue& next = rays_[(j + 1) % 2];
-    const cl::Buffer& current_count = counter_[kQueueCount0 + j % 3];
     KernelArgs intersect(intersect_);
-    scene_.bind_geometry(intersect).ray_view("rays", current, current_count).arg("hits", hits_).finish();
+    scene_.bind_geometry(intersect).ray_view("rays", current, loop_->traced_count(j)).arg("hits", hits_).finish();
     launcher_.launch(intersect_, bound, stats);
 
     KernelArgs shade(shade_);
@@ -260,14 +235,14 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
         .arg("light_of_cylinder", light_of_cylinder_)
         .arg("light_of_triangle", light_of_triangle_)
         .arg("params", params)
-        .queue("in", current, current_count)
+        .queue("in", current, loop_->traced_count(j))
         .arg("hits", hits_);
     film.bind(shade)
-        .queue("next", next, counter_[kQueueCount0 + (j + 1) % 3])
-        .arg("cleared_count", counter_[kQueueCount0 + (j + 2) % 3])
-        .queue("shadow", shadow_, current_count)
+        .queue("next", next, loop_->pushed_count(j))
+        .arg("cleared_count", loop_->cleared_count(j))
+        .queue("shadow", shadow_, loop_->traced_count(j))
         .arg("camera", camera)
-        .arg("wave_progress", counter_[kWaveProgress]);
+        .arg("wave_progress", loop_->extra(kWaveProgress));
     if (photons_)
       photons_->bind_photon_map(photons_->bind_visible_points(shade).arg("record_visible_points",
                                                                           cl_uint(photon_pass_now_ ? 1 : 0)));
@@ -277,26 +252,22 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
 
     if (shadows) {
       KernelArgs shadow(shadow_stage_);
-      film.bind(scene_.bind_geometry(shadow).queue("shadow", shadow_, current_count))
-          .arg("traced", counter_[kShadowRays])
+      film.bind(scene_.bind_geometry(shadow).queue("shadow", shadow_, loop_->traced_count(j)))
+          .arg("traced", loop_->extra(kShadowRays))
           .finish();
       launcher_.launch(shadow_stage_, bound, stats);
     }
-    CountRead& read = reads_[j % (kCountLag + 1)];
-    launcher_.read_async(counters_, kCounterBuffers * counter_stride_, read.values.data(), &read.done, stats);
-    if (j < uint32_t(kCountLag)) continue;
-    // The counters after iteration j - kCountLag (the device has the
-    // iterations after it queued while the host waits).
-    const uint32_t seen = j - kCountLag;
-    const CountRead& after = reads_[seen % (kCountLag + 1)];
-    after.done.wait();
-    const cl_uint remaining = after.at(kQueueCount0 + (seen + 1) % 3);  // iteration seen + 1's paths
-    closest_rays = after.at(kWaveProgress, WAVE_CLOSEST_RAYS);
-    shadow_rays = after.at(kShadowRays);
-    if (after.at(kWaveProgress, WAVE_SAMPLES_STARTED) < samples) continue;  // slots still refill
-    if (remaining == 0) break;  // every later iteration is empty (they return at once)
-    bound = remaining;
-  }
+  };
+  // Until the wave's samples have all started, ended paths refill their
+  // slots; after, the counts only fall.
+  auto decide = [&](const WaveLoop::Counters& after, uint32_t seen) -> size_t {
+    if (after.extra(kWaveProgress, WAVE_SAMPLES_STARTED) < samples) return slots_;
+    const cl_uint remaining = after.queue_count(seen + 1);
+    return remaining == 0 ? WaveLoop::kStop : remaining;
+  };
+  loop_->run(started, ~0u, enqueue, decide, stats);  // never overflows: a path pushes one record at most
+  const cl_uint closest_rays = loop_->last().extra(kWaveProgress, WAVE_CLOSEST_RAYS);
+  const cl_uint shadow_rays = loop_->last().extra(kShadowRays);
   // The wave's rays: the counters run over the render (modulo 2^32).
   const cl_uint closest = closest_rays - closest_rays_seen_, shadow = shadow_rays - shadow_rays_seen_;
   closest_rays_seen_ = closest_rays;

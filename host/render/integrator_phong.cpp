@@ -21,6 +21,7 @@
 #include "host/render/lights.h"
 #include "host/render/path_lights.h"
 #include "host/render/photon_pass.h"
+#include "host/render/wave_loop.h"
 
 namespace caustica {
 namespace {
@@ -44,8 +45,13 @@ class PhongIntegrator final : public Integrator {
   const SceneFeatures& features_;
   size_t light_count_ = 0;
   size_t ray_capacity_ = 0, shadow_capacity_ = 0;
-  cl::Buffer lights_, hits_, shadow_traced_;
+  cl::Buffer lights_, hits_;
   DeviceQueue rays_[2], shadow_;
+  // The bounce loop and its counters (host/render/wave_loop.h): extra
+  // counter 0 counts the rays intersect_closest traced, 1 the shadow rays.
+  enum { kClosestRays = 0, kShadowRays = 1 };
+  std::unique_ptr<WaveLoop> loop_;
+  cl_uint closest_rays_seen_ = 0, shadow_rays_seen_ = 0;  // the counters after the latest chunk
   StageKernel generate_, intersect_, shade_, shadow_stage_;
   cl::Buffer photon_lights_;
   std::unique_ptr<PhotonPass> photons_;  // --caustics on only
@@ -113,7 +119,7 @@ PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& sce
                                              : chunk;
   shadow_capacity_ = std::max<size_t>(1, ray_capacity_ * light_count_);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, ray_capacity_ * sizeof(Hit));
-  shadow_traced_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
+  loop_ = std::make_unique<WaveLoop>(launcher, std::vector<int>{1, 1});
   rays_[0] = DeviceQueue(ctx, path_record_layout(), ray_capacity_);
   // Unused without secondary rays (a one-slot stand-in keeps the binding uniform).
   rays_[1] = DeviceQueue(ctx, path_record_layout(), features_.secondary_rays() ? ray_capacity_ : 1);
@@ -149,43 +155,63 @@ ShadeParams PhongIntegrator::shade_params() const {
 
 bool PhongIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int /*passes: always 1*/,
                                    RenderStats* stats) {
-  DeviceQueue* current = &rays_[0];
-  DeviceQueue* next = &rays_[1];
-  generate_camera_rays(generate_, *current, first_pixel, pixel_count, stats);
-
+  generate_camera_rays(generate_, rays_[0], loop_->traced_count(0), loop_->pushed_count(0), first_pixel,
+                       pixel_count, stats);
   const ShadeParams params = shade_params();
-  if (light_count_ > 0) launcher_.write_count(shadow_traced_, 0, stats);
-  uint32_t ray_count = uint32_t(pixel_count);
-  for (cl_uint depth = 0; ray_count > 0; ++depth) {
+  auto enqueue = [&](uint32_t j, size_t decided_bound) {
+    // Before the first count read decides (iterations up to kCountLag), a
+    // ray's children can double the queue each iteration.
+    const size_t bound =
+        j <= uint32_t(WaveLoop::kCountLag) ? std::min(ray_capacity_, pixel_count << j) : decided_bound;
+    const DeviceQueue& current = rays_[j % 2];
+    const DeviceQueue& next = rays_[(j + 1) % 2];
     KernelArgs intersect(intersect_);
-    scene_.bind_geometry(intersect).ray_view("rays", *current).arg("hits", hits_).finish();
-    launcher_.launch(intersect_, ray_count, stats);
+    scene_.bind_geometry(intersect).ray_view("rays", current, loop_->traced_count(j)).arg("hits", hits_).finish();
+    launcher_.launch(intersect_, bound, stats);
 
-    const bool spawns = depth < params.max_depth;
-    if (spawns) launcher_.write_count(next->count(), 0, stats);
-    // Ray i's shadow rays occupy slots [i L, (i + 1) L): the count is known.
-    const uint32_t shadow_count = uint32_t(ray_count * light_count_);
-    if (light_count_ > 0) launcher_.write_count(shadow_.count(), shadow_count, stats);
     KernelArgs shade(shade_);
-    scene_.bind_surfaces(shade).arg("lights", lights_).arg("params", params).queue("in", *current).arg("hits", hits_);
-    film.bind(shade).queue("next", *next).queue("shadow", shadow_);
+    scene_.bind_surfaces(shade)
+        .arg("lights", lights_)
+        .arg("params", params)
+        .queue("in", current, loop_->traced_count(j))
+        .arg("hits", hits_);
+    film.bind(shade)
+        .queue("next", next, loop_->pushed_count(j))
+        .arg("cleared_count", loop_->cleared_count(j))
+        .queue("shadow", shadow_)
+        .arg("rays_traced", loop_->extra(kClosestRays));
     if (photons_) photons_->bind_photon_map(shade);
     shade.finish();
-    launcher_.launch(shade_, ray_count, stats);
+    launcher_.launch(shade_, bound, stats);
 
-    if (light_count_ > 0) {
+    if (light_count_ > 0) {  // ray i's shadow rays occupy slots [i L, (i + 1) L); the shade stage set the count
       KernelArgs shadow(shadow_stage_);
-      film.bind(scene_.bind_geometry(shadow).queue("shadow", shadow_)).arg("traced", shadow_traced_).finish();
-      launcher_.launch(shadow_stage_, shadow_count, stats);
-      if (stats) stats->shadow_slots += shadow_count;
+      film.bind(scene_.bind_geometry(shadow).queue("shadow", shadow_)).arg("traced", loop_->extra(kShadowRays)).finish();
+      launcher_.launch(shadow_stage_, bound * light_count_, stats);
     }
-    if (!spawns) break;  // the chunk's traced shadow rays are read below
-    ray_count = launcher_.read_count(next->count(), stats);
-    if (ray_count > ray_capacity_) return false;
-    if (stats) stats->secondary_rays += ray_count;
-    std::swap(current, next);
+  };
+  // A ray spawns two children at most (mirror and refraction), so the
+  // count kCountLag iterations on is at most 2^kCountLag times the latest
+  // one read. Past the capacity the queue dropped rays: trace again.
+  auto decide = [&](const WaveLoop::Counters& after, uint32_t seen) -> size_t {
+    const cl_uint next = after.queue_count(seen + 1);
+    if (next > ray_capacity_) return WaveLoop::kOverflow;
+    if (next == 0) return WaveLoop::kStop;
+    return std::min(ray_capacity_, size_t(next) << WaveLoop::kCountLag);
+  };
+  // Depth 0 to nbounces: the last iteration's shade stage spawns nothing.
+  const uint32_t iterations = uint32_t(std::max(0, scene_.scene().nbounces)) + 1;
+  if (!loop_->run(pixel_count, iterations, enqueue, decide, stats)) return false;
+  // The counters run over the render (modulo 2^32).
+  const cl_uint closest = loop_->last().extra(kClosestRays) - closest_rays_seen_;
+  const cl_uint shadow = loop_->last().extra(kShadowRays) - shadow_rays_seen_;
+  closest_rays_seen_ += closest;
+  shadow_rays_seen_ += shadow;
+  if (stats) {
+    stats->secondary_rays += closest - std::min<uint64_t>(closest, pixel_count);
+    stats->shadow_rays += shadow;
+    stats->shadow_slots += uint64_t(closest) * light_count_;
   }
-  if (light_count_ > 0 && stats) stats->shadow_rays += launcher_.read_count(shadow_traced_, stats);
   return true;
 }
 

@@ -87,13 +87,20 @@ inline void push_specular(PATH_QUEUE_PARAMS(next), uint capacity, float min_weig
 
 __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const PointLight* restrict lights,
                                   ShadeParams params, PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits,
-                                  FILM_PARAMS, PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow)
+                                  FILM_PARAMS, PATH_QUEUE_PARAMS(next), volatile __global uint* restrict cleared_count,
+                                  SHADOW_QUEUE_PARAMS(shadow), volatile __global uint* restrict rays_traced
 #if PHONG_WITH_CAUSTICS
                                   , PHOTON_GRID_PARAMS, float caustic_radius
 #endif
 ) {
   const uint i = get_global_id(0);
-  if (i >= *in_count) return;
+  const uint count = *in_count;
+  if (i == 0) { /* the wave loop's counters (host/render/wave_loop.h) */
+    *cleared_count = 0u;                        /* the queue the next iteration's shade stage pushes into */
+    *shadow_count = count * params.light_count; /* ray i's shadow slots: [i L, (i + 1) L) */
+    atomic_add(rays_traced, count);
+  }
+  if (i >= count) return;
 #ifdef HAS_LIGHTS
   /* This ray's shadow slots: empty unless a light below fills its own. */
   for (uint l = 0; l < params.light_count; ++l) shadow_mark_empty(SHADOW_QUEUE_ARGS(shadow), i * params.light_count + l);
