@@ -62,6 +62,8 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--height", bench.session.height, "image height");
   bench_cmd->add_option("--repetitions", bench.repetitions, "timed repetitions (median)")->check(CLI::PositiveNumber);
   bench_cmd->add_option("--device", bench.session.device, "OpenCL device");
+  bench_cmd->add_option("--local-size", bench.session.local_size, "work-group size of every stage launch (default 64)")
+      ->check(CLI::Range(1, 1024));
   bench_cmd->add_option_function<std::string>(
       "--bvh", [&](const std::string& q) { bench.session.bvh_quality = parse_bvh_quality(q); },
       "BVH build: spatial (default), sah or fast");
