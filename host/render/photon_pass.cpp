@@ -8,6 +8,7 @@
 #include "host/cl/runtime.h"
 #include "host/render/device_scene.h"
 #include "host/render/integrator.h"
+#include "host/render/wave_loop.h"
 #include "host/scene/features.h"
 #include "host/scene/scene.h"
 
@@ -125,6 +126,7 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
   const size_t n = photons_per_pass_;
   for (DeviceQueue& q : queues_) q = DeviceQueue(ctx, path_record_layout(), n);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(Hit));
+  loop_ = std::make_unique<WaveLoop>(launcher, std::vector<int>{1});  // extra counter 0: photon rays traced
   candidates_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(Photon));
   stored_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
   offsets_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, (n + 1) * sizeof(cl_uint));
@@ -204,39 +206,46 @@ void PhotonPass::trace(RenderStats* stats) {
     launcher_.runtime().fill(gather_counters_, cl_ulong(0), 0, GATHER_COUNTERS * sizeof(cl_ulong));
   last_photon_rays_ = 0;
   const PhotonPassParams p = params(pass_index);
-  DeviceQueue* current = &queues_[0];
-  DeviceQueue* next = &queues_[1];
   KernelArgs(emit_)
       .arg("lights", lights_)
       .arg("params", p)
       .arg("casters", casters_)
       .arg("caster_count", caster_count_)
-      .queue("out", *current)
+      .queue("out", queues_[0], loop_->traced_count(0))
+      .arg("next_count", loop_->pushed_count(0))
       .finish();
   launcher_.launch(emit_, photons_per_pass_, stats);
-  launcher_.write_count(current->count(), photons_per_pass_, stats);
   launcher_.runtime().fill(stored_, cl_uint(0), 0, size_t(photons_per_pass_) * sizeof(cl_uint));
-  for (uint32_t count = photons_per_pass_; count > 0;) {
+  auto enqueue = [&](uint32_t j, size_t bound) {
+    const DeviceQueue& current = queues_[j % 2];
+    const DeviceQueue& next = queues_[(j + 1) % 2];
     KernelArgs intersect(intersect_);
-    scene_.bind_geometry(intersect).ray_view("rays", *current).arg("hits", hits_).finish();
-    launcher_.launch(intersect_, count, stats);
-    launcher_.write_count(next->count(), 0, stats);
+    scene_.bind_geometry(intersect).ray_view("rays", current, loop_->traced_count(j)).arg("hits", hits_).finish();
+    launcher_.launch(intersect_, bound, stats);
     KernelArgs bounce(bounce_);
     scene_.bind_surfaces(bounce)
         .arg("params", p)
-        .queue("in", *current)
+        .queue("in", current, loop_->traced_count(j))
         .arg("hits", hits_)
-        .queue("next", *next)
+        .queue("next", next, loop_->pushed_count(j))
         .arg("ray_capacity", cl_uint(photons_per_pass_))
+        .arg("cleared_count", loop_->cleared_count(j))
+        .arg("rays_traced", loop_->extra(0))
         .arg("candidates", candidates_)
         .arg("stored", stored_)
         .finish();
-    launcher_.launch(bounce_, count, stats);
-    if (stats) stats->photon_rays += count;
-    last_photon_rays_ += count;
-    count = std::min(launcher_.read_count(next->count(), stats), photons_per_pass_);
-    std::swap(current, next);
-  }
+    launcher_.launch(bounce_, bound, stats);
+  };
+  // A photon continues once at most: the counts only fall.
+  auto decide = [&](const WaveLoop::Counters& after, uint32_t seen) -> size_t {
+    const cl_uint remaining = std::min(after.queue_count(seen + 1), photons_per_pass_);
+    return remaining == 0 ? WaveLoop::kStop : remaining;
+  };
+  loop_->run(photons_per_pass_, ~0u, enqueue, decide, stats);
+  const cl_uint rays = loop_->last().extra(0) - photon_rays_seen_;  // the counter runs over the render (mod 2^32)
+  photon_rays_seen_ += rays;
+  if (stats) stats->photon_rays += rays;
+  last_photon_rays_ = rays;
   // Stored photons packed in photon order: offsets = exclusive scan of the
   // flags, whose last entry (a 0 appended) becomes the total.
   launcher_.runtime().copy(stored_, offsets_, 0, 0, size_t(photons_per_pass_) * sizeof(cl_uint));

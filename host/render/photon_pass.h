@@ -32,6 +32,8 @@
 
 namespace caustica {
 
+class WaveLoop;
+
 class DeviceScene;
 class StageLauncher;
 struct RenderSettings;
@@ -161,6 +163,8 @@ class PhotonPass final : public SeparateEstimate {
   uint64_t last_photon_rays_ = 0, last_stored_ = 0;
   StageKernel emit_, intersect_, bounce_, compact_, gather_;  // gather_: PerPixel only
   DeviceQueue queues_[2];
+  std::unique_ptr<WaveLoop> loop_;  // the bounce loop (host/render/wave_loop.h)
+  cl_uint photon_rays_seen_ = 0;    // its photon-ray counter after the latest map
   cl::Buffer casters_;
   cl::Buffer hits_, candidates_, stored_, offsets_, photons_, stored_count_, visible_points_, pixels_,
       gather_counters_;

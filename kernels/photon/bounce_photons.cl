@@ -20,9 +20,15 @@
 
 __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PATH_QUEUE_PARAMS(in),
                              __global const Hit* restrict hits, PATH_QUEUE_PARAMS(next), uint ray_capacity,
+                             volatile __global uint* restrict cleared_count, volatile __global uint* restrict rays_traced,
                              __global Photon* restrict candidates, __global uint* restrict stored) {
   const uint i = get_global_id(0);
-  if (i >= *in_count) return;
+  const uint count = *in_count;
+  if (i == 0) { /* the wave loop's counters (host/render/wave_loop.h) */
+    *cleared_count = 0u;
+    atomic_add(rays_traced, count);
+  }
+  if (i >= count) return;
   const Hit hit = hits[i];
   if (hit.prim == PRIM_NONE) return;
   const PathRecord photon = path_load(PATH_QUEUE_ARGS(in), i);

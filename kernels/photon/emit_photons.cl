@@ -86,8 +86,13 @@ inline float3 sample_toward_casters(__global const float4* restrict casters, uin
 }
 
 __kernel void emit_photons(__global const PathLight* restrict lights, PhotonPassParams params,
-                           __global const float4* restrict casters, uint caster_count, PATH_QUEUE_PARAMS(out)) {
+                           __global const float4* restrict casters, uint caster_count, PATH_QUEUE_PARAMS(out),
+                           __global uint* restrict next_count) {
   const uint i = get_global_id(0);
+  if (i == 0) { /* the wave loop's counts (host/render/wave_loop.h): the host writes none */
+    *out_count = params.photon_count;
+    *next_count = 0u;
+  }
   if (i >= params.photon_count) return;
   const uint li = pick_light(lights, params.light_count, photon_random(i, params, 0u));
   __global const PathLight* l = &lights[li];
