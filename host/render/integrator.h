@@ -132,10 +132,11 @@ class Integrator {
   // depends on the film's pass count and the image only, never on timing,
   // so that a render's waves, and so its bits, are the same on any machine.
   virtual int wave_passes(const Film& /*film*/) const { return 1; }
-  // Around each pass's chunks: work that spans the whole image (the photon
-  // pass traces its photons before and gathers after).
+  // Around each wave's chunks: work that spans the whole image (the photon
+  // pass traces its photons before and gathers after); `passes` is the
+  // wave's.
   virtual void begin_pass(Film& /*film*/, RenderStats* /*stats*/) {}
-  virtual void end_pass(Film& /*film*/, RenderStats* /*stats*/) {}
+  virtual void end_pass(Film& /*film*/, int /*passes*/, RenderStats* /*stats*/) {}
   // What kind of pass comes next, for the driver's time prediction (passes
   // of one kind take about as long): path mode's passes that trace a photon
   // map are 1, the others 0.

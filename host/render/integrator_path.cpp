@@ -17,9 +17,10 @@
 // counts only fall, and the first zero ends the wave. The film
 // sums in fixed point, so the order in which slots take samples changes no
 // bit. With caustics, a PhotonPass traces photons before a pass and
-// gathers them after (host/render/photon_pass.h), so those passes are
-// waves of one; with `--caustics auto` it is kept only where it pays
-// (decide_photon_pass below).
+// gathers them after (host/render/photon_pass.h), so a pass that traces a
+// map is a wave of one, and the passes up to the next map share one; with
+// `--caustics auto` it is kept only where it pays (decide_photon_pass
+// below).
 #include <algorithm>
 #include <cstdio>
 #include <string>
@@ -104,9 +105,15 @@ class PathIntegrator final : public Integrator {
   PathIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                  const RenderSettings& settings);
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int passes, RenderStats* stats) override;
+  // With the photon pass on, a pass that traces a photon map is a wave of
+  // its own (its first receivers record the pixels' visible points); the
+  // passes up to the next map may share one.
   int wave_passes(const Film& film) const override {
-    if (photons_ && (film.passes() == 0 || photons_->on())) return 1;
-    return int(std::clamp<size_t>(kWaveSamples / std::max<size_t>(1, film.pixel_count()), 1, Film::kMostWavePasses));
+    const int most =
+        int(std::clamp<size_t>(kWaveSamples / std::max<size_t>(1, film.pixel_count()), 1, Film::kMostWavePasses));
+    if (!photons_ || (film.passes() > 0 && !photons_->on())) return most;
+    if (film.passes() == 0 || passes_since_photons_ == 0) return 1;
+    return std::min(most, int(interval_ - passes_since_photons_));
   }
   void begin_pass(Film& film, RenderStats* stats) override {
     if (numerics_() && film.passes() == 0)
@@ -132,16 +139,16 @@ class PathIntegrator final : public Integrator {
     if (!photons_ || (film.passes() > 0 && !photons_->on())) return 0;
     return film.passes() == 0 || passes_since_photons_ == 0 ? 1 : 0;
   }
-  void end_pass(Film& film, RenderStats* stats) override {
+  void end_pass(Film& film, int passes, RenderStats* stats) override {
     if (!photons_ || !photons_->on()) return;
-    photons_->count_camera_pass();  // this pass left the caustic paths to the map
-    ++passes_counted_;
+    photons_->count_camera_passes(uint32_t(passes));  // these passes left the caustic paths to the map
+    passes_counted_ += uint32_t(passes);
     if (photon_pass_now_) {
       photons_->gather(stats);  // reads the counters of the passes since the last map
       if (settings_.caustics_auto) decide_photon_pass(film);
       passes_counted_ = 0;
     }
-    passes_since_photons_ = (passes_since_photons_ + 1) % interval_;
+    passes_since_photons_ = (passes_since_photons_ + uint32_t(passes)) % interval_;
   }
   void collect(RenderStats* stats) override {
     if (photons_ && stats) {

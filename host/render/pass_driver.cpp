@@ -57,7 +57,7 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
       film_.clear_pass_range(0, pixels);
       break;
     }
-    integrator_.end_pass(film_, stats);
+    integrator_.end_pass(film_, wave, stats);
     film_.accumulate_pass(launcher_, stats, wave);
     if (stats) stats->passes += wave;
     pass += wave;

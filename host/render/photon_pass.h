@@ -93,7 +93,7 @@ class PhotonPass final : public SeparateEstimate {
   void gather(RenderStats* stats);
   // Every camera pass while the photon pass is on (those passes leave the
   // caustic paths to it).
-  void count_camera_pass() { ++camera_passes_on_; }
+  void count_camera_passes(uint32_t passes) { camera_passes_on_ += passes; }
   uint32_t photon_passes() const { return maps_; }
   // SharedRadius: photon pass k's radius, r0^2 prod_{i=1..k} (i + alpha) /
   // (i + 1) squared (Knaus & Zwicker 2011), and the latest photon map with
