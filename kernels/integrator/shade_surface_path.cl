@@ -196,7 +196,11 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
 #endif
   const uint pixel_seed = hash3(ray.pixel, 0u, params->seed);
   const uint pair = 2u + 3u * ray.depth;
+  /* The vertex's three 2D samples at once: each is a long chain of integer
+   * multiplies, and side by side the core runs them in parallel. */
   const float2 picks = pixel_sample_2d(params->sampler, ray.sample, pair + 2u, pixel_seed);
+  const float2 u_light = pixel_sample_2d(params->sampler, ray.sample, pair, pixel_seed);
+  const float2 u_dir = pixel_sample_2d(params->sampler, ray.sample, pair + 1u, pixel_seed);
 
   /* Next-event estimation toward one light. */
   const bool delta_only = bsdf_is_smooth(bsdf) && bsdf.kind != BSDF_PLASTIC;
@@ -204,8 +208,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
     const uint li = pick_light(lights, params->light_count, picks.x);
     __global const PathLight* light = &lights[li];
     LightSample ls;
-    if (sample_light(light, light->select_probability, sp.position,
-                     pixel_sample_2d(params->sampler, ray.sample, pair, pixel_seed), &ls)) {
+    if (sample_light(light, light->select_probability, sp.position, u_light, &ls)) {
       const float3 wi = frame_to_local(ls.wi, t, b, n);
       const float side = dot(ls.wi, ng);
       if (!opaque || side > 0.0f) {
@@ -231,7 +234,6 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   }
 
   /* The continuation, by BSDF sampling. */
-  const float2 u_dir = pixel_sample_2d(params->sampler, ray.sample, pair + 1u, pixel_seed);
   float3 wi_local, weight;
   float pdf;
   uint flags;

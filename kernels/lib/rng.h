@@ -92,7 +92,7 @@ inline uint nested_uniform_scramble(uint x, uint seed) {
 
 /* Sample `index` of the pixel's sequence in dimensions (2 pair, 2 pair + 1).
  * pixel_seed mixes the pixel and the user's seed (hash3(pixel, 0, seed)). */
-inline float2 sobol_burley_2d(uint index, uint pair, uint pixel_seed) {
+__attribute__((always_inline)) inline float2 sobol_burley_2d(uint index, uint pair, uint pixel_seed) {
   const uint pair_seed = hash_combine(pixel_seed, pair);
   /* shuffled = nested_uniform_scramble(index, pair_seed); each output is
    * nested_uniform_scramble(sobol_dimensionK(shuffled), seed_K). Written out,
@@ -115,7 +115,8 @@ inline float2 sobol_burley_2d(uint index, uint pair, uint pixel_seed) {
 
 /* The 2D sample of dimension pair `pair` for sample `index` of the pixel
  * whose seed is pixel_seed, from the chosen sampler (SAMPLER_*, types.h). */
-inline float2 pixel_sample_2d(uint sampler, uint index, uint pair, uint pixel_seed) {
+__attribute__((always_inline)) inline float2 pixel_sample_2d(uint sampler, uint index, uint pair,
+                                                            uint pixel_seed) {
   if (sampler == SAMPLER_INDEPENDENT) {
     const uint key = hash_combine(pixel_seed, index);
     return (float2)(random_float(key, 2u * pair), random_float(key, 2u * pair + 1u));
