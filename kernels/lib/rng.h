@@ -62,15 +62,17 @@ inline uint sobol_dimension0(uint index) { return reverse_bits_u32(index); }
  * the five bits of a bit position, one shift-and-xor per bit. Same values as
  * the 32-step loop (tests/test_rng.cpp compares them) at a fraction of the
  * cost, which matters: the path tracer draws several pairs per vertex. */
-inline uint sobol_dimension1(uint index) {
+inline uint sobol_dimension1_reversed(uint index) {
   uint y = index;
   y ^= (y >> 1) & 0x55555555u;
   y ^= (y >> 2) & 0x33333333u;
   y ^= (y >> 4) & 0x0F0F0F0Fu;
   y ^= (y >> 8) & 0x00FF00FFu;
   y ^= (y >> 16) & 0x0000FFFFu;
-  return reverse_bits_u32(y);
+  return y;
 }
+
+inline uint sobol_dimension1(uint index) { return reverse_bits_u32(sobol_dimension1_reversed(index)); }
 
 /* Burley's hash-based Laine-Karras permutation: an Owen scramble of the bits
  * of x seen from the least significant end (each bit flipped by a hash of
@@ -102,14 +104,9 @@ __attribute__((always_inline)) inline float2 sobol_burley_2d(uint index, uint pa
   const uint shuffled = reverse_bits_u32(shuffled_reversed);
   /* sobol_dimension0(shuffled) = shuffled_reversed, reversed again inside the scramble */
   const uint x = reverse_bits_u32(laine_karras_permutation(shuffled, hash_combine(pair_seed, 0x5ca1ab1eu)));
-  /* sobol_dimension1(shuffled) = reverse_bits_u32(y), likewise */
-  uint y = shuffled;
-  y ^= (y >> 1) & 0x55555555u;
-  y ^= (y >> 2) & 0x33333333u;
-  y ^= (y >> 4) & 0x0F0F0F0Fu;
-  y ^= (y >> 8) & 0x00FF00FFu;
-  y ^= (y >> 16) & 0x0000FFFFu;
-  y = reverse_bits_u32(laine_karras_permutation(y, hash_combine(pair_seed, 0xdecafbadu)));
+  /* sobol_dimension1(shuffled), likewise reversed again inside the scramble */
+  const uint y = reverse_bits_u32(
+      laine_karras_permutation(sobol_dimension1_reversed(shuffled), hash_combine(pair_seed, 0xdecafbadu)));
   return (float2)(unit_float(x), unit_float(y));
 }
 
