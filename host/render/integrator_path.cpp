@@ -88,7 +88,7 @@ constexpr uint32_t kRouletteDepth = 3;
 constexpr size_t kPathSlots = size_t(1) << 18;
 
 // Owns its light table (PathLight and the per-primitive light indices), two
-// path queues and the shadow slots, all sized for one chunk.
+// path queues, the hits and the shadow slots, all sized for its path slots.
 class PathIntegrator final : public Integrator {
   StageKernel generate_, intersect_, shade_, shadow_stage_;
   size_t light_count_ = 0;

@@ -50,9 +50,8 @@ bool WaveLoop::run(size_t first_bound, uint32_t max_iterations, const Enqueue& e
     launcher_.read_async(counters_, read.values_.size() * sizeof(cl_uint), read.values_.data(), &read.done_, stats);
     if (j >= uint32_t(kCountLag)) decide_on(decided++);
   }
-  const bool overflowed_before = overflow;
   for (; decided < j; ++decided) decide_on(decided);  // the last reads: overflow and final counters
-  return !(overflow || overflowed_before);
+  return !overflow;
 }
 
 }  // namespace caustica
