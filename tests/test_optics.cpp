@@ -130,6 +130,11 @@ struct Refracted {
 
 class Optics : public ::testing::TestWithParam<const char*> {
  protected:
+  // -cl-fast-relaxed-math lets division and sqrt be approximate (NVIDIA's
+  // are, by a few ulp), so answers exact under IEEE rounding become near.
+  bool fast_math() const { return std::string(GetParam()).find("fast-relaxed") != std::string::npos; }
+  float exact_unless_fast() const { return fast_math() ? 4e-7f : 0.0f; }
+
   cl::Program program() {
     static auto& programs = *new std::map<std::string, cl::Program>;  // never released (test::runtime() says why)
     auto& p = programs[GetParam()];
@@ -212,7 +217,7 @@ TEST_P(Optics, FresnelIsZeroForMatchedIndices) {
   const auto out = fresnel(in);
   for (size_t i = 0; i < in.size(); ++i) {
     EXPECT_LE(out[i].reflectance, 1e-7f) << "cos_i " << in[i].cos_i;
-    EXPECT_EQ(out[i].cos_t, in[i].cos_i) << "cos_i " << in[i].cos_i;
+    EXPECT_NEAR(out[i].cos_t, in[i].cos_i, exact_unless_fast() * in[i].cos_i) << "cos_i " << in[i].cos_i;
   }
 }
 
@@ -249,7 +254,7 @@ TEST_P(Optics, FresnelAtNormalAndGrazingIncidence) {
       EXPECT_NEAR(out[i].reflectance, r0, 1e-6);
       EXPECT_NEAR(out[i].cos_t, 1.0, 1e-6);
     } else if (eta != 1.0) {
-      EXPECT_EQ(out[i].reflectance, 1.0f);  // grazing incidence reflects everything
+      EXPECT_NEAR(out[i].reflectance, 1.0f, exact_unless_fast());  // grazing incidence reflects everything
     } else {
       EXPECT_GE(out[i].reflectance, 0.0f);
       EXPECT_LE(out[i].reflectance, 1.0f);

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <sstream>
 #include <sys/wait.h>
 
 #include "host/cl/runtime.h"
@@ -24,8 +25,10 @@ using test::error_of;
 TEST(DeviceSelection, ByTypeIndexAndName) {
   const auto devices = list_devices();
   ASSERT_FALSE(devices.empty());
-  const DeviceInfo cpu = select_device("cpu");
-  EXPECT_EQ(cpu.type, "cpu");
+  // Every type present is found by its name (the test device may be a GPU
+  // alone, or PoCL's CPU alone).
+  for (const auto& d : devices)
+    if (d.platform_name.find("Oclgrind") == std::string::npos) EXPECT_EQ(select_device(d.type).type, d.type);
   EXPECT_EQ(select_device("0").index, 0);
   EXPECT_EQ(select_device(devices.back().name.substr(0, 6)).name.substr(0, 6), devices.back().name.substr(0, 6));
   for (const auto& d : devices) {
@@ -46,10 +49,25 @@ TEST(ProgramBuild, FailureCarriesTheLogAtTheOriginalLine) {
   const std::string msg = error_of([&] { test::runtime().build_source("broken.cl", broken, ""); });
   EXPECT_NE(msg.find("kernel build failed for broken.cl"), std::string::npos) << msg;
   EXPECT_NE(msg.find("undefined_name"), std::string::npos) << msg;
-  // Oclgrind's compiler reports physical lines of the expanded source
-  // ("input.cl:312"), ignoring the #line directives that map them back.
-  if (!test::on_simulator())
-    EXPECT_NE(msg.find("broken.cl:3"), std::string::npos) << "log should point at line 3 of broken.cl:\n" << msg;
+  // PoCL honours the #line markers; Oclgrind ("input.cl:312") and NVIDIA
+  // ("<kernel>:330:10") count physical lines, which the runtime maps back.
+  EXPECT_NE(msg.find("broken.cl:3"), std::string::npos) << "log should point at line 3 of broken.cl:\n" << msg;
+}
+
+TEST(ProgramBuild, PhysicalLinesInALogAreMappedToTheirFiles) {
+  const std::string source = expand_kernel_source("broken.cl", "#include \"shared/types.h\"\nint a;\nx = 1;\n");
+  // Physical line of "x = 1;" in the expanded source.
+  std::istringstream in(source);
+  int physical = 0, target = 0;
+  for (std::string line; std::getline(in, line);)
+    if (++physical && line == "x = 1;") target = physical;
+  ASSERT_GT(target, 3);
+  const std::string log = "<kernel>:" + std::to_string(target) + ":3: error: x\ninput.cl:" + std::to_string(target) +
+                          ": error: y\nbroken.cl:3:1: error: z\n<kernel>:99999:1: note: past the end\n";
+  EXPECT_EQ(map_build_log_lines(log, source),
+            "broken.cl:3:3: error: x\nbroken.cl:3: error: y\nbroken.cl:3:1: error: z\n<kernel>:99999:1: note: past the end\n");
+  // Lines 1 and 2 are the markers naming the root file and its include.
+  EXPECT_EQ(map_build_log_lines("<source>:3:1: w", source), "shared/types.h:1:1: w");
 }
 
 TEST(ProgramBuild, MissingIncludeIsNamed) {
@@ -62,7 +80,7 @@ TEST(ProgramBuild, MissingIncludeIsNamed) {
 TEST(ProgramBuild, SecondBuildComesFromTheCache) {
   const std::string dir = test::temp_dir() + "/cache";
   setenv("CAUSTICA_CACHE_DIR", dir.c_str(), 1);
-  Runtime rt(select_device("cpu"));
+  Runtime rt(select_device(test::device_spec()));
   const std::string src = "__kernel void k(__global int* x) { x[get_global_id(0)] = 7; }\n";
   const auto cold = rt.build_source("cached.cl", src, "-DVARIANT=1");
   const auto warm = rt.build_source("cached.cl", src, "-DVARIANT=1");

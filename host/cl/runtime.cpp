@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -137,6 +138,40 @@ std::string expand_kernel_source(const std::string& root_name, const std::string
   return out.str();
 }
 
+std::string map_build_log_lines(const std::string& log, const std::string& expanded_source) {
+  // origin[i]: the file and line that physical line i + 1 came from.
+  std::vector<std::pair<std::string, int>> origin;
+  std::string file = "<kernel>";
+  int next_line = 1;
+  std::istringstream in(expanded_source);
+  static const std::regex line_marker(R"re(^#line (\d+) "([^"]*)"\s*$)re");
+  for (std::string line; std::getline(in, line);) {
+    origin.emplace_back(file, next_line);
+    std::smatch m;
+    if (std::regex_match(line, m, line_marker)) {
+      next_line = std::stoi(m[1]);
+      file = m[2];
+    } else {
+      ++next_line;
+    }
+  }
+  static const std::regex reference(R"re((<kernel>|<source>|input\.cl):(\d+))re");
+  std::string out;
+  auto last = log.cbegin();
+  for (std::sregex_iterator it(log.begin(), log.end(), reference), end; it != end; ++it) {
+    const auto& m = *it;
+    out.append(last, m[0].first);
+    const size_t physical = std::stoul(m[2]);
+    if (physical >= 1 && physical <= origin.size())
+      out += origin[physical - 1].first + ":" + std::to_string(origin[physical - 1].second);
+    else
+      out += m.str();
+    last = m[0].second;
+  }
+  out.append(last, log.cend());
+  return out;
+}
+
 std::vector<DeviceInfo> list_devices() {
   std::vector<DeviceInfo> result;
   std::vector<cl::Platform> platforms;
@@ -165,6 +200,8 @@ std::vector<DeviceInfo> list_devices() {
       info.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
       info.global_mem_bytes = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
       info.max_alloc_bytes = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+      info.correctly_rounded_divide_sqrt =
+          (d.getInfo<CL_DEVICE_SINGLE_FP_CONFIG>() & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;
       info.device = d;
       result.push_back(info);
     }
@@ -299,11 +336,21 @@ BuiltProgram Runtime::build_source(const std::string& name, const std::string& t
   // Oclgrind (a checking simulator, --device oclgrind) builds with
   // -cl-opt-disable: its LLVM cannot run every intrinsic an optimising clang
   // emits, and the kernels then fail to appear (CL_INVALID_KERNEL_NAME).
+  // Division and sqrt are asked to round correctly where the device can:
+  // OpenCL's default allows 2.5 and 3 ulp (NVIDIA's driver uses that), while
+  // the error-bounded ray origins count on IEEE rounding. Not with
+  // -cl-fast-relaxed-math, which asks for approximations anyway, and whose
+  // traversal NVIDIA's compiler (driver 580) gets wrong with both flags.
   // CAUSTICA_EXTRA_KERNEL_OPTIONS: appended to every build (a developer knob).
   const char* extra = std::getenv("CAUSTICA_EXTRA_KERNEL_OPTIONS");
   const bool oclgrind = simulator_;
+  const bool fast_math = (raw_options + (extra ? extra : "")).find("-cl-fast-relaxed-math") != std::string::npos;
   const std::string options = "-cl-std=CL1.2 -cl-kernel-arg-info " +
-                              std::string(info_.type == "cpu" ? "-DCAUSTICA_CPU_PREFETCH " : "") + raw_options +
+                              std::string(info_.type == "cpu" ? "-DCAUSTICA_CPU_PREFETCH " : "") +
+                              std::string(info_.correctly_rounded_divide_sqrt && !oclgrind && !fast_math
+                                              ? "-cl-fp32-correctly-rounded-divide-sqrt "
+                                              : "") +
+                              raw_options +
                               (oclgrind ? " -cl-opt-disable" : "") + (extra ? std::string(" ") + extra : std::string());
   auto t0 = std::chrono::steady_clock::now();
   BuiltProgram built;
@@ -337,7 +384,7 @@ BuiltProgram Runtime::build_source(const std::string& name, const std::string& t
     } catch (const cl::Error&) {
       std::string log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device);
       throw Error("OpenCL kernel build failed for " + name + " on " + info_.name + " with options [" + options +
-                  "]:\n" + log);
+                  "]:\n" + map_build_log_lines(log, source));
     }
     built.program = program;
     if (cache_enabled_) {

@@ -22,6 +22,9 @@ struct DeviceInfo {
   unsigned compute_units = 0;
   size_t global_mem_bytes = 0;
   size_t max_alloc_bytes = 0;  // CL_DEVICE_MAX_MEM_ALLOC_SIZE: the largest single buffer
+  // CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT: the device can build with
+  // -cl-fp32-correctly-rounded-divide-sqrt (Runtime::build_source asks for it).
+  bool correctly_rounded_divide_sqrt = false;
   cl::Device device;
 };
 
@@ -43,6 +46,13 @@ struct BuiltProgram {
 // (paths relative to kernels/), each file once, with #line markers so build
 // logs point at the original file and line.
 std::string expand_kernel_source(const std::string& root_name, const std::string& root_text);
+
+// Rewrites the line references of a build log that count physical lines of
+// the expanded source ("<kernel>:330:10", "input.cl:312") as the original
+// file and line the #line markers name ("broken.cl:3:10"). Compilers that
+// honour #line (PoCL's clang) already write those; NVIDIA's and Oclgrind's
+// do not.
+std::string map_build_log_lines(const std::string& log, const std::string& expanded_source);
 
 class Runtime {
  public:
