@@ -70,18 +70,14 @@ constexpr int kBalanceAfterPasses = 4;
 // second of work, so the time limit and progress keep their grain, while
 // the tail of its last paths (launches over few paths) is amortised.
 constexpr size_t kWaveSamples = size_t(1) << 22;
-// Russian roulette from this many scattering events on. Measured (issue
-// 20), Cornell box at 128^2, 256 spp against Mitsuba's 16384-spp image:
-// relMSE x spp 0.150 / 0.117 / 0.097 / 0.086 / 0.076 from 3 / 4 / 5 / 6 / 8,
-// relMSE x render seconds ~20% lower from 5 to 8 than at 3 (Mitsuba's
-// default is 5). Not changed yet: CausticGround's photon-pass-versus-path-
-// tracing test (tests/stiff/test_caustic_ground.cpp) measures path tracing
-// alone on one seed, whose error at 3 is one firefly (caustic-region relMSE
-// 3.8 for seed 1, 0.27-0.80 for seeds 2-6); at 5 that firefly is gone and
-// the test's 3x bound fails (1.4x). Over seeds at 5, path tracing alone
-// gives 0.22-0.47 and one firefly of 2.4 in 8 seeds (mean 0.55), the photon
-// pass 0.08-0.37 (mean 0.24 over 4): the test needs an error over seeds.
-constexpr uint32_t kRouletteDepth = 3;
+// Russian roulette from this many scattering events on (Mitsuba's default
+// too). Measured (issue 20), Cornell box at 128^2, 256 spp against
+// Mitsuba's 16384-spp image: relMSE x spp 0.150 / 0.117 / 0.097 / 0.086 /
+// 0.076 from 3 / 4 / 5 / 6 / 8. At equal time (5 s, 2 cores, 4 seeds) 5
+// against 3: relMSE 2.01e-4 against 2.49e-4 on the Cornell box, 1.53e-3
+// against 1.78e-3 on scenes/caustics.json, 1.56e-3 against 2.26e-3 on
+// scenes/showcase_path.json (3 seeds each; /tmp script in the issue note).
+constexpr uint32_t kRouletteDepth = 5;
 // Paths in flight: 216 bytes each (two path records, a hit, a shadow
 // record), 54 MiB. On the 2-core PoCL CPU, 2^16 to 2^19 slots render the
 // Cornell box at 128^2 and 512^2 within the machine's noise of each other.
