@@ -39,7 +39,7 @@ struct SessionOptions {
   double time_limit_s = 0.0;    // path: stop at this wall time (with --spp: whichever first); 0: none
   uint32_t seed = 0;            // path: sample sequence seed
   bool independent_samples = false;  // path: independent uniforms instead of Sobol-Burley (comparisons)
-  bool error_estimate = true;   // path: the film keeps the odd-pass half buffer (self-estimated error)
+  bool error_estimate = true;   // path: the film keeps the half buffer, passes [P, N) (self-estimated error)
   CausticsMode caustics = CausticsMode::Auto;  // path: the photon pass
   bool check_numerics = false;  // path: count BSDF weights per bounce (--check-numerics)
   uint32_t photons = 0;         // path: photons per pass; 0: RenderSettings' default

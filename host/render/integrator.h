@@ -42,7 +42,7 @@ struct RenderSettings {
   float queue_capacity_factor = 2.0f;
   int passes = 1;            // samples per pixel (one pass each)
   double time_limit_s = 0.0;  // stop after the pass that reaches this wall time; 0: none
-  bool half_buffer = false;  // film keeps the odd-pass sum
+  bool half_buffer = false;  // film keeps the half buffer: passes [P, N), P the last power of two
   uint32_t seed = 0;         // path: the sample sequences' seed (same seed, same image)
   uint32_t path_strategy = PATH_STRATEGY_MIS;  // path: MIS, or one technique alone (tests)
   uint32_t sampler = SAMPLER_SOBOL_BURLEY;     // path: low-discrepancy or independent samples

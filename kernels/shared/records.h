@@ -6,8 +6,9 @@
  * counter (kernels/lib/queue.h). Everything else is generated from these
  * lists: the kernels' parameter lists and load/store/push helpers
  * (kernels/lib/queue.h), the host's buffer allocation and the named argument
- * binding (host/render/device_queue.h), and the record structs both sides
- * check the layout of (host/cl/layout_check.cpp, tests/test_layout.cpp).
+ * binding (DeviceQueue and KernelArgs::queue, host/render/kernel_args.h),
+ * and the record structs both sides check the layout of
+ * (host/cl/layout_check.cpp, and RecordLayout in tests/test_render_core.cpp).
  * Adding a field is one line here. Types are the shared ones of types.h
  * (cs_float4, cs_uint, float): 16-byte vectors first keeps the record
  * structs free of hidden padding. `q` is the queue's name, the prefix of its
