@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "host/error.h"
-#include "kernels/shared/photon.h"
+#include "lib/material.h"
 
 namespace caustica {
 
@@ -15,14 +15,10 @@ CausticsMode parse_caustics_mode(const std::string& name) {
   throw Error("--caustics " + name + ": expected auto, on or off");
 }
 
-bool material_casts_caustics(const Material& m) {
-  const bool given = m.roughness >= 0.0f;
-  float alpha;
-  if (m.flags & (MATERIAL_REFRACTIVE | MATERIAL_REFLECTIVE)) alpha = given ? m.roughness : 0.0f;
-  else if (m.metallic >= 1.0f) alpha = given ? m.roughness : std::sqrt(2.0f / (std::max(m.specular_exponent, 0.0f) + 2.0f));
-  else return false;  // plastic: a receiver
-  return alpha < CAUSTIC_CASTER_ALPHA;
-}
+// The kernels' own material mapping and caster test (kernels/lib/material.h,
+// compiled here through kernels/shared/compat.h): the scene analysis and
+// the photon pass cannot disagree about which surfaces cast.
+bool material_casts_caustics(const Material& m) { return bsdf_casts_caustics(bsdf_of_material(&m, m.diffuse.xyz)); }
 
 SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode caustics) {
   SceneFeatures f;

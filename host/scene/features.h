@@ -17,8 +17,8 @@ enum class CausticsMode { Auto, On, Off };
 CausticsMode parse_caustics_mode(const std::string& name);  // auto | on | off
 
 // Does the path tracer treat this material as a caustic caster (smooth or
-// glossy metal and glass, kernels/lib/caustics.h)? The host's mirror of
-// bsdf_of_material + bsdf_casts_caustics.
+// glossy metal and glass)? bsdf_casts_caustics(bsdf_of_material(m)), the
+// kernels' own functions (kernels/lib/material.h) compiled for the host.
 bool material_casts_caustics(const Material& m);
 
 struct SceneFeatures {

@@ -21,9 +21,8 @@
 #define CAUSTICA_LIB_CAUSTICS_H
 
 #include "lib/bsdf.h"
+#include "lib/material.h"
 #include "shared/photon.h"
-
-inline bool bsdf_casts_caustics(Bsdf b) { return b.kind != BSDF_PLASTIC && b.alpha < CAUSTIC_CASTER_ALPHA; }
 
 /* Path flags (PathRecord.flags) of camera paths past a receiver. */
 #define PATH_PAST_RECEIVER 2u          /* D1 is behind: its visible point is recorded */

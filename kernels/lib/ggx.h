@@ -11,6 +11,8 @@
 #ifndef CAUSTICA_LIB_GGX_H
 #define CAUSTICA_LIB_GGX_H
 
+#include "shared/compat.h"
+
 #define GGX_ALPHA_MIN 1e-3f
 
 /* D(m): density of micro-normals per unit solid angle times cos(theta_m)
@@ -47,14 +49,14 @@ inline float ggx_g2(float3 wo, float3 wi, float alpha) {
  * Dupuy & Benyoub's spherical caps (2023): stretch wo into the hemisphere
  * configuration, sample the spherical cap of directions it sees, unstretch. */
 inline float3 ggx_sample_visible_normal(float3 wo, float alpha, float2 u) {
-  const float3 wh = normalize((float3)(alpha * wo.x, alpha * wo.y, wo.z));
+  const float3 wh = normalize(make_float3(alpha * wo.x, alpha * wo.y, wo.z));
   float cos_phi;
   const float sin_phi = sincos(2.0f * M_PI_F * u.x, &cos_phi);
   const float z = fma(1.0f - u.y, 1.0f + wh.z, -wh.z);
   const float sin_theta = sqrt(clamp(1.0f - z * z, 0.0f, 1.0f));
-  const float3 c = (float3)(sin_theta * cos_phi, sin_theta * sin_phi, z);
+  const float3 c = make_float3(sin_theta * cos_phi, sin_theta * sin_phi, z);
   const float3 h = c + wh;
-  return normalize((float3)(alpha * h.x, alpha * h.y, fmax(h.z, 0.0f)));
+  return normalize(make_float3(alpha * h.x, alpha * h.y, fmax(h.z, 0.0f)));
 }
 
 /* Density of ggx_sample_visible_normal, per unit solid angle of m. */

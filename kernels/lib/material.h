@@ -16,13 +16,14 @@
 #define CAUSTICA_LIB_MATERIAL_H
 
 #include "lib/bsdf.h"
+#include "shared/photon.h"
 #include "shared/types.h"
 
 inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour) {
   Bsdf b;
   b.ior = m->ior;
-  b.diffuse = (float3)(0.0f);
-  b.specular = (float3)(0.0f);
+  b.diffuse = make_float3(0.0f);
+  b.specular = make_float3(0.0f);
   const bool given = m->roughness >= 0.0f;
   if (m->flags & MATERIAL_REFRACTIVE) {
     b.kind = BSDF_DIELECTRIC;
@@ -47,5 +48,10 @@ inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour) 
   }
   return b;
 }
+
+/* A caster of caustics: a smooth enough conductor or dielectric (the photon
+ * pass's caster/receiver split, shared/photon.h); plastic receives. The
+ * host's scene analysis asks the same question of the same code. */
+inline bool bsdf_casts_caustics(Bsdf b) { return b.kind != BSDF_PLASTIC && b.alpha < CAUSTIC_CASTER_ALPHA; }
 
 #endif /* CAUSTICA_LIB_MATERIAL_H */

@@ -6,6 +6,8 @@
 #ifndef CAUSTICA_LIB_OPTICS_H
 #define CAUSTICA_LIB_OPTICS_H
 
+#include "shared/compat.h"
+
 inline float3 reflect_dir(float3 d, float3 n) { return d - 2.0f * dot(d, n) * n; }
 
 /* Fresnel reflectance for cos_i = -dot(d, n) in [0, 1]. Returns 1 on total

@@ -17,6 +17,7 @@
 #ifndef CAUSTICA_LIB_RNG_H
 #define CAUSTICA_LIB_RNG_H
 
+#include "shared/compat.h"
 #include "shared/types.h"
 
 /* A full-avalanche 32-bit mix ("lowbias32", C. Wellons): every input bit
@@ -107,7 +108,7 @@ __attribute__((always_inline)) inline float2 sobol_burley_2d(uint index, uint pa
   /* sobol_dimension1(shuffled), likewise reversed again inside the scramble */
   const uint y = reverse_bits_u32(
       laine_karras_permutation(sobol_dimension1_reversed(shuffled), hash_combine(pair_seed, 0xdecafbadu)));
-  return (float2)(unit_float(x), unit_float(y));
+  return make_float2(unit_float(x), unit_float(y));
 }
 
 /* The 2D sample of dimension pair `pair` for sample `index` of the pixel
@@ -116,7 +117,7 @@ __attribute__((always_inline)) inline float2 pixel_sample_2d(uint sampler, uint 
                                                             uint pixel_seed) {
   if (sampler == SAMPLER_INDEPENDENT) {
     const uint key = hash_combine(pixel_seed, index);
-    return (float2)(random_float(key, 2u * pair), random_float(key, 2u * pair + 1u));
+    return make_float2(random_float(key, 2u * pair), random_float(key, 2u * pair + 1u));
   }
   return sobol_burley_2d(index, pair, pixel_seed);
 }

@@ -10,6 +10,8 @@
 #ifndef CAUSTICA_LIB_SAMPLING_H
 #define CAUSTICA_LIB_SAMPLING_H
 
+#include "shared/compat.h"
+
 /* Shirley-Chiu concentric map: the unit square onto the unit disk, area
  * preserving up to a constant and with low distortion. */
 /* sin and cos of |a| <= pi/4 by the minimax polynomials of Cephes' sinf and
@@ -23,21 +25,21 @@ inline float sin_cos_quarter_turn(float a, float* cos_a) {
 
 inline float2 sample_concentric_disk(float2 u) {
   const float2 o = 2.0f * u - 1.0f;
-  if (o.x == 0.0f && o.y == 0.0f) return (float2)(0.0f, 0.0f);
+  if (o.x == 0.0f && o.y == 0.0f) return make_float2(0.0f, 0.0f);
   float c;
   if (fabs(o.x) > fabs(o.y)) { /* theta = pi/4 oy/ox */
     const float s = sin_cos_quarter_turn(M_PI_4_F * (o.y / o.x), &c);
-    return o.x * (float2)(c, s);
+    return o.x * make_float2(c, s);
   }
   /* theta = pi/2 - a, a = pi/4 ox/oy: cos theta = sin a, sin theta = cos a */
   const float s = sin_cos_quarter_turn(M_PI_4_F * (o.x / o.y), &c);
-  return o.y * (float2)(s, c);
+  return o.y * make_float2(s, c);
 }
 
 /* Malley: a disk point lifted onto the hemisphere; density cos(theta) / pi. */
 inline float3 sample_cosine_hemisphere(float2 u) {
   const float2 d = sample_concentric_disk(u);
-  return (float3)(d.x, d.y, sqrt(fmax(0.0f, 1.0f - d.x * d.x - d.y * d.y)));
+  return make_float3(d.x, d.y, sqrt(fmax(0.0f, 1.0f - d.x * d.x - d.y * d.y)));
 }
 
 inline float pdf_cosine_hemisphere(float cos_theta) { return fmax(cos_theta, 0.0f) * M_1_PI_F; }
@@ -51,7 +53,7 @@ inline float3 sample_uniform_cone(float2 u, float one_minus_cos_max) {
   const float sin_theta = sqrt(fmax(0.0f, one_minus_cos * (2.0f - one_minus_cos)));
   float cos_phi;
   const float sin_phi = sincos(2.0f * M_PI_F * u.y, &cos_phi);
-  return (float3)(cos_phi * sin_theta, sin_phi * sin_theta, cos_theta);
+  return make_float3(cos_phi * sin_theta, sin_phi * sin_theta, cos_theta);
 }
 
 inline float pdf_uniform_cone(float one_minus_cos_max) { return 1.0f / (2.0f * M_PI_F * one_minus_cos_max); }
@@ -71,7 +73,7 @@ inline float3 sample_uniform_sphere(float2 u) {
   const float r = sqrt(fmax(0.0f, 1.0f - z * z));
   float cos_phi;
   const float sin_phi = sincos(2.0f * M_PI_F * u.y, &cos_phi);
-  return (float3)(r * cos_phi, r * sin_phi, z);
+  return make_float3(r * cos_phi, r * sin_phi, z);
 }
 
 /* Uniform over the rectangle centre + s edge_u + t edge_v, s, t in
@@ -91,7 +93,7 @@ inline float2 sample_triangle_barycentrics(float2 u) {
     b2 = 0.5f * u.y;
     b1 = u.x - b2;
   }
-  return (float2)(b1, b2);
+  return make_float2(b1, b2);
 }
 
 /* An orthonormal frame (t, b, n) around the unit vector n, without a branch
@@ -100,14 +102,14 @@ inline void frame_from_normal(float3 n, float3* t, float3* b) {
   const float sign = copysign(1.0f, n.z);
   const float a = -1.0f / (sign + n.z);
   const float c = n.x * n.y * a;
-  *t = (float3)(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
-  *b = (float3)(c, sign + n.y * n.y * a, -n.y);
+  *t = make_float3(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+  *b = make_float3(c, sign + n.y * n.y * a, -n.y);
 }
 
 inline float3 frame_to_world(float3 v, float3 t, float3 b, float3 n) { return v.x * t + v.y * b + v.z * n; }
 
 inline float3 frame_to_local(float3 world, float3 t, float3 b, float3 n) {
-  return (float3)(dot(world, t), dot(world, b), dot(world, n));
+  return make_float3(dot(world, t), dot(world, b), dot(world, n));
 }
 
 #endif /* CAUSTICA_LIB_SAMPLING_H */

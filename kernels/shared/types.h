@@ -4,22 +4,25 @@
  * Rules: plain C only; every struct is a multiple of 16 bytes with explicit
  * padding; vectors are 16-byte float4 (xyz used, w documented per field);
  * the host static_asserts every sizeof/offsetof (host/cl/layout_check.cpp)
- * and tests/test_layout.cpp compares them with what the device reports.
+ * and RecordLayout (tests/test_render_core.cpp) compares them with what the
+ * device reports. shared/compat.h makes the vector types and builtins of
+ * kernels/lib/ the same names on the host.
  * Nothing here may depend on the scene: scene-dependent choices are -D flags
  * (see host/scene/features.h), kept coarse so programs stay cacheable. */
 #ifndef CAUSTICA_SHARED_TYPES_H
 #define CAUSTICA_SHARED_TYPES_H
 
 #ifdef __OPENCL_C_VERSION__
+#include "shared/compat.h"
 typedef float4 cs_float4;
 typedef uint cs_uint;
 typedef int cs_int;
 #define CS_ALIGN16
 #else
 #include <cstdint>
-struct alignas(16) cs_float4 {
-  float x, y, z, w;
-};
+
+#include "kernels/shared/compat.h"
+typedef float4 cs_float4; /* the host's float4 (compat.h): .xyz and .w read as on the device */
 typedef uint32_t cs_uint;
 typedef int32_t cs_int;
 #endif

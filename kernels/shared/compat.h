@@ -1,0 +1,295 @@
+#line 2 "kernels/shared/compat.h"
+/* One source for host and device: what kernels/lib/ and kernels/shared/
+ * need to compile as C++17 as well as OpenCL C 1.2, each mapped once here
+ * (Cycles' kernel_compat_cpu.h / kernel_compat_opencl.h, in one file).
+ *
+ * Rules for code meant for both sides:
+ *  - vector values are built with make_float3(x, y, z), make_float3(s) and
+ *    their kin, never with OpenCL's (float3)(x, y, z) literal, which C++
+ *    parses as a cast of a comma expression;
+ *  - swizzles are read-only and limited to .xyz and .xy (float4, float3)
+ *    and .lo / .hi (float8): on the host they are union members, and
+ *    writing one would also write the padding lane behind it;
+ *  - address spaces are written __global / __constant / __local (empty on
+ *    the host), functions in headers are `inline`;
+ *  - the builtins below are the ones the library uses; a new one is added
+ *    here, once, with OpenCL's definition.
+ * The host side follows OpenCL's semantics where the library relies on
+ * them: comparisons of vectors give int vectors of -1 / 0, select() picks
+ * by the most significant bit, float3 is 16 bytes with a 16-byte
+ * alignment (so records and Bsdf lay out as on the device), clamp is
+ * fmin(fmax(x, lo), hi). Host code that includes this (through
+ * shared/types.h) also gets these names in the global namespace; glm's own
+ * functions take glm types and are found for those by argument lookup. */
+#ifndef CAUSTICA_SHARED_COMPAT_H
+#define CAUSTICA_SHARED_COMPAT_H
+
+#ifdef __OPENCL_C_VERSION__
+
+#define make_float2(...) ((float2)(__VA_ARGS__))
+#define make_float3(...) ((float3)(__VA_ARGS__))
+#define make_float4(...) ((float4)(__VA_ARGS__))
+#define make_float8(...) ((float8)(__VA_ARGS__))
+#define make_int2(...) ((int2)(__VA_ARGS__))
+#define make_int3(...) ((int3)(__VA_ARGS__))
+#define make_int4(...) ((int4)(__VA_ARGS__))
+#define make_int8(...) ((int8)(__VA_ARGS__))
+#define make_uint2(...) ((uint2)(__VA_ARGS__))
+#define make_uint3(...) ((uint3)(__VA_ARGS__))
+#define make_uint4(...) ((uint4)(__VA_ARGS__))
+
+#else /* C++17 on the host */
+
+#include <math.h>
+
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+#define __global
+#define __constant
+#define __local
+#define __private
+#define restrict __restrict__
+
+typedef unsigned char uchar;
+typedef unsigned short ushort;
+typedef unsigned int uint;
+typedef unsigned long ulong;
+static_assert(sizeof(ulong) == 8, "OpenCL's ulong is 64 bits");
+
+#ifndef M_PI_F
+#define M_PI_F 3.14159274101257f
+#define M_PI_2_F 1.57079637050629f
+#define M_PI_4_F 0.78539818525314f
+#define M_1_PI_F 0.31830987334251f
+#define M_2_PI_F 0.63661974668503f
+#endif
+
+/* Vector types: unions of a component struct (first, so that T{x, y, z}
+ * initialises it), the read-only swizzles, and s[], the lanes by index. */
+union alignas(8) float2 {
+  struct { float x, y; };
+  float s[2];
+};
+union alignas(16) float3 {
+  struct { float x, y, z; };
+  float2 xy;
+  float s[4]; /* s[3]: padding, as on the device */
+};
+union alignas(16) float4 {
+  struct { float x, y, z, w; };
+  float3 xyz;
+  float2 xy;
+  float s[4];
+};
+union alignas(32) float8 {
+  float s[8];
+  struct { float4 lo, hi; };
+};
+union alignas(8) int2 {
+  struct { int x, y; };
+  int s[2];
+};
+union alignas(16) int3 {
+  struct { int x, y, z; };
+  int s[4];
+};
+union alignas(16) int4 {
+  struct { int x, y, z, w; };
+  int s[4];
+};
+union alignas(32) int8 {
+  int s[8];
+};
+union alignas(8) uint2 {
+  struct { uint x, y; };
+  uint s[2];
+};
+union alignas(16) uint3 {
+  struct { uint x, y, z; };
+  uint s[4];
+};
+union alignas(16) uint4 {
+  struct { uint x, y, z, w; };
+  uint s[4];
+};
+
+/* Lane type, lane count and comparison-mask type of each vector type. */
+template <class V> struct cs_vector { static constexpr int lanes = 0; };
+#define CS_VECTOR(V, E, N, M)          \
+  template <> struct cs_vector<V> {    \
+    typedef E element;                 \
+    typedef M mask;                    \
+    static constexpr int lanes = N;    \
+  };
+CS_VECTOR(float2, float, 2, int2)
+CS_VECTOR(float3, float, 3, int3)
+CS_VECTOR(float4, float, 4, int4)
+CS_VECTOR(float8, float, 8, int8)
+CS_VECTOR(int2, int, 2, int2)
+CS_VECTOR(int3, int, 3, int3)
+CS_VECTOR(int4, int, 4, int4)
+CS_VECTOR(int8, int, 8, int8)
+CS_VECTOR(uint2, uint, 2, int2)
+CS_VECTOR(uint3, uint, 3, int3)
+CS_VECTOR(uint4, uint, 4, int4)
+#undef CS_VECTOR
+
+template <class V> constexpr bool cs_is_vector = cs_vector<V>::lanes > 0;
+template <class V> using cs_if_vector = std::enable_if_t<cs_is_vector<V>, int>;
+template <class V, class S>
+using cs_if_vector_scalar = std::enable_if_t<cs_is_vector<V> && std::is_arithmetic<S>::value, int>;
+template <class V> using cs_element = typename cs_vector<V>::element;
+
+/* A vector of the lanes f(i) (lanes past the count, padding, stay 0). */
+template <class V, class F> inline V cs_lanes(F f) {
+  V r{};
+  for (int i = 0; i < cs_vector<V>::lanes; ++i) r.s[i] = f(i);
+  return r;
+}
+template <class V> inline V cs_splat(cs_element<V> v) {
+  return cs_lanes<V>([&](int) { return v; });
+}
+
+/* make_*: OpenCL's vector literals, each from its lanes or one scalar. */
+inline float2 make_float2(float x, float y) { return float2{x, y}; }
+inline float2 make_float2(float s) { return float2{s, s}; }
+inline float3 make_float3(float x, float y, float z) { return float3{x, y, z}; }
+inline float3 make_float3(float s) { return float3{s, s, s}; }
+inline float4 make_float4(float x, float y, float z, float w) { return float4{x, y, z, w}; }
+inline float4 make_float4(float s) { return float4{s, s, s, s}; }
+inline float4 make_float4(float3 v, float w) { return float4{v.x, v.y, v.z, w}; }
+inline float8 make_float8(float s) { return cs_splat<float8>(s); }
+inline int2 make_int2(int x, int y) { return int2{x, y}; }
+inline int3 make_int3(int x, int y, int z) { return int3{x, y, z}; }
+inline int4 make_int4(int x, int y, int z, int w) { return int4{x, y, z, w}; }
+inline int4 make_int4(int s) { return int4{s, s, s, s}; }
+inline uint2 make_uint2(uint x, uint y) { return uint2{x, y}; }
+inline uint4 make_uint4(uint x, uint y, uint z, uint w) { return uint4{x, y, z, w}; }
+inline uint4 make_uint4(uint s) { return uint4{s, s, s, s}; }
+
+/* Arithmetic, lane by lane; a scalar operand is widened to every lane. */
+#define CS_BINARY(op)                                                                               \
+  template <class V, cs_if_vector<V> = 0> inline V operator op(V a, V b) {                          \
+    return cs_lanes<V>([&](int i) { return cs_element<V>(a.s[i] op b.s[i]); });                    \
+  }                                                                                                 \
+  template <class V, class S, cs_if_vector_scalar<V, S> = 0> inline V operator op(V a, S b) {       \
+    return cs_lanes<V>([&](int i) { return cs_element<V>(a.s[i] op cs_element<V>(b)); });          \
+  }                                                                                                 \
+  template <class V, class S, cs_if_vector_scalar<V, S> = 0> inline V operator op(S a, V b) {       \
+    return cs_lanes<V>([&](int i) { return cs_element<V>(cs_element<V>(a) op b.s[i]); });          \
+  }                                                                                                 \
+  template <class V, class B, cs_if_vector<V> = 0> inline V& operator op##=(V& a, B b) { return a = a op b; }
+CS_BINARY(+)
+CS_BINARY(-)
+CS_BINARY(*)
+CS_BINARY(/)
+CS_BINARY(&)
+CS_BINARY(|)
+CS_BINARY(^)
+#undef CS_BINARY
+template <class V, cs_if_vector<V> = 0> inline V operator-(V a) {
+  return cs_lanes<V>([&](int i) { return cs_element<V>(-a.s[i]); });
+}
+
+/* Comparisons give the mask type, -1 where true and 0 where false. */
+#define CS_COMPARE(op)                                                                          \
+  template <class V, cs_if_vector<V> = 0> inline typename cs_vector<V>::mask operator op(V a, V b) { \
+    return cs_lanes<typename cs_vector<V>::mask>([&](int i) { return a.s[i] op b.s[i] ? -1 : 0; });  \
+  }
+CS_COMPARE(<)
+CS_COMPARE(>)
+CS_COMPARE(<=)
+CS_COMPARE(>=)
+CS_COMPARE(==)
+CS_COMPARE(!=)
+#undef CS_COMPARE
+
+/* Lane-wise forms of the scalar math functions. */
+#define CS_LANEWISE1(f)                                                               \
+  template <class V, cs_if_vector<V> = 0> inline V f(V a) {                           \
+    return cs_lanes<V>([&](int i) { return ::f(a.s[i]); });                           \
+  }
+#define CS_LANEWISE2(f)                                                                   \
+  template <class V, cs_if_vector<V> = 0> inline V f(V a, V b) {                          \
+    return cs_lanes<V>([&](int i) { return ::f(a.s[i], b.s[i]); });                       \
+  }                                                                                       \
+  template <class V, class S, cs_if_vector_scalar<V, S> = 0> inline V f(V a, S b) {       \
+    return cs_lanes<V>([&](int i) { return ::f(a.s[i], cs_element<V>(b)); });             \
+  }
+CS_LANEWISE1(fabs)
+CS_LANEWISE1(sqrt)
+CS_LANEWISE1(floor)
+CS_LANEWISE2(fmin)
+CS_LANEWISE2(fmax)
+#undef CS_LANEWISE1
+#undef CS_LANEWISE2
+
+inline int min(int a, int b) { return a < b ? a : b; }
+inline int max(int a, int b) { return a > b ? a : b; }
+inline uint min(uint a, uint b) { return a < b ? a : b; }
+inline uint max(uint a, uint b) { return a > b ? a : b; }
+
+/* OpenCL: clamp(x, lo, hi) = fmin(fmax(x, lo), hi); mix(a, b, t) = a + (b - a) t. */
+inline float clamp(float x, float lo, float hi) { return fminf(fmaxf(x, lo), hi); }
+template <class V, class B, cs_if_vector<V> = 0> inline V clamp(V x, B lo, B hi) { return fmin(fmax(x, lo), hi); }
+inline float mix(float a, float b, float t) { return a + (b - a) * t; }
+template <class V, class T, cs_if_vector<V> = 0> inline V mix(V a, V b, T t) { return a + (b - a) * t; }
+
+inline float sincos(float x, float* cos_x) {
+  *cos_x = cosf(x);
+  return sinf(x);
+}
+inline float rsqrt(float x) { return 1.0f / sqrtf(x); }
+
+template <class V, cs_if_vector<V> = 0> inline float dot(V a, V b) {
+  float sum = 0.0f;
+  for (int i = 0; i < cs_vector<V>::lanes; ++i) sum += a.s[i] * b.s[i];
+  return sum;
+}
+inline float3 cross(float3 a, float3 b) {
+  return float3{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+template <class V, cs_if_vector<V> = 0> inline float length(V v) { return sqrtf(dot(v, v)); }
+template <class V, cs_if_vector<V> = 0> inline V normalize(V v) { return v / length(v); }
+
+/* select(a, b, c): b where c is true (scalar) or where its lane's top bit
+ * is set (vector), else a. */
+inline float select(float a, float b, int c) { return c ? b : a; }
+inline uint select(uint a, uint b, int c) { return c ? b : a; }
+template <class V, class M, cs_if_vector<V> = 0> inline V select(V a, V b, M c) {
+  return cs_lanes<V>([&](int i) { return c.s[i] < 0 ? b.s[i] : a.s[i]; });
+}
+template <class M, cs_if_vector<M> = 0> inline int any(M m) {
+  for (int i = 0; i < cs_vector<M>::lanes; ++i)
+    if (m.s[i] < 0) return 1;
+  return 0;
+}
+template <class M, cs_if_vector<M> = 0> inline int all(M m) {
+  for (int i = 0; i < cs_vector<M>::lanes; ++i)
+    if (m.s[i] >= 0) return 0;
+  return 1;
+}
+
+inline uint as_uint(float f) {
+  uint u;
+  std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+inline int as_int(float f) {
+  int i;
+  std::memcpy(&i, &f, sizeof i);
+  return i;
+}
+inline float as_float(uint u) {
+  float f;
+  std::memcpy(&f, &u, sizeof f);
+  return f;
+}
+inline uint popcount(uint x) { return (uint)__builtin_popcount(x); }
+inline uint clz(uint x) { return x == 0u ? 32u : (uint)__builtin_clz(x); }
+
+#endif /* __OPENCL_C_VERSION__ */
+
+#endif /* CAUSTICA_SHARED_COMPAT_H */
