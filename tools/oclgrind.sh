@@ -63,7 +63,8 @@ export OCLGRIND_UNINITIALIZED=${CAUSTICA_OCLGRIND_UNINITIALIZED:-0}
 # - Its compiler prints clang's "N warnings generated." to stderr on a cold
 #   build (no program cache): test_cli_errors drops that line here.
 # - Its build log gives physical lines of the expanded source (input.cl:312),
-#   ignoring #line: test_runtime checks the mapped line elsewhere only.
+#   ignoring #line; the runtime maps them back (map_build_log_lines).
+# The host tests (tests/host/, host_*) run no kernel and are not run here.
 # Left out, one line each: binary, test, why. Only whole-image statistics
 # over many renders, whose kernels the run covers elsewhere (photon pass and
 # gather: test_photon_pass, test_photon_grid, stiff_light_limits,
