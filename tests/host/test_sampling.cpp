@@ -1,14 +1,15 @@
-// Kernel-level tests of lib/sampling.h and lib/ggx.h, run as OpenCL kernels.
+// Host tests of kernels/lib/sampling.h and lib/ggx.h, the kernels' own source
+// compiled as C++ (kernels/shared/compat.h).
 //
 // The warps are checked by a chi-square goodness-of-fit test in the style of
-// pbrt-v4 and Mitsuba 3: a kernel draws N samples from independent uniforms
-// (random_float of lib/rng.h keyed by the work-item, so every run sees the
-// same numbers and the tests cannot flake); the host histograms them over a
+// pbrt-v4 and Mitsuba 3: N samples are drawn from independent uniforms
+// (random_float of lib/rng.h keyed by the sample index, so every run sees the
+// same numbers and the tests cannot flake); they are histogrammed over a
 // 2D parametrisation of the sample space mapped onto the unit square; the
 // expected count of each cell is N times the integral of the claimed density
 // over the cell, by 5x5-point Gauss-Legendre in the parametrisation, with the
-// density evaluated by a kernel calling the header's pdf function (so the
-// device's pdf is what is tested, against the device's warp). Cells expecting
+// density evaluated by the header's pdf function (so the library's pdf is
+// what is tested, against the library's warp). Cells expecting
 // fewer than 5 samples are pooled; the p-value is the regularised upper
 // incomplete gamma function Q(dof/2, chi2/2). Every such test also checks
 // that the density integrates to 1 within 1e-3 over the parametrised domain.
@@ -28,8 +29,7 @@
 //    the least-squares inverse, 32 x 32.
 //
 // The single chi-square tests need p > 0.01; a TEST running k of them needs
-// p > 1 - 0.99^(1/k) of each (Sidak). Every kernel test runs with the
-// default and with the -cl-fast-relaxed-math build.
+// p > 1 - 0.99^(1/k) of each (Sidak).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -43,101 +43,21 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
+#include "lib/ggx.h"
+#include "lib/rng.h"
+#include "lib/sampling.h"
 #include "tests/support/chi_square.h"
-#include "tests/support/test_support.h"
 
 namespace caustica {
 namespace {
 
 using glm::dvec3;
-using test::runtime;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr size_t kSamples = 1000000;
-// The goodness-of-fit tests' sample count: 10^5 on Oclgrind (~50 a cell of
-// 32 x 64; the test keeps its significance, only its power drops). Not for
-// the harness's own rejection test, whose power needs the 10^6.
-size_t fit_samples() { return test::sized(kSamples, 100000); }
-
-const char* kSamplingKernel = R"CLC(
-#include "lib/rng.h"
-#include "lib/sampling.h"
-#include "lib/ggx.h"
-
-#define WARP_COSINE 0
-#define WARP_SPHERE 1
-#define WARP_CONE 2
-#define WARP_GGX_VNDF 3
-#define WARP_DISK 4
-#define WARP_TRIANGLE 5
-#define WARP_RECTANGLE 6
-
-/* param: 1 - cos_max of the cone, alpha of GGX; a: wo of GGX, the centre of
- * the rectangle; b, c: the rectangle's edges. */
-inline float4 warp(uint mode, float param, float4 a, float4 b, float4 c, float2 u) {
-  switch (mode) {
-    case WARP_COSINE: return (float4)(sample_cosine_hemisphere(u), 0.0f);
-    case WARP_SPHERE: return (float4)(sample_uniform_sphere(u), 0.0f);
-    case WARP_CONE: return (float4)(sample_uniform_cone(u, param), 0.0f);
-    case WARP_GGX_VNDF: return (float4)(ggx_sample_visible_normal(a.xyz, param, u), 0.0f);
-    case WARP_DISK: return (float4)(sample_concentric_disk(u), 0.0f, 0.0f);
-    case WARP_TRIANGLE: return (float4)(sample_triangle_barycentrics(u), 0.0f, 0.0f);
-    default: return (float4)(sample_rectangle(a.xyz, b.xyz, c.xyz, u), 0.0f);
-  }
-}
-
-__kernel void sample_random(uint mode, float param, float4 a, float4 b, float4 c, uint key, uint count,
-                            __global float4* out) {
-  const uint i = get_global_id(0);
-  if (i >= count) return;
-  const float2 u = (float2)(random_float(key, 2u * i), random_float(key, 2u * i + 1u));
-  out[i] = warp(mode, param, a, b, c, u);
-}
-
-__kernel void sample_at(uint mode, float param, float4 a, float4 b, float4 c, __global const float2* u, uint count,
-                        __global float4* out) {
-  const uint i = get_global_id(0);
-  if (i >= count) return;
-  out[i] = warp(mode, param, a, b, c, u[i]);
-}
-
-/* The header's density of `mode` at the direction p[i]. The uniform sphere
- * has no pdf function: its documented 1 / (4 pi). The cone's density is
- * pdf_uniform_cone inside the cone, 0 outside. */
-__kernel void pdf(uint mode, float param, float4 a, __global const float4* p, uint count, __global float* out) {
-  const uint i = get_global_id(0);
-  if (i >= count) return;
-  const float3 d = p[i].xyz;
-  float r = 0.0f;
-  switch (mode) {
-    case WARP_COSINE: r = pdf_cosine_hemisphere(d.z); break;
-    case WARP_SPHERE: r = 0.25f * M_1_PI_F; break;
-    case WARP_CONE:
-      r = (d.x * d.x + d.y * d.y) / (1.0f + d.z) <= param * 1.00001f ? pdf_uniform_cone(param) : 0.0f;
-      break;
-    case WARP_GGX_VNDF: r = ggx_pdf_visible_normal(a.xyz, d, param); break;
-  }
-  out[i] = r;
-}
-
-/* (D(wo), G1(wo), G2(wo, wi), pdf of wi as a visible normal seen from wo). */
-__kernel void ggx_eval(float alpha, __global const float4* wo, __global const float4* wi, uint count,
-                       __global float4* out) {
-  const uint i = get_global_id(0);
-  if (i >= count) return;
-  const float3 o = wo[i].xyz, w = wi[i].xyz;
-  out[i] = (float4)(ggx_d(o, alpha), ggx_g1(o, alpha), ggx_g2(o, w, alpha), ggx_pdf_visible_normal(o, w, alpha));
-}
-
-__kernel void frame(__global const float4* n, uint count, __global float4* t_out, __global float4* b_out) {
-  const uint i = get_global_id(0);
-  if (i >= count) return;
-  float3 t, b;
-  frame_from_normal(n[i].xyz, &t, &b);
-  t_out[i] = (float4)(t, 0.0f);
-  b_out[i] = (float4)(b, 0.0f);
-}
-)CLC";
+size_t fit_samples() { return kSamples; }
 
 enum Warp : cl_uint { kCosine = 0, kSphere, kCone, kGgxVndf, kDisk, kTriangle, kRectangle };
 
@@ -147,106 +67,78 @@ cl_float4 f4(double x, double y, double z, double w = 0.0) {
 cl_float4 f4(const dvec3& v) { return f4(v.x, v.y, v.z); }
 dvec3 d3(const cl_float4& v) { return dvec3(v.s[0], v.s[1], v.s[2]); }
 
-// ------------------------------------------------------------- the device
-
-// The build options of the test running now (each kernel test runs with the
-// default and with the fast-relaxed build, as the renderer may use either).
-std::string g_build_options;
-
-cl::Program program() {
-  static auto& programs = *new std::map<std::string, cl::Program>;  // never released (test::runtime() says why)
-  cl::Program& p = programs[g_build_options];
-  if (!p()) p = runtime().build_source("test_sampling.cl", kSamplingKernel, g_build_options).program;
-  return p;
-}
-
-template <class T>
-cl::Buffer upload(std::vector<T> v) {
-  if (v.empty()) v.resize(1);  // OpenCL refuses zero-sized buffers
-  return cl::Buffer(runtime().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data());
-}
-
-template <class T>
-cl::Buffer output(size_t n) {
-  return cl::Buffer(runtime().context(), CL_MEM_WRITE_ONLY, std::max<size_t>(n, 1) * sizeof(T));
-}
-
-template <class T>
-std::vector<T> read(const cl::Buffer& b, size_t n) {
-  std::vector<T> r(n);
-  if (n) runtime().queue().enqueueReadBuffer(b, CL_TRUE, 0, n * sizeof(T), r.data());
-  return r;
-}
-
-void launch(cl::Kernel& k, size_t n) {
-  runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(std::max<size_t>(n, 1), 64)),
-                                         cl::NDRange(64));
-}
+// ------------------------------------------------------------ the library
 
 struct WarpParams {
   Warp mode;
-  float param = 0.0f;
-  cl_float4 a{}, b{}, c{};
+  float param = 0.0f;  // 1 - cos_max of the cone, alpha of GGX
+  cl_float4 a{}, b{}, c{};  // a: wo of GGX, the centre of the rectangle; b, c: its edges
 };
 
-void set_warp_args(cl::Kernel& k, const WarpParams& w) {
-  k.setArg(0, static_cast<cl_uint>(w.mode));
-  k.setArg(1, w.param);
-  k.setArg(2, w.a);
-  k.setArg(3, w.b);
-  k.setArg(4, w.c);
+float3 xyz(const cl_float4& v) { return make_float3(v.s[0], v.s[1], v.s[2]); }
+cl_float4 f4(float3 v) { return f4(v.x, v.y, v.z); }
+
+cl_float4 warp(const WarpParams& w, float2 u) {
+  switch (w.mode) {
+    case kCosine: return f4(sample_cosine_hemisphere(u));
+    case kSphere: return f4(sample_uniform_sphere(u));
+    case kCone: return f4(sample_uniform_cone(u, w.param));
+    case kGgxVndf: return f4(ggx_sample_visible_normal(xyz(w.a), w.param, u));
+    case kDisk: {
+      const float2 d = sample_concentric_disk(u);
+      return f4(d.x, d.y, 0.0);
+    }
+    case kTriangle: {
+      const float2 b = sample_triangle_barycentrics(u);
+      return f4(b.x, b.y, 0.0);
+    }
+    default: return f4(sample_rectangle(xyz(w.a), xyz(w.b), xyz(w.c), u));
+  }
 }
 
 std::vector<cl_float4> sample_random(const WarpParams& w, cl_uint key, size_t n) {
-  cl::Kernel k(program(), "sample_random");
-  cl::Buffer out = output<cl_float4>(n);
-  set_warp_args(k, w);
-  k.setArg(5, key);
-  k.setArg(6, static_cast<cl_uint>(n));
-  k.setArg(7, out);
-  launch(k, n);
-  return read<cl_float4>(out, n);
+  std::vector<cl_float4> out;
+  for (uint32_t i = 0; i < n; ++i)
+    out.push_back(warp(w, make_float2(random_float(key, 2u * i), random_float(key, 2u * i + 1u))));
+  return out;
 }
 
 std::vector<cl_float4> sample_at(const WarpParams& w, const std::vector<cl_float2>& u) {
-  cl::Kernel k(program(), "sample_at");
-  cl::Buffer out = output<cl_float4>(u.size()), in = upload(u);
-  set_warp_args(k, w);
-  k.setArg(5, in);
-  k.setArg(6, static_cast<cl_uint>(u.size()));
-  k.setArg(7, out);
-  launch(k, u.size());
-  return read<cl_float4>(out, u.size());
+  std::vector<cl_float4> out;
+  for (const cl_float2& v : u) out.push_back(warp(w, make_float2(v.s[0], v.s[1])));
+  return out;
 }
 
-std::vector<double> device_pdf(const WarpParams& w, const std::vector<cl_float4>& points) {
-  cl::Kernel k(program(), "pdf");
-  cl::Buffer out = output<cl_float>(points.size()), in = upload(points);
-  k.setArg(0, static_cast<cl_uint>(w.mode));
-  k.setArg(1, w.param);
-  k.setArg(2, w.a);
-  k.setArg(3, in);
-  k.setArg(4, static_cast<cl_uint>(points.size()));
-  k.setArg(5, out);
-  launch(k, points.size());
-  const std::vector<cl_float> r = read<cl_float>(out, points.size());
-  return std::vector<double>(r.begin(), r.end());
+/* The header's density of the warp at the direction p. The uniform sphere
+ * has no pdf function: its documented 1 / (4 pi). The cone's density is
+ * pdf_uniform_cone inside the cone, 0 outside. */
+std::vector<double> library_pdf(const WarpParams& w, const std::vector<cl_float4>& points) {
+  std::vector<double> out;
+  for (const cl_float4& p : points) {
+    const float3 d = xyz(p);
+    float r = 0.0f;
+    switch (w.mode) {
+      case kCosine: r = pdf_cosine_hemisphere(d.z); break;
+      case kSphere: r = 0.25f * M_1_PI_F; break;
+      case kCone: r = (d.x * d.x + d.y * d.y) / (1.0f + d.z) <= w.param * 1.00001f ? pdf_uniform_cone(w.param) : 0.0f; break;
+      case kGgxVndf: r = ggx_pdf_visible_normal(xyz(w.a), d, w.param); break;
+      default: break;
+    }
+    out.push_back(r);
+  }
+  return out;
 }
 
 struct GgxValues {
   double d, g1, g2, pdf;
 };
+// (D(wo), G1(wo), G2(wo, wi), pdf of wi as a visible normal seen from wo).
 std::vector<GgxValues> ggx_eval(float alpha, const std::vector<cl_float4>& wo, const std::vector<cl_float4>& wi) {
-  cl::Kernel k(program(), "ggx_eval");
-  cl::Buffer out = output<cl_float4>(wo.size()), in_o = upload(wo), in_i = upload(wi);
-  k.setArg(0, alpha);
-  k.setArg(1, in_o);
-  k.setArg(2, in_i);
-  k.setArg(3, static_cast<cl_uint>(wo.size()));
-  k.setArg(4, out);
-  launch(k, wo.size());
   std::vector<GgxValues> r;
-  for (const cl_float4& v : read<cl_float4>(out, wo.size())) r.push_back({v.s[0], v.s[1], v.s[2], v.s[3]});
+  for (size_t i = 0; i < wo.size(); ++i) {
+    const float3 o = xyz(wo[i]), w = xyz(wi[i]);
+    r.push_back({ggx_d(o, alpha), ggx_g1(o, alpha), ggx_g2(o, w, alpha), ggx_pdf_visible_normal(o, w, alpha)});
+  }
   return r;
 }
 
@@ -302,12 +194,12 @@ Domain stretched_domain(double alpha) {
   return d;
 }
 
-Density device_density(const WarpParams& w) {
-  return [w](const std::vector<cl_float4>& points) { return device_pdf(w, points); };
+Density library_density(const WarpParams& w) {
+  return [w](const std::vector<cl_float4>& points) { return library_pdf(w, points); };
 }
 
 ChiSquare run_chi_square(const WarpParams& w, const Domain& dom, cl_uint key) {
-  return chi_square_test(sample_random(w, key, fit_samples()), dom, device_density(w));
+  return chi_square_test(sample_random(w, key, fit_samples()), dom, library_density(w));
 }
 
 dvec3 direction_at(double theta_degrees) {
@@ -325,15 +217,6 @@ void expect_fits(const ChiSquare& r, double p_min) {
 
 // ------------------------------------------------------------------ tests
 
-class BuildOptions : public ::testing::TestWithParam<const char*> {
- protected:
-  void SetUp() override { g_build_options = GetParam(); }
-};
-class SamplingChiSquare : public BuildOptions {};
-class Ggx : public BuildOptions {};
-class Sampling : public BuildOptions {};
-class ChiSquareHarnessKernel : public BuildOptions {};
-
 // The statistics themselves, against closed forms.
 TEST(ChiSquareHarness, IncompleteGammaMatchesClosedForms) {
   for (double x : {0.01, 0.5, 1.0, 3.0, 10.0, 40.0}) {
@@ -349,13 +232,13 @@ TEST(ChiSquareHarness, IncompleteGammaMatchesClosedForms) {
 
 // The harness can fail: a density 5% too large, and one of the wrong shape,
 // are both caught on cosine-weighted samples.
-TEST_P(ChiSquareHarnessKernel, RejectsWrongDensities) {
+TEST(ChiSquareHarness, RejectsWrongDensities) {
   const WarpParams w{kCosine};
   const std::vector<cl_float4> samples = sample_random(w, 11u, kSamples);
-  const ChiSquare right = chi_square_test(samples, sphere_domain(), device_density(w));
+  const ChiSquare right = chi_square_test(samples, sphere_domain(), library_density(w));
   EXPECT_GT(right.p, kAlphaLevel) << right.describe();
   const ChiSquare scaled = chi_square_test(samples, sphere_domain(), [&](const std::vector<cl_float4>& p) {
-    std::vector<double> d = device_pdf(w, p);
+    std::vector<double> d = library_pdf(w, p);
     for (double& v : d) v *= 1.05;
     return d;
   });
@@ -370,19 +253,19 @@ TEST_P(ChiSquareHarnessKernel, RejectsWrongDensities) {
   EXPECT_LT(uniform.p, 1e-6) << uniform.describe();
 }
 
-TEST_P(SamplingChiSquare, CosineHemisphere) {
+TEST(SamplingChiSquare, CosineHemisphere) {
   const ChiSquare r = run_chi_square({kCosine}, sphere_domain(), 1u);
   std::cout << "cosine hemisphere: " << r.describe() << "\n";
   expect_fits(r, kAlphaLevel);
 }
 
-TEST_P(SamplingChiSquare, UniformSphere) {
+TEST(SamplingChiSquare, UniformSphere) {
   const ChiSquare r = run_chi_square({kSphere}, sphere_domain(), 2u);
   std::cout << "uniform sphere: " << r.describe() << "\n";
   expect_fits(r, kAlphaLevel);
 }
 
-TEST_P(SamplingChiSquare, UniformCone) {
+TEST(SamplingChiSquare, UniformCone) {
   const std::vector<float> cones = {1e-3f, 0.1f, 1.0f};
   for (size_t i = 0; i < cones.size(); ++i) {
     WarpParams w{kCone, cones[i]};
@@ -393,7 +276,7 @@ TEST_P(SamplingChiSquare, UniformCone) {
   }
 }
 
-TEST_P(SamplingChiSquare, GgxVisibleNormals) {
+TEST(SamplingChiSquare, GgxVisibleNormals) {
   // GGX_ALPHA_MIN (1e-3) as well: there the density once lost the lobe to
   // float cancellation (1 - m.z^2 in ggx_d).
   const float alphas[] = {1e-3f, 0.05f, 0.2f, 0.5f, 1.0f};
@@ -410,7 +293,7 @@ TEST_P(SamplingChiSquare, GgxVisibleNormals) {
     }
 }
 
-TEST_P(SamplingChiSquare, ConcentricDisk) {
+TEST(SamplingChiSquare, ConcentricDisk) {
   Domain d{32, 64, {}, {}};
   d.directions = false;
   d.to_unit = [](const cl_float4& s, double* x1, double* x2) {
@@ -432,7 +315,7 @@ TEST_P(SamplingChiSquare, ConcentricDisk) {
   expect_fits(r, kAlphaLevel);
 }
 
-TEST_P(SamplingChiSquare, TriangleBarycentrics) {
+TEST(SamplingChiSquare, TriangleBarycentrics) {
   // A 64 x 64 grid over (b1, b2): cells with i + j <= n - 2 lie inside the
   // triangle, cells with i + j = n - 1 are cut exactly in half by b1 + b2 = 1.
   const int n = 64;
@@ -463,7 +346,7 @@ TEST_P(SamplingChiSquare, TriangleBarycentrics) {
   expect_fits(r, kAlphaLevel);
 }
 
-TEST_P(SamplingChiSquare, Parallelogram) {
+TEST(SamplingChiSquare, Parallelogram) {
   const dvec3 centre(0.3, -1.2, 2.0), eu(2.0, 0.5, 0.3), ev(-0.4, 1.5, 0.8);
   const double area = glm::length(glm::cross(eu, ev));
   WarpParams w{kRectangle, 0.0f, f4(centre), f4(eu), f4(ev)};
@@ -500,7 +383,7 @@ TEST_P(SamplingChiSquare, Parallelogram) {
 // alpha^2 and v = t / (1 + t) in [0, 1), D m.z d omega = dv exactly, so the
 // midpoint rule in v resolves the peak of any alpha; per unit v the weight of
 // D is pi alpha^2 cos^4 theta / (1 - v)^2 = pi alpha^2 / ((1 - v) + alpha^2 v)^2.
-TEST_P(Ggx, NormalDistributionIsNormalised) {
+TEST(Ggx, NormalDistributionIsNormalised) {
   const int n = 20000;
   for (float alpha : {1e-3f, 0.01f, 0.1f, 0.5f, 1.0f}) {
     const double a2 = double(alpha) * alpha;
@@ -521,13 +404,10 @@ TEST_P(Ggx, NormalDistributionIsNormalised) {
 // The visible-normal density integrates to 1 over m, for every wo. The
 // integral runs over the stretched hemisphere (as the chi-square test bins),
 // where the integrand is a clamped cosine: a fine midpoint grid suffices.
-TEST_P(Ggx, VisibleNormalDensityIsNormalised) {
+TEST(Ggx, VisibleNormalDensityIsNormalised) {
   const int nz = 256, nphi = 512;
   for (float alpha : {1e-3f, 0.01f, 0.1f, 0.5f, 1.0f})
     for (double theta : {0.0, 30.0, 60.0, 85.0, 89.5}) {
-      // 2^17 evaluations a case: on Oclgrind two of the 25 (narrowest lobe
-      // near grazing, a wide one head-on), same grid and tolerance.
-      if (test::on_simulator() && !((alpha == 1e-3f && theta == 85.0) || (alpha == 0.5f && theta == 0.0))) continue;
       const dvec3 wo = direction_at(theta);
       std::vector<cl_float4> wos, ms;
       std::vector<double> weight;
@@ -549,7 +429,7 @@ TEST_P(Ggx, VisibleNormalDensityIsNormalised) {
 
 // G1 is 1 at normal incidence, matches Smith's closed form, and decreases
 // toward grazing incidence.
-TEST_P(Ggx, MaskingDecreasesTowardGrazing) {
+TEST(Ggx, MaskingDecreasesTowardGrazing) {
   std::vector<cl_float4> w;
   std::vector<double> theta;
   for (int k = 0; k <= 900; ++k) {
@@ -579,7 +459,7 @@ TEST_P(Ggx, MaskingDecreasesTowardGrazing) {
 
 // Height-correlated G2 lies between the uncorrelated product and the smaller
 // of the two G1.
-TEST_P(Ggx, ShadowingMaskingIsBoundedByMasking) {
+TEST(Ggx, ShadowingMaskingIsBoundedByMasking) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
   auto hemisphere = [&] {
@@ -605,7 +485,7 @@ TEST_P(Ggx, ShadowingMaskingIsBoundedByMasking) {
 
 // Everything stays finite at grazing angles (w.z = 1e-7, and 0) with the
 // smallest supported alpha.
-TEST_P(Ggx, FiniteAtGrazingAnglesAndTinyAlpha) {
+TEST(Ggx, FiniteAtGrazingAnglesAndTinyAlpha) {
   const std::vector<dvec3> dirs = {dvec3(1.0, 0.0, 1e-7), dvec3(0.6, 0.8, 1e-7), dvec3(1.0, 0.0, 0.0),
                                    dvec3(0.0, 0.0, 1.0), direction_at(60.0), dvec3(-1.0, 0.0, 1e-7)};
   std::vector<cl_float4> wo, wi;
@@ -630,7 +510,7 @@ TEST_P(Ggx, FiniteAtGrazingAnglesAndTinyAlpha) {
 
 // --------------------------------------------------------------- the frame
 
-TEST_P(Sampling, FrameFromNormalIsOrthonormalAndRightHanded) {
+TEST(Sampling, FrameFromNormalIsOrthonormalAndRightHanded) {
   std::mt19937 rng(3);
   std::normal_distribution<double> gauss;
   std::vector<cl_float4> n = {f4(0, 0, -1), f4(0, 0, 1), f4(glm::normalize(dvec3(1e-4, 0, -1))),
@@ -647,15 +527,13 @@ TEST_P(Sampling, FrameFromNormalIsOrthonormalAndRightHanded) {
     const double e = std::pow(10.0, -1.0 - 7.0 * k / 1000.0), phi = 0.1 * k;
     n.push_back(f4(glm::normalize(dvec3(e * std::cos(phi), e * std::sin(phi), -1.0))));
   }
-  cl::Kernel k(program(), "frame");
-  cl::Buffer t_out = output<cl_float4>(n.size()), b_out = output<cl_float4>(n.size());
-  cl::Buffer in = upload(n);
-  k.setArg(0, in);
-  k.setArg(1, static_cast<cl_uint>(n.size()));
-  k.setArg(2, t_out);
-  k.setArg(3, b_out);
-  launch(k, n.size());
-  const auto ts = read<cl_float4>(t_out, n.size()), bs = read<cl_float4>(b_out, n.size());
+  std::vector<cl_float4> ts, bs;
+  for (const cl_float4& v : n) {
+    float3 t, b;
+    frame_from_normal(xyz(v), &t, &b);
+    ts.push_back(f4(t));
+    bs.push_back(f4(b));
+  }
   for (size_t i = 0; i < n.size(); ++i) {
     const dvec3 nn = d3(n[i]), t = d3(ts[i]), b = d3(bs[i]);
     SCOPED_TRACE(::testing::Message() << "n " << nn.x << "," << nn.y << "," << nn.z);
@@ -670,7 +548,7 @@ TEST_P(Sampling, FrameFromNormalIsOrthonormalAndRightHanded) {
 
 // ---------------------------------------------------------- finite corners
 
-TEST_P(Sampling, EveryWarpIsFiniteAtTheCornersOfTheSquare) {
+TEST(Sampling, EveryWarpIsFiniteAtTheCornersOfTheSquare) {
   const float corners[] = {0.0f, 0.5f, 1.0f - 0x1p-24f};
   std::vector<cl_float2> u;
   for (float a : corners)
@@ -698,21 +576,11 @@ TEST_P(Sampling, EveryWarpIsFiniteAtTheCornersOfTheSquare) {
       }
     }
     if (w.mode == kGgxVndf || w.mode == kCosine) {  // the density at the samples is finite too
-      const auto pdf = device_pdf(w, out);
+      const auto pdf = library_pdf(w, out);
       for (size_t i = 0; i < pdf.size(); ++i) EXPECT_TRUE(std::isfinite(pdf[i])) << name << " " << i;
     }
   }
 }
-
-std::string option_name(const ::testing::TestParamInfo<const char*>& info) {
-  return info.index == 0 ? "Strict" : "FastMath";
-}
-#define CAUSTICA_BUILD_OPTIONS(suite) \
-  INSTANTIATE_TEST_SUITE_P(BuildOptions, suite, ::testing::Values("", "-cl-fast-relaxed-math"), option_name)
-CAUSTICA_BUILD_OPTIONS(ChiSquareHarnessKernel);
-CAUSTICA_BUILD_OPTIONS(SamplingChiSquare);
-CAUSTICA_BUILD_OPTIONS(Ggx);
-CAUSTICA_BUILD_OPTIONS(Sampling);
 
 }  // namespace
 }  // namespace caustica
