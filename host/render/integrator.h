@@ -50,7 +50,7 @@ struct RenderSettings {
   // program must have been built with it (SceneFeatures::caustics).
   bool caustics = false;
   // --caustics auto: the pass measures its work and what it brings after
-  // its first passes and may shrink its photons or turn itself off
+  // its first passes and picks a photon-map interval or turns itself off
   // (integrator_path.cpp, decide_photon_pass).
   bool caustics_auto = false;
   // Photons emitted toward the casters' bounding spheres (emit_photons.cl);
@@ -73,9 +73,9 @@ struct RenderStats {
   uint64_t shadow_slots = 0;  // addressed shadow slots, traced or empty
   int chunk_retries = 0;  // chunks traced again in halves after a queue overflow
   // Host traffic: kernel launches and blocking reads/writes (queue counts),
-  // and the path tracer's count reads: non-blocking, each waited for only
-  // after the next iteration is queued behind it, so the device never idles
-  // for them (integrator_path.cpp).
+  // and the wave loop's count reads: non-blocking, each waited for only
+  // after the next iterations are queued behind it, so the device never
+  // idles for them (host/render/wave_loop.h; path, phong, photon pass).
   uint64_t launches = 0;
   uint64_t blocking_transfers = 0;
   uint64_t count_reads = 0;

@@ -51,7 +51,7 @@ class ExclusiveScan {
 
 // Where the grid lies and how fine it is.
 struct PhotonGridShape {
-  std::array<float, 3> origin{};  // the scene's min corner (any point works; cells near it stay small)
+  std::array<float, 3> origin{};  // the camera position (any point works; cells near it stay small)
   float cell_size = 1.0f;         // SPPM: about the initial gather radius
   // Buckets, a power of two; 0: photon_grid_table_size(photon count). Tests
   // force tiny tables to exercise hash collisions.

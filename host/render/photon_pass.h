@@ -10,9 +10,10 @@
 // vertices gather them inline within the pass's shared radius
 // (shade_surface_path), and after the camera chunks every pixel's visible
 // point (its first receiving vertex) gathers them and updates its SPPM
-// statistics (kernels/photon/gather_photons.cl). Nothing crosses to the host but one
-// queue count per photon bounce, the stored count and the largest radius
-// (which sizes the next grid). Which paths each estimator covers:
+// statistics (kernels/photon/gather_photons.cl). Nothing crosses to the host but the wave
+// loop's lagged non-blocking count reads (one per photon bounce), the
+// stored count and the gather counters (whose radius histogram's 90th
+// percentile sizes the next grid's cells). Which paths each estimator covers:
 // kernels/lib/caustics.h. A scene without casters never builds one: no
 // kernels compiled, no buffers, no launches (SceneFeatures::caustics).
 #pragma once
