@@ -1,10 +1,10 @@
-// A scalar C++ port of the kernels' ray queries (kernels/lib/bvh_traverse.h,
-// intersect_primitives.h and the position/normal part of surface.h) over the
-// same caustica BVH. The benchmark tools use it to generate their rays from
-// primary hits and to check both tracers: it must give the answers the
-// kernels give, so it follows their arithmetic step by step (float32, the
-// same operation order, no contraction) rather than being a "nicer" tracer.
-// It is not meant to be fast.
+// The kernels' ray queries on the host: kernels/lib/bvh_traverse.h,
+// intersect_primitives.h and the position/normal part of surface.h compiled
+// as C++ (kernels/shared/compat.h), over the wide BVH the device traverses,
+// collapsed from the given binary one. The benchmark tools use it to
+// generate their rays from primary hits and to check both tracers: it is
+// the kernels' code, so on PoCL it gives their answers bit for bit. It is
+// not meant to be fast (one ray at a time, no SIMD).
 #pragma once
 
 #include <glm/glm.hpp>
@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "host/accel/bvh.h"
+#include "host/accel/bvh_wide.h"
 #include "host/scene/scene.h"
 
 namespace caustica {
@@ -47,8 +48,9 @@ inline glm::vec3 host_spawn_ray_origin(const HostSurfacePoint& sp, glm::vec3 dir
 
 class HostTracer {
  public:
-  // Both must outlive the tracer.
-  HostTracer(const Scene& scene, const Bvh& bvh) : scene_(scene), bvh_(bvh) {}
+  // The scene must outlive the tracer; the BVH is collapsed to the wide
+  // layout the kernels traverse.
+  HostTracer(const Scene& scene, const Bvh& bvh);
 
   Hit closest(glm::vec3 o, glm::vec3 d, float tmin, float tmax) const;  // trace_closest
   bool any(glm::vec3 o, glm::vec3 d, float tmin, float tmax) const;         // trace_any
@@ -60,7 +62,7 @@ class HostTracer {
 
  private:
   const Scene& scene_;
-  const Bvh& bvh_;
+  WideBvh wide_;
 };
 
 }  // namespace caustica

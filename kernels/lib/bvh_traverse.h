@@ -71,25 +71,25 @@
  * node's boxes to its child's address, paid at every node, and it is several
  * cycles shorter than byte lanes (5-20% more rays/s on the bench scenes).
  * Tests force the portable form with -DBVH8_PORTABLE_LANES. */
-#if defined(__x86_64__) && defined(__AVX__) && !defined(BVH8_PORTABLE_LANES)
+#if defined(__OPENCL_C_VERSION__) && defined(__x86_64__) && defined(__AVX__) && !defined(BVH8_PORTABLE_LANES)
 typedef uint Lanes;
 #define BVH8_LANES 0xFFu
-Lanes bvh8_lanes_hit(int8 hit) {
+CS_DEVICE Lanes bvh8_lanes_hit(int8 hit) {
   typedef float v8sf __attribute__((vector_size(32)));
   return (uint)__builtin_ia32_movmskps256((v8sf)as_float8(hit));
 }
-uint bvh8_lane(Lanes lanes) { return (uint)__builtin_ctz(lanes); }
-uint bvh8_last_lane(Lanes lanes) { return 31u - clz(lanes); }
-Lanes bvh8_lanes_of_mask(uint mask) { return mask; }
+CS_DEVICE uint bvh8_lane(Lanes lanes) { return (uint)__builtin_ctz(lanes); }
+CS_DEVICE uint bvh8_last_lane(Lanes lanes) { return 31u - clz(lanes); }
+CS_DEVICE Lanes bvh8_lanes_of_mask(uint mask) { return mask; }
 #else
 /* Elsewhere: a compare mask narrowed to bytes and read as one ulong, which
  * PoCL compiles to far less than an OR-reduction (bit 8 * lane). */
 typedef ulong Lanes;
 #define BVH8_LANES 0x0101010101010101UL
-Lanes bvh8_lanes_hit(int8 hit) { return as_ulong(convert_char8(hit)) & BVH8_LANES; }
-uint bvh8_lane(Lanes lanes) { return (uint)(popcount((lanes & (~lanes + 1UL)) - 1UL) >> 3); }
-uint bvh8_last_lane(Lanes lanes) { return (uint)(63 - clz(lanes)) >> 3; }
-Lanes bvh8_lanes_of_mask(uint mask) {
+CS_DEVICE Lanes bvh8_lanes_hit(int8 hit) { return as_ulong(convert_char8(hit)) & BVH8_LANES; }
+CS_DEVICE uint bvh8_lane(Lanes lanes) { return (uint)(popcount((lanes & (~lanes + 1UL)) - 1UL) >> 3); }
+CS_DEVICE uint bvh8_last_lane(Lanes lanes) { return (uint)(63 - clz(lanes)) >> 3; }
+CS_DEVICE Lanes bvh8_lanes_of_mask(uint mask) {
   Lanes lanes = 0;
   for (uint i = 0; i < 8; ++i)
     if (mask & (1u << i)) lanes |= 1UL << (8 * i);
@@ -118,7 +118,9 @@ Lanes bvh8_lanes_of_mask(uint mask) {
 #endif
 
 /* The node or leaf blocks a stack item will visit, fetched ahead. */
-void bvh8_prefetch_item(__global const BvhNode8* nodes, __global const TriangleBlock4* blocks, uint item) {
+CS_DEVICE void bvh8_prefetch_item(__global const BvhNode8* nodes, __global const TriangleBlock4* blocks, uint item) {
+  (void)nodes; /* used only where the prefetch is compiled */
+  (void)blocks;
   if ((item & WIDE_LEAF_FLAG) == 0) BVH_PREFETCH(&nodes[item], sizeof(BvhNode8));
 #ifdef HAS_TRIANGLES
   else if (!(item & WIDE_LEAF_PRIMS)) BVH_PREFETCH(&blocks[item & WIDE_LEAF_INDEX_MASK], sizeof(TriangleBlock4));
@@ -126,7 +128,7 @@ void bvh8_prefetch_item(__global const BvhNode8* nodes, __global const TriangleB
 }
 
 /* Tests one primitive (encoded ref) and, on a nearer hit, overwrites *hit. */
-bool intersect_prim_ref(__global const Sphere* spheres, __global const Cylinder* cylinders,
+CS_DEVICE bool intersect_prim_ref(__global const Sphere* spheres, __global const Cylinder* cylinders,
                         __global const Triangle* triangles, uint ref, float3 o, float3 d, float tmin, Hit* hit) {
   uint type = prim_ref_type(ref);
   uint index = prim_ref_index(ref);
@@ -170,12 +172,12 @@ bool intersect_prim_ref(__global const Sphere* spheres, __global const Cylinder*
 }
 
 /* The nearest lane of a triangle block hit nearer than hit->t replaces *hit. */
-__attribute__((always_inline)) void triangle_block_closest(__global const TriangleBlock4* block,
+CS_DEVICE __attribute__((always_inline)) void triangle_block_closest(__global const TriangleBlock4* block,
                                                           const TriangleRay* r, float tmin, Hit* hit) {
   float4 t, u, v;
   int4 lanes = intersect_triangle_block(block, r, tmin, hit->t, &t, &u, &v);
   if (!any4(lanes)) return;
-  t = select((float4)(hit->t), t, lanes);
+  t = select(make_float4(hit->t), t, lanes);
   /* Plain compares, not fmin: t is never NaN here. */
   const float t01 = t.y < t.x ? t.y : t.x, t23 = t.w < t.z ? t.w : t.z;
   const int l01 = t.y < t.x ? 1 : 0, l23 = t.w < t.z ? 3 : 2;
@@ -210,9 +212,9 @@ typedef struct {
   float tmin;
 } WideRay;
 
-WideRay wide_ray(float3 o, float3 d, float tmin) {
+CS_DEVICE WideRay wide_ray(float3 o, float3 d, float tmin) {
   WideRay r;
-  float3 safe = select(d, copysign((float3)(1.0f / BVH_INV_DIR_MAX), d), fabs(d) < 1.0f / BVH_INV_DIR_MAX);
+  float3 safe = select(d, copysign(make_float3(1.0f / BVH_INV_DIR_MAX), d), fabs(d) < 1.0f / BVH_INV_DIR_MAX);
   r.inv_d = clamp(1.0f / safe, -BVH_INV_DIR_MAX, BVH_INV_DIR_MAX);
   float3 oi = o * r.inv_d;
   float3 err = fabs(oi) * BVH_PLANE_ERROR;
@@ -232,30 +234,30 @@ WideRay wide_ray(float3 o, float3 d, float tmin) {
 /* fmax/fmin must honour NaN operands, which costs a compare and a blend
  * per use; these values are never NaN, and this form is a single max/min
  * instruction. */
-float8 max8(float8 a, float8 b) { return select(b, a, a > b); }
-float8 min8(float8 a, float8 b) { return select(b, a, a < b); }
+CS_DEVICE float8 max8(float8 a, float8 b) { return select(b, a, a > b); }
+CS_DEVICE float8 min8(float8 a, float8 b) { return select(b, a, a < b); }
 
 /* Slab test of all eight children against [tmin, tmax]: returns the hit
  * lanes (Lanes) and their entry distances in *entry. */
-Lanes bvh8_test(__global const BvhNode8* node, const WideRay* r, float tmax, float8* entry) {
+CS_DEVICE Lanes bvh8_test(__global const BvhNode8* node, const WideRay* r, float tmax, float8* entry) {
   /* Rows are 32-byte aligned float8s (256-byte nodes); indexing them as such
    * gives one load each, where vload8 at a variable offset gives two. */
   __global const float8* rows = (__global const float8*)node;
-  float8 nx = fma(rows[r->near_x], (float8)(r->inv_d.x), (float8)(r->c_near.x));
-  float8 ny = fma(rows[r->near_y], (float8)(r->inv_d.y), (float8)(r->c_near.y));
-  float8 nz = fma(rows[r->near_z], (float8)(r->inv_d.z), (float8)(r->c_near.z));
-  float8 fx = fma(rows[r->far_x], (float8)(r->inv_far.x), (float8)(r->c_far.x));
-  float8 fy = fma(rows[r->far_y], (float8)(r->inv_far.y), (float8)(r->c_far.y));
-  float8 fz = fma(rows[r->far_z], (float8)(r->inv_far.z), (float8)(r->c_far.z));
-  float8 t_enter = max8(max8(nx, ny), max8(nz, (float8)(r->tmin)));
+  float8 nx = fma(rows[r->near_x], make_float8(r->inv_d.x), make_float8(r->c_near.x));
+  float8 ny = fma(rows[r->near_y], make_float8(r->inv_d.y), make_float8(r->c_near.y));
+  float8 nz = fma(rows[r->near_z], make_float8(r->inv_d.z), make_float8(r->c_near.z));
+  float8 fx = fma(rows[r->far_x], make_float8(r->inv_far.x), make_float8(r->c_far.x));
+  float8 fy = fma(rows[r->far_y], make_float8(r->inv_far.y), make_float8(r->c_far.y));
+  float8 fz = fma(rows[r->far_z], make_float8(r->inv_far.z), make_float8(r->c_far.z));
+  float8 t_enter = max8(max8(nx, ny), max8(nz, make_float8(r->tmin)));
   /* Two levels of min on each side, not three: this test is on the
    * critical path from one node to the next. */
-  float8 t_exit = min8(min8(fx, fy), min8(fz, (float8)(tmax)));
+  float8 t_exit = min8(min8(fx, fy), min8(fz, make_float8(tmax)));
   *entry = t_enter;
   return bvh8_lanes_hit(t_enter <= t_exit);
 }
 
-float entry_lane(float8 e, uint lane) {
+CS_DEVICE float entry_lane(float8 e, uint lane) {
   float d[8];
   vstore8(e, 0, d);
   return d[lane];
@@ -264,7 +266,7 @@ float entry_lane(float8 e, uint lane) {
 /* The rare case where pushing every hit child of `node` could overrun the
  * stack: pushes one group entry for all of them but the nearest (at the
  * distance of the next nearest) and returns the nearest child. */
-uint bvh8_push_group(__global const BvhNode8* node, uint node_index, Lanes lanes, const float* dist,
+CS_DEVICE uint bvh8_push_group(__global const BvhNode8* node, uint node_index, Lanes lanes, const float* dist,
                      uint* stack_item, float* stack_entry, int* sp) {
   uint nearest = bvh8_lane(lanes);
   for (Lanes m = lanes & (lanes - 1); m != 0; m &= m - 1)
@@ -284,15 +286,15 @@ uint bvh8_push_group(__global const BvhNode8* node, uint node_index, Lanes lanes
 }
 
 /* A popped stack item: a group entry becomes its node and lane set. */
-uint bvh8_unpack(uint item, Lanes* lanes) {
+CS_DEVICE uint bvh8_unpack(uint item, Lanes* lanes) {
   if ((item & (WIDE_LEAF_FLAG | WIDE_GROUP_FLAG)) != WIDE_GROUP_FLAG) return item;
   *lanes = bvh8_lanes_of_mask((item >> WIDE_GROUP_MASK_SHIFT) & 0xFFu);
   return item & WIDE_NODE_INDEX_MASK;
 }
 
-uint wide_leaf_count(uint item) { return ((item >> WIDE_LEAF_COUNT_SHIFT) & (WIDE_LEAF_MAX_COUNT - 1u)) + 1u; }
+CS_DEVICE uint wide_leaf_count(uint item) { return ((item >> WIDE_LEAF_COUNT_SHIFT) & (WIDE_LEAF_MAX_COUNT - 1u)) + 1u; }
 
-Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax) {
+CS_DEVICE Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax) {
   Hit hit = hit_none(tmax);
   if (!ray_traceable(o, d)) return hit;
   const WideRay ray = wide_ray(o, d, tmin);
@@ -391,7 +393,7 @@ Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float t
   }
 }
 
-bool trace_any(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax) {
+CS_DEVICE bool trace_any(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax) {
   if (!ray_traceable(o, d)) return false;
   const WideRay ray = wide_ray(o, d, tmin);
 #ifdef HAS_TRIANGLES

@@ -20,7 +20,7 @@
       __global const Cylinder *restrict cylinders, __global const Triangle *restrict triangles
 #define SCENE_GEOMETRY_ARGS bvh_nodes, tri_blocks, prim_refs, spheres, cylinders, triangles
 
-Hit hit_none(float tmax) {
+CS_DEVICE Hit hit_none(float tmax) {
   Hit h;
   h.t = tmax;
   h.u = 0.0f;
@@ -29,8 +29,8 @@ Hit hit_none(float tmax) {
   return h;
 }
 
-uint prim_ref_type(uint ref) { return ref >> PRIM_TYPE_SHIFT; }
-uint prim_ref_index(uint ref) { return ref & PRIM_INDEX_MASK; }
+CS_DEVICE uint prim_ref_type(uint ref) { return ref >> PRIM_TYPE_SHIFT; }
+CS_DEVICE uint prim_ref_index(uint ref) { return ref & PRIM_INDEX_MASK; }
 
 /* Error-bounded ray origins (pbrt-v4's approach, issue 14).
  *

@@ -21,16 +21,20 @@
  * bit for bit (traversal vs brute force, neighbours on a shared edge):
  * precise semantics for this file only, the kernels around it stay fast.
  * Both switched back at the end of this file. */
+#ifdef __OPENCL_C_VERSION__
 #pragma float_control(precise, on, push)
 #pragma OPENCL FP_CONTRACT OFF
+#endif /* the host builds this without contraction (-ffp-contract=off) */
 
 #if defined(HAS_TRIANGLES) && defined(cl_khr_fp64)
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #define CAUSTICA_EDGE_FP64 1
+#elif defined(HAS_TRIANGLES) && !defined(__OPENCL_C_VERSION__)
+#define CAUSTICA_EDGE_FP64 1 /* the host has double, as every device that reports fp64 */
 #endif
 
 /* Accepts t inside the open interval (tmin, *tbest). */
-bool accept_root(float t, float tmin, float* tbest) {
+CS_DEVICE bool accept_root(float t, float tmin, float* tbest) {
   if (t > tmin && t < *tbest) {
     *tbest = t;
     return true;
@@ -42,7 +46,7 @@ bool accept_root(float t, float tmin, float* tbest) {
  * roots. The discriminant is passed in because callers compute it in a
  * cancellation-free form. q takes the sign of b so that no root is formed as
  * the difference of two nearly equal numbers. */
-bool solve_quadratic(float a, float b, float c, float disc, float* s0, float* s1) {
+CS_DEVICE bool solve_quadratic(float a, float b, float c, float disc, float* s0, float* s1) {
   if (disc < 0.0f) return false;
   float q = -(b + copysign(sqrt(disc), b));
   float r0 = q / a;
@@ -52,7 +56,7 @@ bool solve_quadratic(float a, float b, float c, float disc, float* s0, float* s1
   return true;
 }
 
-bool intersect_sphere(float3 center, float radius, float3 o, float3 d, float tmin, float* t) {
+CS_DEVICE bool intersect_sphere(float3 center, float radius, float3 o, float3 d, float tmin, float* t) {
   float3 f = o - center;
   float a = dot(d, d);
   float b = dot(f, d);
@@ -67,7 +71,7 @@ bool intersect_sphere(float3 center, float radius, float3 o, float3 d, float tmi
 }
 
 /* Finite cylinder with both caps. part receives CYL_PART_* of the hit. */
-bool intersect_cylinder(float3 center, float3 axis, float radius, float half_length, float3 o, float3 d,
+CS_DEVICE bool intersect_cylinder(float3 center, float3 axis, float radius, float half_length, float3 o, float3 d,
                         float tmin, float* t, float* part) {
   float3 f = o - center;
   float fz = dot(f, axis);
@@ -135,15 +139,15 @@ bool intersect_cylinder(float3 center, float3 axis, float radius, float half_len
  * 2D edge functions decide coverage. A shared edge yields the same edge
  * function with opposite sign in both triangles, so a ray never slips
  * between them; a ray exactly on an edge hits both. */
-float3 shear_vertex(float3 v, float3 o, int kx, int ky, int kz, float3 shear) {
+CS_DEVICE float3 shear_vertex(float3 v, float3 o, int kx, int ky, int kz, float3 shear) {
   float3 a = v - o;
   float ax = kx == 0 ? a.x : (kx == 1 ? a.y : a.z);
   float ay = ky == 0 ? a.x : (ky == 1 ? a.y : a.z);
   float az = kz == 0 ? a.x : (kz == 1 ? a.y : a.z);
-  return (float3)(ax - shear.x * az, ay - shear.y * az, shear.z * az);
+  return make_float3(ax - shear.x * az, ay - shear.y * az, shear.z * az);
 }
 
-float edge_function(float2 p, float2 q) {
+CS_DEVICE float edge_function(float2 p, float2 q) {
   float e = p.x * q.y - p.y * q.x;
 #ifdef CAUSTICA_EDGE_FP64
   /* Rounded to zero or too small to trust its sign: products of floats are
@@ -154,7 +158,7 @@ float edge_function(float2 p, float2 q) {
   return e;
 }
 
-bool intersect_triangle(float3 v0, float3 v1, float3 v2, float3 o, float3 d, float tmin, float* t, float* u,
+CS_DEVICE bool intersect_triangle(float3 v0, float3 v1, float3 v2, float3 o, float3 d, float tmin, float* t, float* u,
                         float* v) {
   float3 ad = fabs(d);
   int kz = (ad.x > ad.y) ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
@@ -168,7 +172,7 @@ bool intersect_triangle(float3 v0, float3 v1, float3 v2, float3 o, float3 d, flo
   }
   float dkx = kx == 0 ? d.x : (kx == 1 ? d.y : d.z);
   float dky = ky == 0 ? d.x : (ky == 1 ? d.y : d.z);
-  float3 shear = (float3)(dkx / dkz, dky / dkz, 1.0f / dkz);
+  float3 shear = make_float3(dkx / dkz, dky / dkz, 1.0f / dkz);
 
   float3 a = shear_vertex(v0, o, kx, ky, kz, shear);
   float3 b = shear_vertex(v1, o, kx, ky, kz, shear);
@@ -195,25 +199,25 @@ typedef struct {
   int kx, ky, kz;
 } TriangleRay;
 
-TriangleRay triangle_ray(float3 o, float3 d) {
+CS_DEVICE TriangleRay triangle_ray(float3 o, float3 d) {
   TriangleRay r;
   float3 ad = fabs(d);
   int kz = (ad.x > ad.y) ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
   int kx = kz == 2 ? 0 : kz + 1;
   int ky = kx == 2 ? 0 : kx + 1;
-  float4 d4 = (float4)(d, 1.0f);
+  float4 d4 = make_float4(d, 1.0f);
   /* One variable shuffle gathers the three permuted components (the same
    * values as selecting them one by one, in far fewer instructions). */
-  float dkz = shuffle(d4, (uint4)(kz)).x;
+  float dkz = shuffle(d4, make_uint4(kz)).x;
   if (dkz < 0.0f) {
     int tmp = kx;
     kx = ky;
     ky = tmp;
   }
-  const uint4 perm = (uint4)(kx, ky, 3, kz);
+  const uint4 perm = make_uint4(kx, ky, 3, kz);
   const float4 dp = shuffle(d4, perm);                  /* dkx, dky, 1, dkz */
-  const float4 op = shuffle((float4)(o, 0.0f), perm);   /* okx, oky, 0, okz */
-  const float4 shear = dp / (float4)(dkz);              /* dkx/dkz, dky/dkz, 1/dkz, 1 */
+  const float4 op = shuffle(make_float4(o, 0.0f), perm);   /* okx, oky, 0, okz */
+  const float4 shear = dp / make_float4(dkz);              /* dkx/dkz, dky/dkz, 1/dkz, 1 */
   r.sx = shear.x;
   r.sy = shear.y;
   r.sz = shear.z;
@@ -228,11 +232,11 @@ TriangleRay triangle_ray(float3 o, float3 d) {
 
 /* any() on a compare mask, as a byte-narrowed movemask: PoCL's any()
  * extracts and tests the lanes one by one. */
-bool any4(int4 mask) { return as_uint(convert_char4(mask)) != 0u; }
+CS_DEVICE bool any4(int4 mask) { return as_uint(convert_char4(mask)) != 0u; }
 
 /* edge_function on four lanes, without its fp64 re-evaluation: *unsure
  * receives the lanes whose sign it would re-evaluate (see edge_exact4). */
-float4 edge_function4(float4 px, float4 py, float4 qx, float4 qy, int4* unsure) {
+CS_DEVICE float4 edge_function4(float4 px, float4 py, float4 qx, float4 qy, int4* unsure) {
   float4 l = px * qy, r = py * qx;
   float4 e = l - r;
   *unsure = fabs(e) <= 2.5e-7f * (fabs(l) + fabs(r));
@@ -241,7 +245,7 @@ float4 edge_function4(float4 px, float4 py, float4 qx, float4 qy, int4* unsure) 
 
 /* The re-evaluation, done only when some lane of some edge needs it, so that
  * the common case pays one test for all three edges. */
-float4 edge_exact4(float4 e, float4 px, float4 py, float4 qx, float4 qy, int4 unsure) {
+CS_DEVICE float4 edge_exact4(float4 e, float4 px, float4 py, float4 qx, float4 qy, int4 unsure) {
 #ifdef CAUSTICA_EDGE_FP64
   double4 exact = convert_double4(px) * convert_double4(qy) - convert_double4(py) * convert_double4(qx);
   e = select(e, convert_float4(exact), unsure);
@@ -254,7 +258,7 @@ float4 edge_exact4(float4 e, float4 px, float4 py, float4 qx, float4 qy, int4 un
  * shared edges included). The axes are picked per ray by row offset, which
  * is why the block stores each vertex coordinate as its own row. Returns -1
  * in the lanes hit with tmin < t < tmax, and their t, u, v. */
-__attribute__((always_inline)) int4 intersect_triangle_block(__global const TriangleBlock4* block,
+CS_DEVICE __attribute__((always_inline)) int4 intersect_triangle_block(__global const TriangleBlock4* block,
                                                              const TriangleRay* r, float tmin, float tmax, float4* t,
                                                              float4* u, float4* v) {
   __global const float4* p = (__global const float4*)block; /* 16-byte aligned rows */
@@ -283,7 +287,7 @@ __attribute__((always_inline)) int4 intersect_triangle_block(__global const Tria
   int4 hit = ~outside & (det != 0.0f);
   if (!any4(hit)) return hit;
   /* No 1/0 even in lanes that are dropped: fast-relaxed-math assumes no inf. */
-  float4 inv = 1.0f / select(det, (float4)(1.0f), det == 0.0f);
+  float4 inv = 1.0f / select(det, make_float4(1.0f), det == 0.0f);
   float4 th = (e0 * (r->sz * az) + e1 * (r->sz * bz) + e2 * (r->sz * cz)) * inv;
   hit &= (th > tmin) & (th < tmax);
   *t = th;
@@ -292,7 +296,9 @@ __attribute__((always_inline)) int4 intersect_triangle_block(__global const Tria
   return hit;
 }
 
+#ifdef __OPENCL_C_VERSION__
 #pragma OPENCL FP_CONTRACT ON
 #pragma float_control(pop)
+#endif
 
 #endif /* CAUSTICA_LIB_INTERSECT_PRIMITIVES_H */

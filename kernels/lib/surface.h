@@ -74,21 +74,22 @@ inline float angle_unit(float y, float x) {
  * alone, so it is the same for every hit and every device. */
 inline void cylinder_uv_frame(float3 a, float3* t1, float3* t2) {
   const float3 m = fabs(a);
-  const float3 e = (m.x <= m.y && m.x <= m.z) ? (float3)(1.0f, 0.0f, 0.0f)
-                                               : (m.y <= m.z ? (float3)(0.0f, 1.0f, 0.0f) : (float3)(0.0f, 0.0f, 1.0f));
+  const float3 e = (m.x <= m.y && m.x <= m.z) ? make_float3(1.0f, 0.0f, 0.0f)
+                                               : (m.y <= m.z ? make_float3(0.0f, 1.0f, 0.0f) : make_float3(0.0f, 0.0f, 1.0f));
   *t1 = normalize(cross(a, e));
   *t2 = cross(a, *t1);
 }
 
-SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder* cylinders,
+CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder* cylinders,
                         __global const Triangle* triangles, __global const TriangleShading* triangle_shading, Hit hit,
                         float3 o, float3 d) {
+  (void)triangle_shading; /* read only with HAS_TRIANGLE_SHADING */
   SurfacePoint sp;
   sp.position = o + hit.t * d;
-  sp.normal = (float3)(0.0f, 0.0f, 1.0f);
-  sp.uv = (float2)(0.0f, 0.0f);
+  sp.normal = make_float3(0.0f, 0.0f, 1.0f);
+  sp.uv = make_float2(0.0f, 0.0f);
   sp.material = 0u;
-  sp.p_error = (float3)(0.0f);
+  sp.p_error = make_float3(0.0f);
   uint type = prim_ref_type(hit.prim);
   uint index = prim_ref_index(hit.prim);
 #ifdef HAS_SPHERES
@@ -106,7 +107,7 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
      * them too. */
     sp.p_error = error_gamma(8.0f) * fabs(s.w * sp.normal) + error_gamma(1.0f) * fabs(sp.position);
 #ifdef HAS_TEXTURES
-    sp.uv = (float2)(angle_unit(sp.normal.z, sp.normal.x), acos(clamp(-sp.normal.y, -1.0f, 1.0f)) * M_1_PI_F);
+    sp.uv = make_float2(angle_unit(sp.normal.z, sp.normal.x), acos(clamp(-sp.normal.y, -1.0f, 1.0f)) * M_1_PI_F);
 #endif
   }
 #endif
@@ -126,10 +127,10 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
       float len = length(radial);
       /* A hit exactly on the axis cannot be on the side; any normal
        * perpendicular to the axis is as good as another there. */
-      sp.normal = len > 0.0f ? radial / len : normalize(cross(axis, (float3)(axis.y, axis.z, axis.x)));
+      sp.normal = len > 0.0f ? radial / len : normalize(cross(axis, make_float3(axis.y, axis.z, axis.x)));
       sp.position = cr.xyz + z * axis + cr.w * sp.normal;
 #ifdef HAS_TEXTURES
-      sp.uv = (float2)(angle_unit(dot(sp.normal, t2), dot(sp.normal, t1)),
+      sp.uv = make_float2(angle_unit(dot(sp.normal, t2), dot(sp.normal, t1)),
                        half_length > 0.0f ? (z + half_length) / (2.0f * half_length) : 0.5f);
 #endif
     } else {
@@ -141,7 +142,7 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
       sp.position = cr.xyz + (sgn * half_length) * axis + radial;
 #ifdef HAS_TEXTURES
       float scale = cr.w > 0.0f ? 0.5f / cr.w : 0.0f;
-      sp.uv = (float2)(0.5f + dot(radial, t1) * scale, 0.5f + dot(radial, t2) * scale);
+      sp.uv = make_float2(0.5f + dot(radial, t1) * scale, 0.5f + dot(radial, t2) * scale);
 #endif
     }
     sp.material = cylinders[index].material;
@@ -150,7 +151,7 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
      * two sums one rounding of |position| each. 8 rather than 7 also covers
      * the cylinder test's roots from an origin near the surface, good to a
      * few roundings of |origin - centre| <= radius + half length. */
-    sp.p_error = error_gamma(2.0f) * fabs(sp.position) + error_gamma(8.0f) * (float3)(cr.w + half_length);
+    sp.p_error = error_gamma(2.0f) * fabs(sp.position) + error_gamma(8.0f) * make_float3(cr.w + half_length);
   }
 #endif
   sp.shading_normal = sp.normal;
@@ -176,13 +177,13 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
      * triangle (e1.y = e2.y = 0 on a floor), and the floor got acne. */
     const float3 e1 = v1 - v0, e2 = v2 - v0;
     sp.p_error = error_gamma(7.0f) * (fabs(v0) + fabs(hit.u * e1) + fabs(hit.v * e2)) +
-                 (float3)(error_gamma(32.0f) * (max_abs3(e1) + max_abs3(e2)));
+                 make_float3(error_gamma(32.0f) * (max_abs3(e1) + max_abs3(e2)));
 #ifdef HAS_TRIANGLE_SHADING
     __global const TriangleShading* ts = &triangle_shading[index];
     /* Edge form for the same reason as the position: tiled UVs (1000.25...)
      * keep their fraction. */
-    const float2 uv0 = (float2)(ts->u0, ts->v0);
-    sp.uv = uv0 + hit.u * ((float2)(ts->u1, ts->v1) - uv0) + hit.v * ((float2)(ts->u2, ts->v2) - uv0);
+    const float2 uv0 = make_float2(ts->u0, ts->v0);
+    sp.uv = uv0 + hit.u * (make_float2(ts->u1, ts->v1) - uv0) + hit.v * (make_float2(ts->u2, ts->v2) - uv0);
     const float3 n = (1.0f - hit.u - hit.v) * ts->n0.xyz + hit.u * ts->n1.xyz + hit.v * ts->n2.xyz;
     const float n2 = dot(n, n);
     /* Opposite vertex normals can cancel; the geometric normal stands in. */
@@ -191,7 +192,7 @@ SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder*
       sp.shading_normal = dot(sn, sp.normal) < 0.0f ? -sn : sn;
     }
 #else
-    sp.uv = (float2)(hit.u, hit.v);
+    sp.uv = make_float2(hit.u, hit.v);
 #endif
   }
 #endif

@@ -11,7 +11,10 @@
  *    and .lo / .hi (float8): on the host they are union members, and
  *    writing one would also write the padding lane behind it;
  *  - address spaces are written __global / __constant / __local (empty on
- *    the host), functions in headers are `inline`;
+ *    the host); functions in headers are `inline`, or CS_DEVICE where the
+ *    device's inlining should stay the compiler's choice (CS_DEVICE is
+ *    nothing on the device and `inline` on the host, as one definition per
+ *    program must be);
  *  - the builtins below are the ones the library uses; a new one is added
  *    here, once, with OpenCL's definition.
  * The host side follows OpenCL's semantics where the library relies on
@@ -26,6 +29,7 @@
 
 #ifdef __OPENCL_C_VERSION__
 
+#define CS_DEVICE
 #define make_float2(...) ((float2)(__VA_ARGS__))
 #define make_float3(...) ((float3)(__VA_ARGS__))
 #define make_float4(...) ((float4)(__VA_ARGS__))
@@ -42,10 +46,12 @@
 
 #include <math.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
 
+#define CS_DEVICE inline
 #define __global
 #define __constant
 #define __local
@@ -114,6 +120,16 @@ union alignas(16) uint4 {
   struct { uint x, y, z, w; };
   uint s[4];
 };
+union alignas(32) double4 {
+  struct { double x, y, z, w; };
+  double s[4];
+};
+union alignas(4) char4 {
+  signed char s[4];
+};
+union alignas(8) char8 {
+  signed char s[8];
+};
 
 /* Lane type, lane count and comparison-mask type of each vector type. */
 template <class V> struct cs_vector { static constexpr int lanes = 0; };
@@ -134,6 +150,9 @@ CS_VECTOR(int8, int, 8, int8)
 CS_VECTOR(uint2, uint, 2, int2)
 CS_VECTOR(uint3, uint, 3, int3)
 CS_VECTOR(uint4, uint, 4, int4)
+CS_VECTOR(double4, double, 4, int4)
+CS_VECTOR(char4, signed char, 4, char4)
+CS_VECTOR(char8, signed char, 8, char8)
 #undef CS_VECTOR
 
 template <class V> constexpr bool cs_is_vector = cs_vector<V>::lanes > 0;
@@ -192,11 +211,22 @@ CS_BINARY(^)
 template <class V, cs_if_vector<V> = 0> inline V operator-(V a) {
   return cs_lanes<V>([&](int i) { return cs_element<V>(-a.s[i]); });
 }
+template <class V, cs_if_vector<V> = 0> inline V operator~(V a) {
+  return cs_lanes<V>([&](int i) { return cs_element<V>(~a.s[i]); });
+}
 
 /* Comparisons give the mask type, -1 where true and 0 where false. */
-#define CS_COMPARE(op)                                                                          \
-  template <class V, cs_if_vector<V> = 0> inline typename cs_vector<V>::mask operator op(V a, V b) { \
-    return cs_lanes<typename cs_vector<V>::mask>([&](int i) { return a.s[i] op b.s[i] ? -1 : 0; });  \
+#define CS_COMPARE(op)                                                                                   \
+  template <class V, cs_if_vector<V> = 0> inline typename cs_vector<V>::mask operator op(V a, V b) {          \
+    return cs_lanes<typename cs_vector<V>::mask>([&](int i) { return a.s[i] op b.s[i] ? -1 : 0; });           \
+  }                                                                                                          \
+  template <class V, class S, cs_if_vector_scalar<V, S> = 0>                                                 \
+  inline typename cs_vector<V>::mask operator op(V a, S b) {                                                 \
+    return cs_lanes<typename cs_vector<V>::mask>([&](int i) { return a.s[i] op cs_element<V>(b) ? -1 : 0; }); \
+  }                                                                                                          \
+  template <class V, class S, cs_if_vector_scalar<V, S> = 0>                                                 \
+  inline typename cs_vector<V>::mask operator op(S a, V b) {                                                 \
+    return cs_lanes<typename cs_vector<V>::mask>([&](int i) { return cs_element<V>(a) op b.s[i] ? -1 : 0; }); \
   }
 CS_COMPARE(<)
 CS_COMPARE(>)
@@ -223,6 +253,10 @@ CS_LANEWISE1(sqrt)
 CS_LANEWISE1(floor)
 CS_LANEWISE2(fmin)
 CS_LANEWISE2(fmax)
+CS_LANEWISE2(copysign)
+template <class V, cs_if_vector<V> = 0> inline V fma(V a, V b, V c) {
+  return cs_lanes<V>([&](int i) { return ::fma(a.s[i], b.s[i], c.s[i]); });
+}
 #undef CS_LANEWISE1
 #undef CS_LANEWISE2
 
@@ -287,8 +321,47 @@ inline float as_float(uint u) {
   std::memcpy(&f, &u, sizeof f);
   return f;
 }
+inline uint as_uint(char4 c) {
+  uint u;
+  std::memcpy(&u, &c, sizeof u);
+  return u;
+}
+inline ulong as_ulong(char8 c) {
+  ulong u;
+  std::memcpy(&u, &c, sizeof u);
+  return u;
+}
+
+/* convert_T(v): lane by lane, C's conversion (OpenCL's default rounding:
+ * to nearest for float results, toward zero for integers). */
+#define CS_CONVERT(T)                                                                          \
+  template <class V, cs_if_vector<V> = 0> inline T convert_##T(V v) {                          \
+    static_assert(cs_vector<V>::lanes == cs_vector<T>::lanes, "convert_" #T ": lane counts"); \
+    return cs_lanes<T>([&](int i) { return cs_element<T>(v.s[i]); });                          \
+  }
+CS_CONVERT(float4)
+CS_CONVERT(double4)
+CS_CONVERT(char4)
+CS_CONVERT(char8)
+#undef CS_CONVERT
+
+/* shuffle(v, mask): lane i of the result is lane mask.s[i] of v. */
+inline float4 shuffle(float4 v, uint4 mask) {
+  return cs_lanes<float4>([&](int i) { return v.s[mask.s[i] & 3u]; });
+}
+
+/* vstoreN(v, offset, p): the lanes to p[N offset ...]. */
+inline void vstore4(float4 v, size_t offset, float* p) {
+  for (int i = 0; i < 4; ++i) p[4 * offset + i] = v.s[i];
+}
+inline void vstore8(float8 v, size_t offset, float* p) {
+  for (int i = 0; i < 8; ++i) p[8 * offset + i] = v.s[i];
+}
+
 inline uint popcount(uint x) { return (uint)__builtin_popcount(x); }
+inline ulong popcount(ulong x) { return (ulong)__builtin_popcountl(x); }
 inline uint clz(uint x) { return x == 0u ? 32u : (uint)__builtin_clz(x); }
+inline ulong clz(ulong x) { return x == 0ul ? 64ul : (ulong)__builtin_clzl(x); }
 
 #endif /* __OPENCL_C_VERSION__ */
 
