@@ -1,62 +1,26 @@
-// Kernel-level tests of the primitive intersection tests, surface_at and
-// spawn_ray_origin: hand-made rays against analytic answers, random rays
+// Host tests of the kernels' primitive intersection tests, surface_at and
+// spawn_ray_origin (kernels/lib/ compiled as C++ through
+// kernels/shared/compat.h): hand-made rays against analytic answers, random rays
 // against a double-precision reference (near and 1e4 away from the origin),
 // watertightness of shared triangle edges and self-intersection avoidance.
-#include <cstring>
+#include <gtest/gtest.h>
+
 #include <glm/glm.hpp>
-#include <map>
 #include <random>
 
 #include "host/scene/scene.h"
-#include "tests/support/test_support.h"
+// Every primitive type, no shading table (the host trace's configuration).
+#define HAS_SPHERES
+#define HAS_CYLINDERS
+#define HAS_TRIANGLES
+#include "lib/bvh_traverse.h"
+#include "lib/surface.h"
 
 namespace caustica {
 namespace {
 
 using glm::dvec3;
 using glm::vec3;
-using test::runtime;
-
-// Brute force over all primitives with the production tests; then, from the
-// hit, offset along the side the ray came from and re-trace a "reflected" and
-// a "transmitted" ray given in the local frame of that side.
-const char* kProbeKernel = R"CLC(
-#include "lib/bvh_traverse.h"
-#include "lib/surface.h"
-
-Hit brute(__global const Sphere* spheres, __global const Cylinder* cylinders, __global const Triangle* triangles,
-          __global const uint* refs, uint ref_count, float3 o, float3 d, float tmin, float tmax) {
-  Hit h = hit_none(tmax);
-  for (uint i = 0; i < ref_count; ++i) intersect_prim_ref(spheres, cylinders, triangles, refs[i], o, d, tmin, &h);
-  return h;
-}
-
-__kernel void probe(__global const float4* rays, __global const float4* local_dirs, uint ray_count,
-                    __global const Sphere* spheres, __global const Cylinder* cylinders,
-                    __global const Triangle* triangles, __global const uint* refs, uint ref_count,
-                    __global float4* out) {
-  uint i = get_global_id(0);
-  if (i >= ray_count) return;
-  float4 o = rays[2 * i], d = rays[2 * i + 1];
-  Hit h = brute(spheres, cylinders, triangles, refs, ref_count, o.xyz, d.xyz, o.w, d.w);
-  out[4 * i] = (float4)(h.t, h.u, h.v, as_float(h.prim));
-  out[4 * i + 1] = out[4 * i + 2] = out[4 * i + 3] = (float4)(0.0f);
-  if (h.prim == PRIM_NONE) return;
-  /* Built without HAS_TRIANGLE_SHADING: the shading table is never read. */
-  SurfacePoint sp = surface_at(spheres, cylinders, triangles, (__global const TriangleShading*)0, h, o.xyz, d.xyz);
-  out[4 * i + 1] = (float4)(sp.position, as_float(sp.material));
-  out[4 * i + 2] = (float4)(sp.normal, 0.0f);
-  float3 n = dot(sp.normal, d.xyz) < 0.0f ? sp.normal : -sp.normal;
-  float3 t1 = normalize(cross(n, fabs(n.x) > 0.5f ? (float3)(0.0f, 1.0f, 0.0f) : (float3)(1.0f, 0.0f, 0.0f)));
-  float3 t2 = cross(n, t1);
-  float4 l = local_dirs[i];
-  Hit out_hit = brute(spheres, cylinders, triangles, refs, ref_count, spawn_ray_origin(sp.position, sp.p_error, sp.normal, n),
-                      l.x * t1 + l.y * t2 + l.z * n, 0.0f, RAY_T_FAR);
-  Hit in_hit = brute(spheres, cylinders, triangles, refs, ref_count, spawn_ray_origin(sp.position, sp.p_error, sp.normal, -n),
-                     l.x * t1 + l.y * t2 - l.z * n, 0.0f, RAY_T_FAR);
-  out[4 * i + 3] = (float4)(out_hit.t, as_float(out_hit.prim), in_hit.t, as_float(in_hit.prim));
-}
-)CLC";
 
 struct Ray {
   vec3 o, d;
@@ -73,11 +37,6 @@ struct Probe {
   bool hit() const { return prim != PRIM_NONE; }
 };
 
-uint32_t bits(float f) {
-  uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return u;
-}
 uint32_t ref(uint32_t type, size_t i) { return type << PRIM_TYPE_SHIFT | static_cast<uint32_t>(i); }
 
 Sphere make_sphere(vec3 c, float r) { return Sphere{to_float4(c, r), 0, 0, 0, 0}; }
@@ -88,56 +47,50 @@ Triangle make_triangle(vec3 a, vec3 b, vec3 c) {
   return Triangle{to_float4(a), to_float4(b), to_float4(c), 0, 0, 0, 0};
 }
 
-template <class T>
-cl::Buffer upload(std::vector<T> v) {
-  if (v.empty()) v.resize(1);  // OpenCL refuses zero-sized buffers
-  return cl::Buffer(runtime().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), v.data());
+float3 f3(vec3 v) { return make_float3(v.x, v.y, v.z); }
+vec3 v3(float3 v) { return vec3(v.x, v.y, v.z); }
+
+// Brute force over all primitives with the production tests; then, from the
+// hit, offset along the side the ray came from and re-trace a "reflected" and
+// a "transmitted" ray given in the local frame of that side.
+Hit brute(const Scene& s, const std::vector<uint32_t>& refs, float3 o, float3 d, float tmin, float tmax) {
+  Hit h = hit_none(tmax);
+  for (uint32_t r : refs) intersect_prim_ref(s.spheres.data(), s.cylinders.data(), s.triangles.data(), r, o, d, tmin, &h);
+  return h;
 }
 
-class Intersect : public ::testing::TestWithParam<const char*> {
- protected:
-  std::vector<Probe> probe(const Scene& s, const std::vector<Ray>& rays) {
-    static auto& programs = *new std::map<std::string, cl::Program>;  // never released (test::runtime() says why)
-    auto& program = programs[GetParam()];
-    if (!program())
-      program = runtime()
-                    .build_source("test_intersect.cl", kProbeKernel,
-                                  std::string("-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES ") + GetParam())
-                    .program;
-    std::vector<uint32_t> refs;
-    for (size_t i = 0; i < s.spheres.size(); ++i) refs.push_back(ref(PRIM_SPHERE, i));
-    for (size_t i = 0; i < s.cylinders.size(); ++i) refs.push_back(ref(PRIM_CYLINDER, i));
-    for (size_t i = 0; i < s.triangles.size(); ++i) refs.push_back(ref(PRIM_TRIANGLE, i));
-    std::vector<cs_float4> ray_data, local;
-    for (const Ray& r : rays) {
-      ray_data.push_back(to_float4(r.o, r.tmin));
-      ray_data.push_back(to_float4(r.d, r.tmax));
-      local.push_back(to_float4(r.local));
+std::vector<Probe> probe(const Scene& s, const std::vector<Ray>& rays) {
+  std::vector<uint32_t> refs;
+  for (size_t i = 0; i < s.spheres.size(); ++i) refs.push_back(ref(PRIM_SPHERE, i));
+  for (size_t i = 0; i < s.cylinders.size(); ++i) refs.push_back(ref(PRIM_CYLINDER, i));
+  for (size_t i = 0; i < s.triangles.size(); ++i) refs.push_back(ref(PRIM_TRIANGLE, i));
+  std::vector<Probe> result;
+  for (const Ray& r : rays) {
+    const float3 o = f3(r.o), d = f3(r.d);
+    const Hit h = brute(s, refs, o, d, r.tmin, r.tmax);
+    Probe p{h.t, h.u, h.v, h.prim, vec3(0.0f), vec3(0.0f), 0.0f, 0.0f, 0u, 0u, 0u};
+    if (h.prim != PRIM_NONE) {
+      const SurfacePoint sp = surface_at(s.spheres.data(), s.cylinders.data(), s.triangles.data(), nullptr, h, o, d);
+      p.pos = v3(sp.position);
+      p.normal = v3(sp.normal);
+      p.material = sp.material;
+      const float3 n = dot(sp.normal, d) < 0.0f ? sp.normal : -sp.normal;
+      const float3 t1 =
+          normalize(cross(n, fabs(n.x) > 0.5f ? make_float3(0.0f, 1.0f, 0.0f) : make_float3(1.0f, 0.0f, 0.0f)));
+      const float3 t2 = cross(n, t1);
+      const Hit out_hit = brute(s, refs, spawn_ray_origin(sp.position, sp.p_error, sp.normal, n),
+                                r.local.x * t1 + r.local.y * t2 + r.local.z * n, 0.0f, RAY_T_FAR);
+      const Hit in_hit = brute(s, refs, spawn_ray_origin(sp.position, sp.p_error, sp.normal, -n),
+                               r.local.x * t1 + r.local.y * t2 - r.local.z * n, 0.0f, RAY_T_FAR);
+      p.out_t = out_hit.t;
+      p.out_prim = out_hit.prim;
+      p.in_t = in_hit.t;
+      p.in_prim = in_hit.prim;
     }
-    const size_t n = rays.size();
-    cl::Buffer out(runtime().context(), CL_MEM_WRITE_ONLY, std::max<size_t>(n, 1) * 4 * sizeof(cs_float4));
-    // The kernel does not retain its buffers: keep them alive until the read.
-    std::vector<cl::Buffer> keep = {upload(ray_data),    upload(local),       upload(s.spheres),
-                                    upload(s.cylinders), upload(s.triangles), upload(refs)};
-    cl::Kernel k(program, "probe");
-    k.setArg(0, keep[0]);
-    k.setArg(1, keep[1]);
-    k.setArg(2, static_cast<cl_uint>(n));
-    for (int a = 3; a < 7; ++a) k.setArg(a, keep[a - 1]);
-    k.setArg(7, static_cast<cl_uint>(refs.size()));
-    k.setArg(8, out);
-    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
-    std::vector<cs_float4> o(n * 4);
-    runtime().queue().enqueueReadBuffer(out, CL_TRUE, 0, o.size() * sizeof(cs_float4), o.data());
-    std::vector<Probe> result(n);
-    for (size_t i = 0; i < n; ++i) {
-      const cs_float4* q = &o[4 * i];
-      result[i] = Probe{q[0].x,        q[0].y, q[0].z, bits(q[0].w), to_vec3(q[1]),
-                        to_vec3(q[2]), q[3].x, q[3].z, bits(q[3].y), bits(q[3].w), bits(q[1].w)};
-    }
-    return result;
+    result.push_back(p);
   }
-};
+  return result;
+}
 
 // Double-precision reference, the textbook way (precise enough in double).
 struct Ref {
@@ -216,7 +169,7 @@ void expect_hit(const Probe& p, float t, vec3 normal, float tol = 1e-5f) {
   EXPECT_GT(glm::dot(p.normal, normal), 0.9999f) << p.normal.x << " " << p.normal.y << " " << p.normal.z;
 }
 
-TEST_P(Intersect, SphereAnalytic) {
+TEST(Intersect, SphereAnalytic) {
   Scene s;
   const vec3 c(1, 2, 3);
   s.spheres = {make_sphere(c, 2.0f)};
@@ -246,7 +199,7 @@ TEST_P(Intersect, SphereAnalytic) {
   expect_hit(p[8], 2, -z);
 }
 
-TEST_P(Intersect, CylinderPartsAxisAndRim) {
+TEST(Intersect, CylinderPartsAxisAndRim) {
   Scene s;
   const vec3 c(0.5f, -1, 2), a = glm::normalize(vec3(1, 2, 2));
   const vec3 e1 = glm::normalize(glm::cross(a, vec3(1, 0, 0))), e2 = glm::cross(a, e1);
@@ -289,7 +242,7 @@ TEST_P(Intersect, CylinderPartsAxisAndRim) {
   EXPECT_FALSE(p[11].hit());
 }
 
-TEST_P(Intersect, TriangleAnalytic) {
+TEST(Intersect, TriangleAnalytic) {
   Scene s;
   const vec3 sh(1, 1, 1), z(0, 0, 1);
   s.triangles = {make_triangle(sh, sh + vec3(2, 0, 0), sh + vec3(0, 2, 0))};
@@ -315,7 +268,7 @@ TEST_P(Intersect, TriangleAnalytic) {
 // Random rays against the double reference: near the origin, with the
 // primitive 1e4 away (relative coordinates must keep full precision) and
 // with ray origins 1e4 away (t must keep relative precision).
-TEST_P(Intersect, RandomRaysMatchReference) {
+TEST(Intersect, RandomRaysMatchReference) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
   struct Case {
@@ -371,7 +324,7 @@ TEST_P(Intersect, RandomRaysMatchReference) {
 
 // Rays aimed exactly at the shared vertex and at points of the shared edges
 // of a closed fan must hit some triangle of the fan: no cracks.
-TEST_P(Intersect, WatertightFan) {
+TEST(Intersect, WatertightFan) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
   for (float offset : {0.0f, 1e4f}) {
@@ -403,7 +356,7 @@ TEST_P(Intersect, WatertightFan) {
 // Points on spheres, cylinders and triangles at scales 1e-3 .. 1e4: a ray
 // leaving from the offset point must not hit its own surface again; a ray
 // into a sphere must reach the far side, not the near one.
-TEST_P(Intersect, OffsetRayOriginAvoidsSelfIntersection) {
+TEST(Intersect, OffsetRayOriginAvoidsSelfIntersection) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
   for (float scale : {1e-3f, 0.1f, 1.0f, 100.0f, 1e4f}) {
@@ -446,7 +399,7 @@ TEST_P(Intersect, OffsetRayOriginAvoidsSelfIntersection) {
 // (0, -25, 0). Its visible top lies near the origin, but the hit position is
 // computed from numbers of magnitude 25, so an offset that scales with the
 // position alone leaves shadow acne there.
-TEST_P(Intersect, SpawnPointOnLargeSphereAwayFromOriginHasNoAcne) {
+TEST(Intersect, SpawnPointOnLargeSphereAwayFromOriginHasNoAcne) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-0.6f, 0.6f);
   for (float scale : {1e-2f, 1.0f, 100.0f}) {
@@ -470,10 +423,6 @@ TEST_P(Intersect, SpawnPointOnLargeSphereAwayFromOriginHasNoAcne) {
     EXPECT_EQ(self_hits, 0) << "scale " << scale;
   }
 }
-
-INSTANTIATE_TEST_SUITE_P(BuildOptions, Intersect, ::testing::Values("", "-cl-fast-relaxed-math"), [](const auto& info) {
-  return info.index == 0 ? std::string("Strict") : std::string("FastMath");
-});
 
 }  // namespace
 }  // namespace caustica
