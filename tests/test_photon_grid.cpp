@@ -25,6 +25,7 @@
 #include "host/render/kernel_args.h"
 #include "host/render/photon_grid.h"
 #include "kernels/shared/photon.h"
+#include "lib/photon_grid.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -53,40 +54,24 @@ __kernel void query_photons(PHOTON_GRID_PARAMS, __global const uint* restrict gr
 }
 )CL";
 
-// kernels/lib/rng.h's hash_u32 and lib/photon_grid.h's bucket hash, to recompute buckets and checksums.
-uint32_t hash_u32(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x21f0aaadu;
-  x ^= x >> 15;
-  x *= 0x735a2d97u;
-  x ^= x >> 15;
-  return x;
-}
+// The kernels' own cell and bucket of a position (kernels/lib/photon_grid.h
+// on the host), to recompute buckets; hash_u32 (lib/rng.h) for checksums.
 uint32_t host_bucket(const PhotonGridParams& g, const cs_float4& p) {
-  // photon_grid_cell: the same float operations (this file is built with -ffp-contract=off).
-  const float o[3] = {g.origin.x, g.origin.y, g.origin.z}, x[3] = {p.x, p.y, p.z};
-  uint32_t c[3];
-  for (int a = 0; a < 3; ++a) {
-    const float f = std::floor((x[a] - o[a]) * g.inv_cell_size);
-    c[a] = uint32_t(int32_t(std::fmin(std::fmax(f, -PHOTON_GRID_CELL_LIMIT), PHOTON_GRID_CELL_LIMIT)));
-  }
-  return hash_u32((c[0] * 73856093u) ^ (c[1] * 19349663u) ^ (c[2] * 83492791u)) & (g.table_size - 1);
+  return photon_grid_bucket(g, photon_grid_cell(g, p.xyz));
 }
 
 struct QueryResult {
   uint32_t found = 0, sum_a = 0, sum_b = 0, sequence = 0;
 };
 
-// The brute force: every photon, photon_distance2's expression.
+// The brute force: every photon, by the kernels' photon_distance2.
 std::vector<QueryResult> brute_force(const std::vector<Photon>& photons, const std::vector<cs_float4>& queries) {
   std::vector<QueryResult> out(queries.size());
   for (size_t q = 0; q < queries.size(); ++q) {
     const cs_float4& c = queries[q];
     const float radius2 = c.w * c.w;
     for (size_t i = 0; i < photons.size(); ++i) {
-      const float dx = photons[i].position.x - c.x, dy = photons[i].position.y - c.y,
-                  dz = photons[i].position.z - c.z;
-      if (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) > radius2) continue;
+      if (photon_distance2(photons[i].position.xyz, c.xyz) > radius2) continue;
       ++out[q].found;
       out[q].sum_a += hash_u32(uint32_t(i));
       out[q].sum_b += hash_u32(uint32_t(i) ^ 0x5bd1e995u);

@@ -53,7 +53,8 @@ inline uint photon_grid_bucket(PhotonGridParams grid, int3 cell) {
          (grid.table_size - 1u);
 }
 
-/* |a - b|^2 as the host repeats it: std::fma(dz, dz, std::fma(dy, dy, dx * dx)). */
+/* |a - b|^2 by explicit fmas, so that the host (tests/test_photon_grid.cpp,
+ * which calls this function) rounds exactly as every device does. */
 inline float photon_distance2(float3 a, float3 b) {
   const float3 d = a - b;
   return fma(d.z, d.z, fma(d.y, d.y, d.x * d.x));

@@ -341,6 +341,7 @@ inline ulong as_ulong(char8 c) {
   }
 CS_CONVERT(float4)
 CS_CONVERT(double4)
+CS_CONVERT(int3)
 CS_CONVERT(char4)
 CS_CONVERT(char8)
 #undef CS_CONVERT
