@@ -93,33 +93,26 @@ union alignas(32) float8 {
   float s[8];
   struct { float4 lo, hi; };
 };
-union alignas(8) int2 {
-  struct { int x, y; };
-  int s[2];
-};
-union alignas(16) int3 {
-  struct { int x, y, z; };
-  int s[4];
-};
-union alignas(16) int4 {
-  struct { int x, y, z, w; };
-  int s[4];
-};
-union alignas(32) int8 {
-  int s[8];
-};
-union alignas(8) uint2 {
-  struct { uint x, y; };
-  uint s[2];
-};
-union alignas(16) uint3 {
-  struct { uint x, y, z; };
-  uint s[4];
-};
-union alignas(16) uint4 {
-  struct { uint x, y, z, w; };
-  uint s[4];
-};
+/* The 32-bit integer vectors, alike for int and uint. */
+#define CS_INTEGER_VECTORS(E)                  \
+  union alignas(8) E##2 {                      \
+    struct { E x, y; };                        \
+    E s[2];                                    \
+  };                                           \
+  union alignas(16) E##3 {                     \
+    struct { E x, y, z; };                     \
+    E s[4]; /* s[3]: padding */                \
+  };                                           \
+  union alignas(16) E##4 {                     \
+    struct { E x, y, z, w; };                  \
+    E s[4];                                    \
+  };                                           \
+  union alignas(32) E##8 {                     \
+    E s[8];                                    \
+  };
+CS_INTEGER_VECTORS(int)
+CS_INTEGER_VECTORS(uint)
+#undef CS_INTEGER_VECTORS
 union alignas(32) double4 {
   struct { double x, y, z, w; };
   double s[4];
@@ -306,31 +299,18 @@ template <class M, cs_if_vector<M> = 0> inline int all(M m) {
   return 1;
 }
 
-inline uint as_uint(float f) {
-  uint u;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
+/* as_T(v): the same bits read as T (sizes must match). */
+template <class To, class From> inline To cs_bit_cast(From from) {
+  static_assert(sizeof(To) == sizeof(From), "as_T: sizes differ");
+  To to;
+  std::memcpy(&to, &from, sizeof to);
+  return to;
 }
-inline int as_int(float f) {
-  int i;
-  std::memcpy(&i, &f, sizeof i);
-  return i;
-}
-inline float as_float(uint u) {
-  float f;
-  std::memcpy(&f, &u, sizeof f);
-  return f;
-}
-inline uint as_uint(char4 c) {
-  uint u;
-  std::memcpy(&u, &c, sizeof u);
-  return u;
-}
-inline ulong as_ulong(char8 c) {
-  ulong u;
-  std::memcpy(&u, &c, sizeof u);
-  return u;
-}
+inline uint as_uint(float f) { return cs_bit_cast<uint>(f); }
+inline int as_int(float f) { return cs_bit_cast<int>(f); }
+inline float as_float(uint u) { return cs_bit_cast<float>(u); }
+inline uint as_uint(char4 c) { return cs_bit_cast<uint>(c); }
+inline ulong as_ulong(char8 c) { return cs_bit_cast<ulong>(c); }
 
 /* convert_T(v): lane by lane, C's conversion (OpenCL's default rounding:
  * to nearest for float results, toward zero for integers). */
