@@ -84,31 +84,4 @@ inline Mean mean_all(const PathRender& r) {
   return mean_over(r, [](int, int) { return true; });
 }
 
-// OpenCL C for kernel-level BSDF tests: the Bsdf as a host-packable struct.
-inline const char* kBsdfKernelPrelude = R"CL(
-#include "lib/bsdf.h"
-#include "lib/rng.h"
-
-typedef struct { float4 diffuse; float4 specular; float alpha; float ior; uint kind; uint pad; } BsdfIn;
-
-Bsdf make_bsdf(BsdfIn in) {
-  Bsdf b;
-  b.diffuse = in.diffuse.xyz;
-  b.specular = in.specular.xyz;
-  b.alpha = in.alpha;
-  b.ior = in.ior;
-  b.kind = in.kind;
-  return b;
-}
-)CL";
-
-// The host side of the prelude's BsdfIn.
-struct BsdfIn {
-  cl_float4 diffuse, specular;
-  float alpha, ior;
-  cl_uint kind, pad;
-};
-static_assert(sizeof(BsdfIn) == 48, "matches the kernel's BsdfIn");
-enum BsdfKind : cl_uint { kPlastic = 0, kConductor = 1, kDielectric = 2 };
-
 }  // namespace caustica::test
