@@ -30,11 +30,11 @@ CS_DEVICE void compat_check_values(float4 a, float4 b, float* o) {
   const float3 clamped = clamp(a3, -0.5f, 0.5f);
   o[5] = clamped.x;
   o[6] = clamped.z;
-  const float4 f = fma(a, b, make_float4(0.5f));
+  const float4 f = fma(a, b, splat_float4(0.5f));
   o[7] = f.y;
   o[8] = fmin(a, b).z;
   o[9] = fmax(a3, 0.25f).x;
-  o[10] = copysign(make_float3(2.0f), a3).y;
+  o[10] = copysign(splat_float3(2.0f), a3).y;
   o[11] = as_float(as_uint(a.x) ^ 0x80000000u);
   const int3 cell = convert_int3(floor(a3 * 7.0f));
   o[12] = (float)cell.x;
@@ -46,7 +46,7 @@ CS_DEVICE void compat_check_values(float4 a, float4 b, float* o) {
   o[17] = (float)clz(as_uint(fabs(b.z)));
   o[18] = sqrt(fabs(a.w));
   o[19] = (float)(as_uint(convert_char4(less)) != 0u);
-  const int8 m8 = make_float8(a.x) * 2.0f - make_float8(b.y) > make_float8(0.0f);
+  const int8 m8 = splat_float8(a.x) * 2.0f - splat_float8(b.y) > splat_float8(0.0f);
   o[20] = (float)popcount(as_ulong(convert_char8(m8)) & 0x0101010101010101UL);
   o[21] = (1.0f - a.x) * (b.y / 3.0f);
   o[22] = (float)(~less).z;
@@ -58,7 +58,7 @@ CS_DEVICE void compat_check_values(float4 a, float4 b, float* o) {
   o[26] = c.x;
   o[27] = c.z;
   o[28] = length(a3);
-  const float3 u = normalize(a3 + make_float3(1e-3f));
+  const float3 u = normalize(a3 + splat_float3(1e-3f));
   o[29] = u.x;
   o[30] = u.z;
   o[31] = dot(u, u);

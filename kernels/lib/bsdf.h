@@ -103,7 +103,7 @@ inline float plastic_specular_probability(Bsdf b) {
 inline float3 ggx_reflection(float3 f0, float alpha, float3 wo, float3 wi) {
   const float3 h = wo + wi;
   const float hl = length(h);
-  if (!(hl > 0.0f) || wo.z <= 0.0f || wi.z <= 0.0f) return make_float3(0.0f);
+  if (!(hl > 0.0f) || wo.z <= 0.0f || wi.z <= 0.0f) return splat_float3(0.0f);
   const float3 m = h / hl;
   const float3 f = fresnel_schlick(f0, dot(wo, m));
   return f * (ggx_d(m, alpha) * ggx_g2(wo, wi, alpha) / (4.0f * wo.z * wi.z));
@@ -142,16 +142,16 @@ inline float3 refraction_half(float3 wo, float3 wi, float eta) {
 
 inline float3 bsdf_eval(Bsdf b, float3 wo, float3 wi) {
   if (b.kind == BSDF_PLASTIC) {
-    if (wo.z <= 0.0f || wi.z <= 0.0f) return make_float3(0.0f);
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return splat_float3(0.0f);
     float3 f = plastic_diffuse(b, wo, wi);
     if (!bsdf_is_smooth(b) && bsdf_max3(b.specular) > 0.0f) f += ggx_reflection(b.specular, b.alpha, wo, wi);
     return f;
   }
-  if (bsdf_is_smooth(b)) return make_float3(0.0f); /* delta lobes only */
+  if (bsdf_is_smooth(b)) return splat_float3(0.0f); /* delta lobes only */
   if (b.kind == BSDF_CONDUCTOR) return ggx_reflection(b.specular, b.alpha, wo, wi);
 #if BSDF_WITH_DIELECTRIC
   /* rough dielectric */
-  if (wo.z == 0.0f || wi.z == 0.0f) return make_float3(0.0f);
+  if (wo.z == 0.0f || wi.z == 0.0f) return splat_float3(0.0f);
   const float eta = dielectric_eta(b, wo); /* transmitted side over wo's side */
   const bool reflect = wo.z * wi.z > 0.0f;
   const float sign = wo.z > 0.0f ? 1.0f : -1.0f;
@@ -160,18 +160,18 @@ inline float3 bsdf_eval(Bsdf b, float3 wo, float3 wi) {
   if (reflect) {
     const float3 m = normalize(wo_up + wi_up);
     const float f = fresnel_dielectric(fabs(dot(wo_up, m)), 1.0f / eta, &cos_t);
-    return make_float3(f * ggx_d(m, b.alpha) * ggx_g2(wo_up, wi_up, b.alpha) / (4.0f * fabs(wo.z) * fabs(wi.z)));
+    return splat_float3(f * ggx_d(m, b.alpha) * ggx_g2(wo_up, wi_up, b.alpha) / (4.0f * fabs(wo.z) * fabs(wi.z)));
   }
   const float3 m = refraction_half(wo_up, wi_up, eta);
   const float om = dot(wo_up, m), im = dot(wi_up, m);
-  if (om <= 0.0f || im >= 0.0f) return make_float3(0.0f); /* not a refraction through m */
+  if (om <= 0.0f || im >= 0.0f) return splat_float3(0.0f); /* not a refraction through m */
   const float f = fresnel_dielectric(om, 1.0f / eta, &cos_t);
   const float denom = om + eta * im;
   const float value = (1.0f - f) * ggx_d(m, b.alpha) * ggx_g2(wo_up, wi_up, b.alpha) * fabs(im) * om /
                       (fabs(wo.z) * fabs(wi.z) * denom * denom);
-  return make_float3(value); /* eta^2 * (1/eta^2): radiance scaling cancels Walter's eta_t^2 */
+  return splat_float3(value); /* eta^2 * (1/eta^2): radiance scaling cancels Walter's eta_t^2 */
 #else
-  return make_float3(0.0f);
+  return splat_float3(0.0f);
 #endif
 }
 
@@ -267,7 +267,7 @@ inline bool bsdf_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight,
     *flags |= BSDF_SAMPLED_SPECULAR;
     *pdf = u.z < f ? f : 1.0f - f;
     /* f (or 1 - f) / its probability; transmission scaled by 1/eta^2 */
-    *weight = make_float3((*flags & BSDF_SAMPLED_TRANSMIT) ? 1.0f / (eta * eta) : 1.0f);
+    *weight = splat_float3((*flags & BSDF_SAMPLED_TRANSMIT) ? 1.0f / (eta * eta) : 1.0f);
     return true;
   }
   *pdf = bsdf_pdf(b, wo, *wi);

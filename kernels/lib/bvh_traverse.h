@@ -177,7 +177,7 @@ CS_DEVICE __attribute__((always_inline)) void triangle_block_closest(__global co
   float4 t, u, v;
   int4 lanes = intersect_triangle_block(block, r, tmin, hit->t, &t, &u, &v);
   if (!any4(lanes)) return;
-  t = select(make_float4(hit->t), t, lanes);
+  t = select(splat_float4(hit->t), t, lanes);
   /* Plain compares, not fmin: t is never NaN here. */
   const float t01 = t.y < t.x ? t.y : t.x, t23 = t.w < t.z ? t.w : t.z;
   const int l01 = t.y < t.x ? 1 : 0, l23 = t.w < t.z ? 3 : 2;
@@ -214,7 +214,7 @@ typedef struct {
 
 CS_DEVICE WideRay wide_ray(float3 o, float3 d, float tmin) {
   WideRay r;
-  float3 safe = select(d, copysign(make_float3(1.0f / BVH_INV_DIR_MAX), d), fabs(d) < 1.0f / BVH_INV_DIR_MAX);
+  float3 safe = select(d, copysign(splat_float3(1.0f / BVH_INV_DIR_MAX), d), fabs(d) < 1.0f / BVH_INV_DIR_MAX);
   r.inv_d = clamp(1.0f / safe, -BVH_INV_DIR_MAX, BVH_INV_DIR_MAX);
   float3 oi = o * r.inv_d;
   float3 err = fabs(oi) * BVH_PLANE_ERROR;
@@ -243,16 +243,16 @@ CS_DEVICE Lanes bvh8_test(__global const BvhNode8* node, const WideRay* r, float
   /* Rows are 32-byte aligned float8s (256-byte nodes); indexing them as such
    * gives one load each, where vload8 at a variable offset gives two. */
   __global const float8* rows = (__global const float8*)node;
-  float8 nx = fma(rows[r->near_x], make_float8(r->inv_d.x), make_float8(r->c_near.x));
-  float8 ny = fma(rows[r->near_y], make_float8(r->inv_d.y), make_float8(r->c_near.y));
-  float8 nz = fma(rows[r->near_z], make_float8(r->inv_d.z), make_float8(r->c_near.z));
-  float8 fx = fma(rows[r->far_x], make_float8(r->inv_far.x), make_float8(r->c_far.x));
-  float8 fy = fma(rows[r->far_y], make_float8(r->inv_far.y), make_float8(r->c_far.y));
-  float8 fz = fma(rows[r->far_z], make_float8(r->inv_far.z), make_float8(r->c_far.z));
-  float8 t_enter = max8(max8(nx, ny), max8(nz, make_float8(r->tmin)));
+  float8 nx = fma(rows[r->near_x], splat_float8(r->inv_d.x), splat_float8(r->c_near.x));
+  float8 ny = fma(rows[r->near_y], splat_float8(r->inv_d.y), splat_float8(r->c_near.y));
+  float8 nz = fma(rows[r->near_z], splat_float8(r->inv_d.z), splat_float8(r->c_near.z));
+  float8 fx = fma(rows[r->far_x], splat_float8(r->inv_far.x), splat_float8(r->c_far.x));
+  float8 fy = fma(rows[r->far_y], splat_float8(r->inv_far.y), splat_float8(r->c_far.y));
+  float8 fz = fma(rows[r->far_z], splat_float8(r->inv_far.z), splat_float8(r->c_far.z));
+  float8 t_enter = max8(max8(nx, ny), max8(nz, splat_float8(r->tmin)));
   /* Two levels of min on each side, not three: this test is on the
    * critical path from one node to the next. */
-  float8 t_exit = min8(min8(fx, fy), min8(fz, make_float8(tmax)));
+  float8 t_exit = min8(min8(fx, fy), min8(fz, splat_float8(tmax)));
   *entry = t_enter;
   return bvh8_lanes_hit(t_enter <= t_exit);
 }

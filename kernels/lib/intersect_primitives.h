@@ -205,10 +205,10 @@ CS_DEVICE TriangleRay triangle_ray(float3 o, float3 d) {
   int kz = (ad.x > ad.y) ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
   int kx = kz == 2 ? 0 : kz + 1;
   int ky = kx == 2 ? 0 : kx + 1;
-  float4 d4 = make_float4(d, 1.0f);
+  float4 d4 = make_float4_xyz(d, 1.0f);
   /* One variable shuffle gathers the three permuted components (the same
    * values as selecting them one by one, in far fewer instructions). */
-  float dkz = shuffle(d4, make_uint4(kz)).x;
+  float dkz = shuffle(d4, splat_uint4(kz)).x;
   if (dkz < 0.0f) {
     int tmp = kx;
     kx = ky;
@@ -216,8 +216,8 @@ CS_DEVICE TriangleRay triangle_ray(float3 o, float3 d) {
   }
   const uint4 perm = make_uint4(kx, ky, 3, kz);
   const float4 dp = shuffle(d4, perm);                  /* dkx, dky, 1, dkz */
-  const float4 op = shuffle(make_float4(o, 0.0f), perm);   /* okx, oky, 0, okz */
-  const float4 shear = dp / make_float4(dkz);              /* dkx/dkz, dky/dkz, 1/dkz, 1 */
+  const float4 op = shuffle(make_float4_xyz(o, 0.0f), perm);   /* okx, oky, 0, okz */
+  const float4 shear = dp / splat_float4(dkz);              /* dkx/dkz, dky/dkz, 1/dkz, 1 */
   r.sx = shear.x;
   r.sy = shear.y;
   r.sz = shear.z;
@@ -287,7 +287,7 @@ CS_DEVICE __attribute__((always_inline)) int4 intersect_triangle_block(__global 
   int4 hit = ~outside & (det != 0.0f);
   if (!any4(hit)) return hit;
   /* No 1/0 even in lanes that are dropped: fast-relaxed-math assumes no inf. */
-  float4 inv = 1.0f / select(det, make_float4(1.0f), det == 0.0f);
+  float4 inv = 1.0f / select(det, splat_float4(1.0f), det == 0.0f);
   float4 th = (e0 * (r->sz * az) + e1 * (r->sz * bz) + e2 * (r->sz * cz)) * inv;
   hit &= (th > tmin) & (th < tmax);
   *t = th;

@@ -22,8 +22,8 @@
 inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour) {
   Bsdf b;
   b.ior = m->ior;
-  b.diffuse = make_float3(0.0f);
-  b.specular = make_float3(0.0f);
+  b.diffuse = splat_float3(0.0f);
+  b.specular = splat_float3(0.0f);
   const bool given = m->roughness >= 0.0f;
   if (m->flags & MATERIAL_REFRACTIVE) {
     b.kind = BSDF_DIELECTRIC;

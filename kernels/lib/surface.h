@@ -89,7 +89,7 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
   sp.normal = make_float3(0.0f, 0.0f, 1.0f);
   sp.uv = make_float2(0.0f, 0.0f);
   sp.material = 0u;
-  sp.p_error = make_float3(0.0f);
+  sp.p_error = splat_float3(0.0f);
   uint type = prim_ref_type(hit.prim);
   uint index = prim_ref_index(hit.prim);
 #ifdef HAS_SPHERES
@@ -151,7 +151,7 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
      * two sums one rounding of |position| each. 8 rather than 7 also covers
      * the cylinder test's roots from an origin near the surface, good to a
      * few roundings of |origin - centre| <= radius + half length. */
-    sp.p_error = error_gamma(2.0f) * fabs(sp.position) + error_gamma(8.0f) * make_float3(cr.w + half_length);
+    sp.p_error = error_gamma(2.0f) * fabs(sp.position) + error_gamma(8.0f) * splat_float3(cr.w + half_length);
   }
 #endif
   sp.shading_normal = sp.normal;
@@ -177,7 +177,7 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
      * triangle (e1.y = e2.y = 0 on a floor), and the floor got acne. */
     const float3 e1 = v1 - v0, e2 = v2 - v0;
     sp.p_error = error_gamma(7.0f) * (fabs(v0) + fabs(hit.u * e1) + fabs(hit.v * e2)) +
-                 make_float3(error_gamma(32.0f) * (max_abs3(e1) + max_abs3(e2)));
+                 splat_float3(error_gamma(32.0f) * (max_abs3(e1) + max_abs3(e2)));
 #ifdef HAS_TRIANGLE_SHADING
     __global const TriangleShading* ts = &triangle_shading[index];
     /* Edge form for the same reason as the position: tiled UVs (1000.25...)

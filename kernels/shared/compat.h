@@ -4,9 +4,10 @@
  * (Cycles' kernel_compat_cpu.h / kernel_compat_opencl.h, in one file).
  *
  * Rules for code meant for both sides:
- *  - vector values are built with make_float3(x, y, z), make_float3(s) and
- *    their kin, never with OpenCL's (float3)(x, y, z) literal, which C++
- *    parses as a cast of a comma expression;
+ *  - vector values are built with make_float3(x, y, z), splat_float3(s),
+ *    make_float4_xyz(v, w) and their kin, never with OpenCL's
+ *    (float3)(x, y, z) literal, which C++ parses as a cast of a comma
+ *    expression;
  *  - swizzles are read-only and limited to .xyz and .xy (float4, float3)
  *    and .lo / .hi (float8): on the host they are union members, and
  *    writing one would also write the padding lane behind it;
@@ -30,17 +31,23 @@
 #ifdef __OPENCL_C_VERSION__
 
 #define CS_DEVICE
-#define make_float2(...) ((float2)(__VA_ARGS__))
-#define make_float3(...) ((float3)(__VA_ARGS__))
-#define make_float4(...) ((float4)(__VA_ARGS__))
-#define make_float8(...) ((float8)(__VA_ARGS__))
-#define make_int2(...) ((int2)(__VA_ARGS__))
-#define make_int3(...) ((int3)(__VA_ARGS__))
-#define make_int4(...) ((int4)(__VA_ARGS__))
-#define make_int8(...) ((int8)(__VA_ARGS__))
-#define make_uint2(...) ((uint2)(__VA_ARGS__))
-#define make_uint3(...) ((uint3)(__VA_ARGS__))
-#define make_uint4(...) ((uint4)(__VA_ARGS__))
+/* Fixed arity: OpenCL C before 3.0 has no variadic macros (NVIDIA's
+ * compiler refuses them), so a splat has its own name. */
+#define make_float2(x, y) ((float2)(x, y))
+#define make_float3(x, y, z) ((float3)(x, y, z))
+#define make_float4(x, y, z, w) ((float4)(x, y, z, w))
+#define make_float4_xyz(xyz, w) ((float4)(xyz, w))
+#define make_int2(x, y) ((int2)(x, y))
+#define make_int3(x, y, z) ((int3)(x, y, z))
+#define make_int4(x, y, z, w) ((int4)(x, y, z, w))
+#define make_uint2(x, y) ((uint2)(x, y))
+#define make_uint4(x, y, z, w) ((uint4)(x, y, z, w))
+#define splat_float2(s) ((float2)(s))
+#define splat_float3(s) ((float3)(s))
+#define splat_float4(s) ((float4)(s))
+#define splat_float8(s) ((float8)(s))
+#define splat_int4(s) ((int4)(s))
+#define splat_uint4(s) ((uint4)(s))
 
 #else /* C++17 on the host */
 
@@ -164,22 +171,23 @@ template <class V> inline V cs_splat(cs_element<V> v) {
   return cs_lanes<V>([&](int) { return v; });
 }
 
-/* make_*: OpenCL's vector literals, each from its lanes or one scalar. */
+/* make_*: OpenCL's vector literals from their lanes; splat_*: from one
+ * scalar (the device side's macros above, as functions). */
 inline float2 make_float2(float x, float y) { return float2{x, y}; }
-inline float2 make_float2(float s) { return float2{s, s}; }
 inline float3 make_float3(float x, float y, float z) { return float3{x, y, z}; }
-inline float3 make_float3(float s) { return float3{s, s, s}; }
 inline float4 make_float4(float x, float y, float z, float w) { return float4{x, y, z, w}; }
-inline float4 make_float4(float s) { return float4{s, s, s, s}; }
-inline float4 make_float4(float3 v, float w) { return float4{v.x, v.y, v.z, w}; }
-inline float8 make_float8(float s) { return cs_splat<float8>(s); }
+inline float4 make_float4_xyz(float3 v, float w) { return float4{v.x, v.y, v.z, w}; }
 inline int2 make_int2(int x, int y) { return int2{x, y}; }
 inline int3 make_int3(int x, int y, int z) { return int3{x, y, z}; }
 inline int4 make_int4(int x, int y, int z, int w) { return int4{x, y, z, w}; }
-inline int4 make_int4(int s) { return int4{s, s, s, s}; }
 inline uint2 make_uint2(uint x, uint y) { return uint2{x, y}; }
 inline uint4 make_uint4(uint x, uint y, uint z, uint w) { return uint4{x, y, z, w}; }
-inline uint4 make_uint4(uint s) { return uint4{s, s, s, s}; }
+inline float2 splat_float2(float s) { return cs_splat<float2>(s); }
+inline float3 splat_float3(float s) { return cs_splat<float3>(s); }
+inline float4 splat_float4(float s) { return cs_splat<float4>(s); }
+inline float8 splat_float8(float s) { return cs_splat<float8>(s); }
+inline int4 splat_int4(int s) { return cs_splat<int4>(s); }
+inline uint4 splat_uint4(uint s) { return cs_splat<uint4>(s); }
 
 /* Arithmetic, lane by lane; a scalar operand is widened to every lane. */
 #define CS_BINARY(op)                                                                               \

@@ -30,7 +30,7 @@ struct Case {
 Bsdf bsdf(Kind kind, float alpha, float diffuse, float specular, float ior = 1.5f) {
   Bsdf b{};
   b.diffuse = make_float3(diffuse, diffuse * 0.5f, diffuse * 0.25f);
-  b.specular = make_float3(specular);
+  b.specular = splat_float3(specular);
   b.alpha = alpha;
   b.ior = ior;
   b.kind = kind;
@@ -76,7 +76,7 @@ Estimates estimate(const Bsdf& in, float3 wo, uint32_t n) {
   double sq_s = 0, sq_u = 0;
   for (uint32_t i = 0; i < n; ++i) {
     const Sampled smp = sample(in, wo, i, 17, false);
-    const float3 w = smp.produced ? smp.weight : make_float3(0.0f);
+    const float3 w = smp.produced ? smp.weight : splat_float3(0.0f);
     /* f(wo, wi) |wi.z| / p_uniform(wi) for wi uniform over the sphere, and
      * the density there: importance-free estimates of the albedo and of the
      * density's integral. */
@@ -162,7 +162,7 @@ TEST(Bsdf, AlbedoNeverExceedsOne) {
   cases.push_back({"plastic 0.5/0.5 a=0.1", bsdf(kPlastic, 0.1f, 0.5f, 0.5f)});
   cases.push_back({"mirror-white conductor a=0.01", bsdf(kConductor, 0.01f, 0.0f, 1.0f)});
   for (Case& c : cases) {
-    if (c.in.kind == kConductor) c.in.specular = make_float3(1.0f);
+    if (c.in.kind == kConductor) c.in.specular = splat_float3(1.0f);
     for (double theta : {0.0, 30.0, 60.0, 75.0, 89.0}) {
       const Estimates e = estimate(c.in, direction(theta), n);
       const std::string what = c.name + " theta " + std::to_string(int(theta));

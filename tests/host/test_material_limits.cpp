@@ -73,7 +73,7 @@ SampleSet sample(const Bsdf& b, float3 wo, uint32_t n) {
     float pdf;
     uint flags;
     const bool ok = bsdf_sample(b, wo, u, &w, &weight, &pdf, &flags);
-    s.wi.push_back(ok ? make_float4(w, 1.0f) : make_float4(0.0f));
+    s.wi.push_back(ok ? make_float4_xyz(w, 1.0f) : splat_float4(0.0f));
     s.weight.push_back(ok ? weight.x : 0.0f);
   }
   return s;
