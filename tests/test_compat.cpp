@@ -2,9 +2,10 @@
 // (kernels/checks/compat_check.h) compiled by the device's compiler and, as
 // C++, for the host, on the same inputs. The exact outputs (masks, select,
 // clamp, fma, fmin/fmax, bit casts, conversions, shuffle, byte narrowing,
-// IEEE arithmetic) must be equal; the rest (mix, dot, cross,
-// length, normalize), whose operation order is the implementation's, to a
-// few ulps. Kernel-level: it runs on whatever device the tests use.
+// IEEE arithmetic) must be equal; the rest (mix, dot, cross, length,
+// normalize), whose operation order is the implementation's, within 8 ulps.
+// Kernel-level: it runs on whatever device the tests use (on an NVIDIA H100
+// it found the variadic make_* macros, which that compiler refuses).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -58,7 +59,10 @@ TEST(Compat, HostMappingAgreesWithTheDevice) {
         // PoCL gives the host's, Oclgrind the other).
         if (!(d == h) && ++exact_differ <= 5)
           ADD_FAILURE() << "output " << o << " of input " << i << ": device " << d << ", host " << h;
-      } else if (!(std::fabs(d - h) <= 4e-7f * std::max(1.0f, std::fabs(h))) && ++approximate_differ <= 5) {
+      } else if (!(std::fabs(d - h) <= 1e-6f * std::max(1.0f, std::fabs(h))) && ++approximate_differ <= 5) {
+        // Within 8 ulps: NVIDIA's normalize (not correctly rounded, nor
+        // required to be) puts |u|^2 2 ulps either side of 1 where the host
+        // and PoCL give 1 - 1 ulp.
         ADD_FAILURE() << "output " << o << " of input " << i << ": device " << d << ", host " << h;
       }
     }

@@ -7,8 +7,8 @@
  * popcount/clz, narrowing to bytes, float8 lanes, plain arithmetic).
  * Outputs are COMPAT_CHECK_OUTPUTS floats; those before
  * COMPAT_CHECK_APPROXIMATE_FIRST must be equal (correctly rounded or exact
- * everywhere), the rest agree to a few ulps (dot, cross, length, normalize, mix: the order or fusion of
- * their operations is the implementation's). */
+ * everywhere), the rest within 8 ulps (dot, cross, length, normalize,
+ * mix: the order or fusion of their operations is the implementation's). */
 #ifndef CAUSTICA_CHECKS_COMPAT_CHECK_H
 #define CAUSTICA_CHECKS_COMPAT_CHECK_H
 
@@ -16,7 +16,7 @@
 #include "shared/types.h"
 
 #define COMPAT_CHECK_OUTPUTS 32
-#define COMPAT_CHECK_APPROXIMATE_FIRST 24 /* outputs 24..31 may differ by a few ulps */
+#define COMPAT_CHECK_APPROXIMATE_FIRST 24 /* outputs 24..31 may differ by up to 8 ulps */
 
 CS_DEVICE void compat_check_values(float4 a, float4 b, float* o) {
   const float3 a3 = a.xyz, b3 = b.xyz;
