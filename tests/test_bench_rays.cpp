@@ -260,7 +260,7 @@ TEST(BenchRays, CosineDirectionForAnyNormal) {
 
 TEST(BenchRays, ShadowRaysAimAtTheFirstLightAndStopShort) {
   const Fixture& f = fixture();
-  ASSERT_EQ(f.rays.light, f.scene.point_lights[0].position);
+  ASSERT_EQ(f.rays.light, to_vec3(f.scene.lights[0].p0));
   const HostTracer tracer(f.scene, f.bvh);
   ASSERT_TRUE(f.rays.shadow.segments);
   for (size_t k = 0; k < f.rays.shadow.size(); ++k) {

@@ -12,7 +12,8 @@
 
 #include "host/error.h"
 #include "host/scene/load_scene.h"
-#include "host/render/lights.h"
+#include "host/lights/light_table.h"
+#include "host/lights/light_types.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -141,10 +142,10 @@ TEST(CommunityCorpus, VariantsLandInTheCanonicalFields) {
   Scene s = load_scene(dir + "Ninteedo__CGRaytracer__initial_scene.json", options);
   EXPECT_FLOAT_EQ(s.camera.aperture_radius, 0.005f);
   EXPECT_FLOAT_EQ(s.camera.focus_distance, 1.25f);
-  ASSERT_EQ(s.sphere_lights.size(), 1u);
-  EXPECT_FLOAT_EQ(s.sphere_lights[0].radius, 0.1f);
-  EXPECT_TRUE(s.point_lights.empty());
-  ASSERT_EQ(whitted_point_lights(s).size(), 1u);  // its phong stand-in
+  ASSERT_EQ(lights_of_kind(s, LIGHT_SPHERE).size(), 1u);
+  EXPECT_FLOAT_EQ(lights_of_kind(s, LIGHT_SPHERE)[0].p0.w, 0.1f);  // the radius
+  EXPECT_TRUE(lights_of_kind(s, LIGHT_POINT).empty());
+  ASSERT_EQ(whitted_lights(s).size(), 1u);  // its phong stand-in
   EXPECT_FALSE(s.triangle_shading.empty());
 
   // Top-level use_dof / aperture / focus_distance; emissive rectangle; box.
@@ -157,8 +158,8 @@ TEST(CommunityCorpus, VariantsLandInTheCanonicalFields) {
 
   // Area light with size [w, h] plus an "ambient" light; PLY meshes.
   s = load_scene(dir + "Trenza1ore__std-raytracer__scene_render.json", options);
-  ASSERT_EQ(s.area_lights.size(), 3u);
-  EXPECT_FLOAT_EQ(glm::length(s.area_lights[0].u), 0.1f);
+  ASSERT_EQ(lights_of_kind(s, LIGHT_RECT).size(), 3u);
+  EXPECT_FLOAT_EQ(glm::length(to_vec3(lights_of_kind(s, LIGHT_RECT)[0].p1)), 0.1f);
   EXPECT_EQ(s.ambient_light.value_or(glm::vec3(-1.0f)), glm::vec3(0.2f));
   EXPECT_FLOAT_EQ(s.camera.aperture_radius, 0.000625f);  // "diameter": 0.00125
   EXPECT_EQ(s.meshes.size(), 26u);

@@ -8,7 +8,8 @@
 
 #include "host/error.h"
 #include "host/scene/load_scene.h"
-#include "host/render/lights.h"
+#include "host/lights/light_table.h"
+#include "host/lights/light_types.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -162,7 +163,7 @@ TEST(FormatVariants, AreaLightEdgeSpellingsAgree) {
     l.update(extra);
     const Loaded loaded = parse(with_light(with_shape(base_scene(), kSphere), l));
     EXPECT_TRUE(loaded.warnings.empty()) << loaded.warnings.front();
-    EXPECT_EQ(loaded.scene.area_lights.size(), 1u);
+    EXPECT_EQ(lights_of_kind(loaded.scene, LIGHT_RECT).size(), 1u);
     return loaded.scene;
   };
   const Scene uv = light({{"u", {0.5, 0, 0}}, {"v", {0, 0, 0.25}}, {"samples", 16}});
@@ -170,27 +171,27 @@ TEST(FormatVariants, AreaLightEdgeSpellingsAgree) {
   const Scene wh = light({{"u", {1, 0, 0}}, {"v", {0, 0, 2}}, {"width", 0.5}, {"height", 0.25}});
   const Scene size = light({{"size", {0.5, 0.25}}});  // default axes: x and z
   for (const Scene* s : {&uv, &axis, &wh, &size}) {
-    const AreaLightDesc& a = s->area_lights[0];
-    expect_vec3(a.center, glm::vec3(0, 2, 0));
-    expect_vec3(a.u, glm::vec3(0.5, 0, 0));
-    expect_vec3(a.v, glm::vec3(0, 0, 0.25));
-    expect_vec3(a.intensity, glm::vec3(1));
+    const Light& a = s->lights[0];  // centre, edge vectors u and v (kernels/lib/lights/rect_light.h)
+    expect_vec3(to_vec3(a.p0), glm::vec3(0, 2, 0));
+    expect_vec3(to_vec3(a.p1), glm::vec3(0.5, 0, 0));
+    expect_vec3(to_vec3(a.p2), glm::vec3(0, 0, 0.25));
+    expect_vec3(to_vec3(a.emitted), glm::vec3(1));
+    EXPECT_FLOAT_EQ(a.emitted.w, 0.125f);  // the area
     // Phong renders it as a point light at its centre.
-    EXPECT_TRUE(s->point_lights.empty());  // kept as an area light, not turned into a point light
-    const std::vector<PointLight> stand_ins = whitted_point_lights(*s);
+    EXPECT_TRUE(lights_of_kind(*s, LIGHT_POINT).empty());  // kept as an area light, not turned into a point light
+    const std::vector<Light> stand_ins = whitted_lights(*s);
     ASSERT_EQ(stand_ins.size(), 1u);
-    expect_vec3(stand_ins[0].position, glm::vec3(0, 2, 0));
-    expect_vec3(stand_ins[0].intensity, glm::vec3(1));
+    EXPECT_EQ(stand_ins[0].kind, uint32_t(LIGHT_POINT));
+    expect_vec3(to_vec3(stand_ins[0].p0), glm::vec3(0, 2, 0));
+    expect_vec3(to_vec3(stand_ins[0].emitted), glm::vec3(1));
   }
-  EXPECT_EQ(uv.area_lights[0].samples, 16);
-  EXPECT_EQ(axis.area_lights[0].samples, 0);
   // Default axes face down: cross(u, v) = -y.
-  expect_vec3(glm::normalize(glm::cross(size.area_lights[0].u, size.area_lights[0].v)), glm::vec3(0, -1, 0));
+  expect_vec3(glm::normalize(glm::cross(to_vec3(size.lights[0].p1), to_vec3(size.lights[0].p2))), glm::vec3(0, -1, 0));
 
   // Nothing but a position: a small square, with a warning.
   const Loaded bare = parse(with_light(with_shape(base_scene(), kSphere), common));
-  ASSERT_EQ(bare.scene.area_lights.size(), 1u);
-  EXPECT_FLOAT_EQ(glm::length(bare.scene.area_lights[0].u), 0.1f);
+  ASSERT_EQ(lights_of_kind(bare.scene, LIGHT_RECT).size(), 1u);
+  EXPECT_FLOAT_EQ(glm::length(to_vec3(bare.scene.lights[0].p1)), 0.1f);
   ASSERT_EQ(bare.warnings.size(), 1u);
   EXPECT_TRUE(Contains(bare.warnings[0], {"/scene/lightsources/0: warning: area light without a size"}));
 
@@ -211,12 +212,12 @@ TEST(FormatVariants, SphereAndAmbientLights) {
   j["scene"]["ambientlight"] = {0.2, 0.3, 0.4};
   const Loaded l = parse(j);
   EXPECT_TRUE(l.warnings.empty());
-  ASSERT_EQ(l.scene.sphere_lights.size(), 1u);
-  EXPECT_FLOAT_EQ(l.scene.sphere_lights[0].radius, 0.25f);
-  ASSERT_EQ(l.scene.point_lights.size(), 1u);
-  const std::vector<PointLight> stand_ins = whitted_point_lights(l.scene);
+  ASSERT_EQ(lights_of_kind(l.scene, LIGHT_SPHERE).size(), 1u);
+  EXPECT_FLOAT_EQ(lights_of_kind(l.scene, LIGHT_SPHERE)[0].p0.w, 0.25f);  // the radius
+  ASSERT_EQ(lights_of_kind(l.scene, LIGHT_POINT).size(), 1u);
+  const std::vector<Light> stand_ins = whitted_lights(l.scene);
   ASSERT_EQ(stand_ins.size(), 2u);  // phong: the point light and the sphere light's stand-in
-  expect_vec3(stand_ins[1].position, glm::vec3(1, 1, 1));
+  expect_vec3(to_vec3(stand_ins[1].p0), glm::vec3(1, 1, 1));
   ASSERT_TRUE(l.scene.ambient_light.has_value());
   expect_vec3(*l.scene.ambient_light, glm::vec3(0.3f, 0.4f, 0.5f));  // both forms add
   EXPECT_FALSE(parse(with_shape(base_scene(), kSphere)).scene.ambient_light.has_value());

@@ -20,7 +20,7 @@
 #include "host/app/session.h"
 #include "host/render/device_scene.h"
 #include "host/render/kernel_args.h"
-#include "host/render/path_lights.h"
+#include "host/lights/light_table.h"
 #include "host/render/photon_pass.h"
 #include "tests/support/test_support.h"
 
@@ -57,7 +57,7 @@ PhotonMap trace_photons(Session& s, uint32_t count, size_t local = 64) {
   RenderSettings settings = s.settings;
   settings.photons_per_pass = count;
   StageLauncher launcher(*s.runtime, local);
-  const PathLightTable table = build_path_lights(s.scene);
+  const LightTable table = build_light_table(s.scene);
   const cl::Buffer lights = upload_buffer(s.runtime->context(), table.lights);
   PhotonPass pass(launcher, *s.device_scene, s.program.program, lights, uint32_t(table.lights.size()), settings);
   pass.trace(nullptr);
@@ -105,7 +105,7 @@ TEST(PhotonPass, EmittedFluxSumsToTheLightsPower) {
   // channels' bounds are in their standard errors.
   const uint32_t n = uint32_t(test::sized(1u << 20, 1u << 12));
   StageLauncher launcher(*s->runtime, 64);
-  const PathLightTable table = build_path_lights(s->scene);
+  const LightTable table = build_light_table(s->scene);
   ASSERT_EQ(table.lights.size(), 6u);
   const cl::Buffer lights = upload_buffer(s->runtime->context(), table.lights);
   DeviceQueue out(s->runtime->context(), path_record_layout(), n);

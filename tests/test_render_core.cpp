@@ -22,7 +22,7 @@
 #include "host/render/device_scene.h"
 #include "host/render/film.h"
 #include "host/render/kernel_args.h"
-#include "host/render/lights.h"
+#include "host/lights/light_table.h"
 #include "host/render/renderer.h"
 #include "host/scene/load_scene.h"
 #include "kernels/shared/photon.h"
@@ -42,7 +42,7 @@ namespace {
   X(sizeof(PathRecord)) X(__builtin_offsetof(PathRecord, dir)) X(__builtin_offsetof(PathRecord, throughput)) \
   X(__builtin_offsetof(PathRecord, pixel)) X(__builtin_offsetof(PathRecord, depth))                        \
   X(__builtin_offsetof(PathRecord, bsdf_pdf)) X(__builtin_offsetof(PathRecord, sample))                     \
-  X(sizeof(PathLight)) X(__builtin_offsetof(PathLight, emitted)) X(__builtin_offsetof(PathLight, select_cdf)) \
+  X(sizeof(Light)) X(__builtin_offsetof(Light, emitted)) X(__builtin_offsetof(Light, select_cdf)) \
   X(sizeof(ShadowRecord)) X(__builtin_offsetof(ShadowRecord, dir))                                          \
   X(__builtin_offsetof(ShadowRecord, contribution)) X(__builtin_offsetof(ShadowRecord, pixel))              \
   X(sizeof(FilmParams)) X(__builtin_offsetof(FilmParams, max_contribution))                                 \
@@ -55,7 +55,7 @@ namespace {
   X(__builtin_offsetof(CameraGPU, pixel_count)) X(__builtin_offsetof(Material, roughness))                    \
   X(__builtin_offsetof(Material, metallic))                                                                   \
   X(sizeof(Material)) X(__builtin_offsetof(Material, specular_exponent))                                   \
-  X(__builtin_offsetof(Material, texture)) X(sizeof(PointLight)) X(sizeof(Sphere)) X(sizeof(Cylinder))    \
+  X(__builtin_offsetof(Material, texture)) X(sizeof(Sphere)) X(sizeof(Cylinder))    \
   X(sizeof(Triangle)) X(sizeof(TriangleShading)) X(__builtin_offsetof(TriangleShading, u2))               \
   X(sizeof(Texture)) X(__builtin_offsetof(Texture, scale)) X(sizeof(BvhNode8))                             \
   X(__builtin_offsetof(BvhNode8, child)) X(__builtin_offsetof(BvhNode8, height)) X(sizeof(TriangleBlock4)) \
@@ -377,7 +377,7 @@ TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
   q.enqueueWriteBuffer(in.field("pixel"), CL_TRUE, 0, sizeof pixel_ids, pixel_ids);
   q.enqueueWriteBuffer(in.field("depth"), CL_TRUE, 0, sizeof depths, depths);
   const cl::Buffer hit_buffer = upload_buffer(ctx, hits);
-  const std::vector<PointLight> lights = whitted_point_lights(scene);
+  const std::vector<Light> lights = whitted_lights(scene);
   const cl::Buffer light_buffer = upload_buffer(ctx, lights);
 
   ShadeParams params{};

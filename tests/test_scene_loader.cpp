@@ -11,7 +11,8 @@
 #include "host/error.h"
 #include "host/scene/generate.h"
 #include "host/scene/load_scene.h"
-#include "host/render/lights.h"
+#include "host/lights/light_table.h"
+#include "host/lights/light_types.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -67,7 +68,7 @@ void expect_official_scenes(const std::string& dir) {
   const Scene s = load_scene(dir + "scene.json");
   EXPECT_EQ(s.mode, RenderMode::Binary);
   EXPECT_EQ(s.nbounces, 8);
-  EXPECT_EQ(s.point_lights.size(), 2u);
+  EXPECT_EQ(lights_of_kind(s, LIGHT_POINT).size(), 2u);
   EXPECT_EQ(s.spheres.size(), 3u);
   EXPECT_EQ(s.cylinders.size(), 1u);
   EXPECT_EQ(s.triangles.size(), 2u);
@@ -97,7 +98,7 @@ void expect_official_scenes(const std::string& dir) {
   const Scene b = load_scene(dir + "binary_primitives.json");
   EXPECT_EQ(b.mode, RenderMode::Binary);
   EXPECT_EQ(b.nbounces, 4);  // absent: default
-  EXPECT_TRUE(b.point_lights.empty());
+  EXPECT_TRUE(b.lights.empty());
   EXPECT_EQ(b.primitive_count(), 3u);
   EXPECT_EQ(to_vec3(b.cylinders[0].axis_half), glm::vec3(1, 0, 0));
   ASSERT_EQ(b.materials.size(), 1u);  // all default, deduplicated
@@ -107,8 +108,8 @@ void expect_official_scenes(const std::string& dir) {
 
   const Scene p = load_scene(dir + "simple_phong.json");
   EXPECT_EQ(p.mode, RenderMode::Phong);
-  ASSERT_EQ(p.point_lights.size(), 1u);
-  EXPECT_EQ(p.point_lights[0].intensity, glm::vec3(0.75f));
+  ASSERT_EQ(lights_of_kind(p, LIGHT_POINT).size(), 1u);
+  EXPECT_EQ(to_vec3(p.lights[0].emitted), glm::vec3(0.75f));
   EXPECT_EQ(p.spheres.size(), 1u);
   EXPECT_EQ(p.cylinders.size(), 1u);
   EXPECT_EQ(p.triangles.size(), 2u);
@@ -325,8 +326,8 @@ TEST(SceneErrors, UnknownTypesListTheSupportedOnes) {
                         "got \"torus\""}));
   EXPECT_TRUE(Contains(parse_error_of(with(valid_scene(), "/rendermode", "raytrace")),
                        {"/rendermode: expected one of \"binary\", \"phong\", \"pathtracer\"", "got \"raytrace\""}));
-  EXPECT_TRUE(Contains(parse_error_of(with(valid_scene(), "/scene/lightsources/0/type", "spotlight")),
-                       {"/scene/lightsources/0/type: expected", "\"pointlight\"", "\"arealight\"", "got \"spotlight\""}));
+  EXPECT_TRUE(Contains(parse_error_of(with(valid_scene(), "/scene/lightsources/0/type", "searchlight")),
+                       {"/scene/lightsources/0/type: expected", "\"pointlight\"", "\"arealight\"", "\"spotlight\"", "got \"searchlight\""}));
 }
 
 TEST(SceneModes, DefaultsPathTracingAndOverride) {
@@ -349,9 +350,9 @@ TEST(SceneWarnings, DroppedTrianglesVariantCamerasAndAreaLights) {
   const Scene s = parse_scene(j, "x.json", ".", options);
   EXPECT_EQ(s.triangles.size(), 0u);
   EXPECT_EQ(s.spheres.size(), 2u);
-  EXPECT_EQ(s.point_lights.size(), 0u);
-  EXPECT_EQ(s.area_lights.size(), 1u);
-  EXPECT_EQ(whitted_point_lights(s).size(), 1u);  // phong's stand-in
+  EXPECT_EQ(lights_of_kind(s, LIGHT_POINT).size(), 0u);
+  EXPECT_EQ(lights_of_kind(s, LIGHT_RECT).size(), 1u);
+  EXPECT_EQ(whitted_lights(s).size(), 1u);  // phong's stand-in
   ASSERT_EQ(warnings.size(), 3u);
   EXPECT_TRUE(Contains(warnings[0], {"x.json: /camera/type: warning", "finiteAperture", "pinhole"}));
   EXPECT_TRUE(Contains(warnings[1], {"x.json: /scene/lightsources/0: warning", "area light"}));

@@ -12,6 +12,7 @@
 #include "host/app/error_monitor.h"
 #include "host/error.h"
 #include "host/image/image_io.h"
+#include "host/lights/light_types.h"
 #include "host/limits.h"
 #include "host/image/tonemap.h"
 
@@ -265,13 +266,13 @@ int run_render(RenderArgs& a) {
   if (a.target_error > 0.0 && session->mode != RenderMode::Path)
     throw Error("--target-error: only path mode is stochastic; binary and phong images are exact after one pass");
   const Scene& scene = session->scene;
-  // Path tracing never reaches a point light through glass or in a mirror:
+  // Path tracing never reaches a point or spot light through glass or in a mirror:
   // without the photon pass those caustics are missing, and the error
   // estimate, which sees only noise, cannot tell.
   if (!a.quiet && session->mode == RenderMode::Path && a.session.caustics == CausticsMode::Off &&
-      !scene.point_lights.empty() && analyse_scene(scene, RenderMode::Path, CausticsMode::Auto).caustics)
+      has_delta_light(scene) && analyse_scene(scene, RenderMode::Path, CausticsMode::Auto).caustics)
     std::fprintf(stderr,
-                 "[caustica] warning: --caustics off: the caustics of this scene's point lights (through glass, in "
+                 "[caustica] warning: --caustics off: the caustics of this scene's point and spot lights (through glass, in "
                  "mirrors) are missing from the image, and from its error estimate\n");
   if (a.verbose) {
     std::fprintf(stderr, "[caustica] scene %s: %zu spheres, %zu cylinders, %zu triangles, %zu lights, %zu materials (load %.1f ms)\n",

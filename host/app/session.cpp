@@ -8,7 +8,7 @@
 #include "host/error.h"
 #include "host/limits.h"
 #include "host/read_file.h"
-#include "host/render/path_lights.h"
+#include "host/lights/light_table.h"
 #include "host/scene/load_scene.h"
 
 namespace caustica {
@@ -126,10 +126,10 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   resolve_image_size(scene.camera, options.width, options.height, &session->settings.width,
                      &session->settings.height);
   if (options.spp < 0) throw Error("--spp must be positive");
-  const uint64_t whitted_lights = scene.point_lights.size() + scene.area_lights.size() + scene.sphere_lights.size();
-  if (session->mode == RenderMode::Phong && whitted_lights > limits::kMaxPhongLights)
+  const uint64_t whitted_light_count = whitted_lights(scene).size();
+  if (session->mode == RenderMode::Phong && whitted_light_count > limits::kMaxPhongLights)
     throw Error(scene.source_path + ": /scene/lightsources: phong mode traces a shadow ray to each of the " +
-                std::to_string(whitted_lights) + " lights from every shading point; its limit is " +
+                std::to_string(whitted_light_count) + " lights from every shading point; its limit is " +
                 std::to_string(limits::kMaxPhongLights) + " lights (--mode path samples them instead)");
   // The path tracer hits the lights it samples: their geometry joins the scene.
   if (session->mode == RenderMode::Path) add_light_geometry(scene);

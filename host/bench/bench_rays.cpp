@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "host/error.h"
+#include "host/lights/light_types.h"
 #include "kernels/shared/camera.h"
 
 namespace caustica {
@@ -99,8 +100,11 @@ BenchRays generate_bench_rays(const Scene& scene, const Bvh& bvh, int width, int
   out.primary = camera_rays(scene.camera, width, height);
   const HostTracer tracer(scene, bvh);
   out.primary_hits = host_closest_hits(tracer, out.primary, options.threads);
-  out.has_light = !scene.point_lights.empty();
-  if (out.has_light) out.light = scene.point_lights[0].position;
+  for (const Light& l : scene.lights)  // the first point light
+    if (l.kind == LIGHT_POINT && !out.has_light) {
+      out.has_light = true;
+      out.light = to_vec3(l.p0);
+    }
   out.shadow.segments = true;
 
   // Sequential and in pixel order, so the compacted sets do not depend on

@@ -29,10 +29,9 @@ static_assert(sizeof(Material) == 80 && offsetof(Material, specular) == 16 && of
                   offsetof(Material, flags) == 64 && offsetof(Material, texture) == 68 &&
                   offsetof(Material, roughness) == 72 && offsetof(Material, metallic) == 76,
               "Material layout");
-static_assert(sizeof(PathLight) == 80 && offsetof(PathLight, emitted) == 48 && offsetof(PathLight, kind) == 64 &&
-                  offsetof(PathLight, select_cdf) == 72,
-              "PathLight layout");
-static_assert(sizeof(PointLight) == 32 && offsetof(PointLight, intensity) == 16, "PointLight layout");
+static_assert(sizeof(Light) == 80 && offsetof(Light, emitted) == 48 && offsetof(Light, kind) == 64 &&
+                  offsetof(Light, select_cdf) == 72,
+              "Light layout");
 static_assert(sizeof(CameraGPU) == 96 && offsetof(CameraGPU, lens) == 64 && offsetof(CameraGPU, width) == 80 &&
                   offsetof(CameraGPU, pixel_count) == 92,
               "CameraGPU layout");

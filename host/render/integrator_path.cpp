@@ -31,7 +31,7 @@
 #include "host/render/error_estimate.h"
 #include "host/render/integrator.h"
 #include "host/render/kernel_args.h"
-#include "host/render/path_lights.h"
+#include "host/lights/light_table.h"
 #include "host/render/photon_pass.h"
 #include "host/render/wave_loop.h"
 
@@ -83,7 +83,7 @@ constexpr uint32_t kRouletteDepth = 5;
 // Cornell box at 128^2 and 512^2 within the machine's noise of each other.
 constexpr size_t kPathSlots = size_t(1) << 18;
 
-// Owns its light table (PathLight and the per-primitive light indices), two
+// Owns its light table (Light and the per-primitive light indices), two
 // path queues, the hits and the shadow slots, all sized for its path slots.
 class PathIntegrator final : public Integrator {
   StageKernel generate_, intersect_, shade_, shadow_stage_;
@@ -183,7 +183,7 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
       shade_(program, "shade_surface_path"),
       shadow_stage_(program, "intersect_shadow") {
   auto& ctx = launcher.runtime().context();
-  const PathLightTable table = build_path_lights(scene.scene());
+  const LightTable table = build_light_table(scene.scene());
   light_count_ = table.lights.size();
   lights_ = upload_buffer(ctx, table.lights);
   light_of_sphere_ = upload_buffer(ctx, table.light_of_sphere);

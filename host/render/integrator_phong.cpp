@@ -6,7 +6,7 @@
 // and one shadow queue; stages the feature set does not need are not
 // launched (no shadow stage without lights, one wave without reflection or
 // refraction). Area and sphere lights are point-light stand-ins here
-// (whitted_point_lights). With --caustics on, a PhotonPass traces photons
+// (whitted_lights). With --caustics on, a PhotonPass traces photons
 // from those lights before each pass and the shade stage gathers them
 // (lib/caustics.h); the passes are then averaged like path mode's.
 #include "host/render/device_scene.h"
@@ -18,8 +18,8 @@
 #include <cstring>
 
 #include "host/cl/runtime.h"
-#include "host/render/lights.h"
-#include "host/render/path_lights.h"
+#include "host/lights/light_table.h"
+#include "host/lights/light_table.h"
 #include "host/render/photon_pass.h"
 #include "host/render/wave_loop.h"
 
@@ -74,7 +74,7 @@ float half_to_float(uint16_t h) {
 // maximum; a ray's children share its weight (mirror r and 1 - r, Fresnel F
 // and 1 - F), so the weights of one depth sum to at most 1, and the bound
 // is that per-ray maximum times (nbounces + 1).
-float phong_pass_bound(const Scene& scene, const std::vector<PointLight>& lights, int max_depth) {
+float phong_pass_bound(const Scene& scene, const std::vector<Light>& lights, int max_depth) {
   // Texels of non-negative halves order like their bit patterns.
   float texel_max = 0.0f;
   for (size_t i = 0; i < scene.texels.size(); i += 4)
@@ -86,7 +86,7 @@ float phong_pass_bound(const Scene& scene, const std::vector<PointLight>& lights
   const glm::vec3 ambient_light = scene.ambient_light.value_or(glm::vec3(1.0f));
   const float ambient_scale = std::max(ambient_light.x, std::max(ambient_light.y, ambient_light.z));
   float light_sum = 0.0f;
-  for (const PointLight& l : lights) light_sum += max3(l.intensity);
+  for (const Light& l : lights) light_sum += max3(l.emitted);
   for (const Material& m : scene.materials) {
     const float diffuse = std::max(max3(m.diffuse), m.texture >= 0 ? texel_max : 0.0f);
     emission = std::max(emission, max3(m.emission));
@@ -102,7 +102,7 @@ PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& sce
                                  const RenderSettings& settings)
     : Integrator("phong", launcher, scene, settings), features_(scene.features()) {
   auto& ctx = launcher.runtime().context();
-  const std::vector<PointLight> lights = whitted_point_lights(scene.scene());
+  const std::vector<Light> lights = whitted_lights(scene.scene());
   lights_ = upload_buffer(ctx, lights);
   light_count_ = features_.lights ? lights.size() : 0;
   const int max_depth = features_.secondary_rays() ? std::max(0, scene.scene().nbounces) : 0;
@@ -130,7 +130,7 @@ PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& sce
   shade_ = StageKernel(program, "shade_surface_phong");
   shadow_stage_ = StageKernel(program, "intersect_shadow");
   if (settings.caustics) {
-    const std::vector<PathLight> photon_lights = point_path_lights(lights);
+    const std::vector<Light> photon_lights = emitting_lights(lights);
     if (!photon_lights.empty()) {
       photon_lights_ = upload_buffer(ctx, photon_lights);
       photons_ = std::make_unique<PhotonPass>(launcher, scene, program, photon_lights_,

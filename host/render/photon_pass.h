@@ -79,8 +79,8 @@ enum class PhotonGather { PerPixel, SharedRadius };
 
 class PhotonPass final : public SeparateEstimate {
  public:
-  // `lights`: a PathLight table (light_count > 0): the path tracer's, or
-  // phong's point lights as LIGHT_POINT entries.
+  // `lights`: a Light table (light_count > 0): the path tracer's, or
+  // phong's delta lights (emitting_lights, host/lights/light_table.h).
   PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program, const cl::Buffer& lights,
              uint32_t light_count, const RenderSettings& settings, PhotonGather gather = PhotonGather::PerPixel);
   ~PhotonPass() override;

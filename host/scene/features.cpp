@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "host/error.h"
+#include "host/lights/light_types.h"
 #include "lib/material.h"
 
 namespace caustica {
@@ -49,9 +50,9 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
     (material_casts_caustics(m) ? casters : receivers) = true;
   }
   // Path mode samples area lights (rectangles, spheres, emissive shapes);
-  // phong sees every light as a point.
+  // phong sees every light as a delta light.
   if (mode == RenderMode::Path) {
-    f.area_lights = f.area_lights || !scene.area_lights.empty() || !scene.sphere_lights.empty();
+    for (const Light& l : scene.lights) f.area_lights = f.area_lights || !light_type(l.kind).delta;
     f.lights = f.lights || f.area_lights;
   } else {
     f.area_lights = false;

@@ -13,6 +13,7 @@
 
 #include "host/error.h"
 #include "host/limits.h"
+#include "host/lights/light_types.h"
 #include "host/read_file.h"
 #include "host/scene/scene_reader.h"
 
@@ -22,8 +23,6 @@ namespace {
 
 using namespace scene_detail;
 
-// Side of the square used for an area light that gives no size at all.
-constexpr float kDefaultAreaLightSize = 0.1f;
 
 const KeyList kTopKeys = {"nbounces", "rendermode", "camera", "scene", "aperture", "focus_distance", "use_dof"};
 // Settings of the authors' own renderers (sampling, acceleration, post
@@ -132,76 +131,16 @@ void read_lights(const Reader& r, const json& scene_obj, Scene& out) {
   if (!list) return;
   const std::string base = "/scene/lightsources";
   r.array(*list, base);
+  const std::string what = "a light type: " + light_file_types() + " or \"ambient\"";
   for (size_t i = 0; i < list->size(); ++i) {
     const std::string path = base + "/" + std::to_string(i);
     const json& l = r.object((*list)[i], path);
-    const char* what = "a light type: \"pointlight\", \"arealight\", \"spherelight\" or \"ambient\"";
     const std::string type = lower(r.string(r.require(l, "type", path + "/type", what), path + "/type"));
-    if (type == "pointlight") {
-      r.check_keys(l, path, {"type", "position", "intensity"});
-      PointLightDesc p;
-      p.position = r.read_vec3(l, "position", path, Range::Any);
-      p.intensity = r.read_vec3(l, "intensity", path, Range::NonNegative);
-      out.point_lights.push_back(p);
-    } else if (type == "ambient") {
+    if (type == "ambient") {
       r.check_keys(l, path, {"type", "intensity"});
       out.ambient_light = out.ambient_light.value_or(glm::vec3(0.0f)) + r.read_vec3(l, "intensity", path, Range::NonNegative);
-    } else if (type == "spherelight") {
-      r.check_keys(l, path, {"type", "position", "intensity", "radius", "samples"});
-      SphereLightDesc s;
-      s.center = r.read_vec3(l, "position", path, Range::Any);
-      s.radius = r.read_number(l, "radius", path, Range::Positive);
-      s.intensity = r.read_vec3(l, "intensity", path, Range::NonNegative);
-      r.read_int(l, "samples", path, 1, 1 << 20, 1);
-      out.sphere_lights.push_back(s);
-    } else if (type == "arealight") {
-      r.check_keys(l, path, {"type", "position", "intensity", "u", "v", "u_axis", "v_axis", "width", "height", "size",
-                             "samples"});
-      AreaLightDesc a;
-      a.center = r.read_vec3(l, "position", path, Range::Any);
-      a.intensity = r.read_vec3(l, "intensity", path, Range::NonNegative);
-      a.samples = r.read_int(l, "samples", path, 1, 1 << 20, 0);
-      const char* u_key = nullptr;
-      const char* v_key = nullptr;
-      const json* u = Reader::find_any(l, {"u", "u_axis"}, &u_key);
-      const json* v = Reader::find_any(l, {"v", "v_axis"}, &v_key);
-      const json* size = Reader::find(l, "size");
-      const bool wh = Reader::find(l, "width") || Reader::find(l, "height");
-      if (size && wh) r.fail(path + "/size", "give the size either as \"size\" or as \"width\"/\"height\", not both");
-      glm::vec3 du = u ? r.vec3(*u, path + "/" + u_key, Range::Any) : glm::vec3(1, 0, 0);
-      glm::vec3 dv = v ? r.vec3(*v, path + "/" + v_key, Range::Any) : glm::vec3(0, 0, 1);
-      if (u && !(glm::length(du) > 0.0f)) r.expected(path + "/" + u_key, "a direction of nonzero length", *u);
-      if (v && !(glm::length(dv) > 0.0f)) r.expected(path + "/" + v_key, "a direction of nonzero length", *v);
-      if (size || wh) {
-        // u and v give directions only; the extent comes from the size.
-        glm::vec2 extent;
-        if (size) {
-          extent = r.vec2(*size, path + "/size", Range::Positive);
-        } else {
-          extent.x = r.read_number(l, "width", path, Range::Positive);
-          extent.y = r.read_number(l, "height", path, Range::Positive);
-        }
-        du = glm::normalize(du);
-        dv = glm::normalize(dv);
-        if (!v && std::fabs(glm::dot(du, dv)) > 0.999f) dv = glm::vec3(0, 1, 0);  // default v along u
-        if (!u && std::fabs(glm::dot(du, dv)) > 0.999f) du = glm::vec3(0, 1, 0);
-        a.u = du * extent.x;
-        a.v = dv * extent.y;
-      } else if (u && v) {
-        a.u = du;  // full edge vectors, as the authors' samplers use them
-        a.v = dv;
-      } else if (u || v) {
-        r.fail(path + "/" + (u ? u_key : v_key), std::string("expected both edge vectors (\"u\" and \"v\") or a "
-                                                             "\"size\"/\"width\"/\"height\", got only \"") +
-                                                     (u ? u_key : v_key) + "\"");
-      } else {
-        a.u = glm::vec3(kDefaultAreaLightSize, 0, 0);
-        a.v = glm::vec3(0, 0, kDefaultAreaLightSize);
-        r.warn(path, "area light without a size (u/v, width/height or size): using a horizontal 0.1 x 0.1 square");
-      }
-      if (!(glm::length(glm::cross(a.u, a.v)) > 0.0f))
-        r.fail(path, "expected edge vectors u and v that span a rectangle, got parallel ones");
-      out.area_lights.push_back(a);
+    } else if (const LightType* light = light_type_of_file(type)) {
+      light->read(r, l, path, out);  // host/lights/<type>_light.cpp
     } else {
       r.expected(path + "/type", what, l["type"]);
     }

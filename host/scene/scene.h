@@ -32,37 +32,16 @@ struct CameraDesc {
   float focus_distance = 0.0f;  // the loader sets |lookAt - position| when the file gives none
 };
 
-// Lights as the file writes them; each integrator derives what it samples
-// (phong: point-light stand-ins, host/render/lights.h).
-struct PointLightDesc {
-  glm::vec3 position{0.0f};
-  glm::vec3 intensity{0.0f};
-};
-
-// A rectangular light: centre + s*u + t*v for s, t in [-1/2, 1/2], so u and v
-// are full edge vectors; it emits on the side of cross(u, v). `intensity` is
-// as written (the same scale the file uses for point lights).
-struct AreaLightDesc {
-  glm::vec3 center{0.0f}, u{0.0f}, v{0.0f};
-  glm::vec3 intensity{0.0f};
-  int samples = 0;  // shadow samples the file asks for; 0: not given
-};
-
-struct SphereLightDesc {
-  glm::vec3 center{0.0f};
-  float radius = 0.0f;
-  glm::vec3 intensity{0.0f};
-};
-
 struct Scene {
   std::string source_path;  // file the scene came from (for messages)
   RenderMode mode = RenderMode::Phong;  // the file's "rendermode" (phong when absent)
   int nbounces = 4;
   CameraDesc camera;
   glm::vec3 background{0.0f};
-  std::vector<PointLightDesc> point_lights;
-  std::vector<AreaLightDesc> area_lights;
-  std::vector<SphereLightDesc> sphere_lights;
+  // The file's lights in the one form the device reads (what each field
+  // holds: kernels/lib/lights/<type>_light.h); select_probability and
+  // select_cdf are set by the light table (host/lights/light_table.h).
+  std::vector<Light> lights;
   // Ambient light colour from the file ("ambientlight", lights of type
   // "ambient"); unset when it gives none (phong then uses white). It scales
   // phong's ambient term ka * diffuse colour; see scenes/FORMAT.md.
@@ -76,14 +55,17 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<uint16_t> texels;  // IEEE half floats, 4 per texel (linear rgb + unused)
 
-  // Path mode only (add_light_geometry, host/render/path_lights.h): the
-  // rectangle and sphere lights' own geometry, appended after the file's
-  // shapes so that BSDF-sampled rays can hit them. Rectangle light k is
-  // triangles first_triangle + 2k and + 2k + 1; sphere light k is sphere
-  // first_sphere + k.
+  // Path mode only (add_light_geometry, host/lights/light_table.h): the
+  // area lights' own geometry, appended after the file's shapes so that
+  // BSDF-sampled rays can hit them; each primitive names its light (an
+  // index into `lights`) and itself (a PRIM_* reference, types.h).
+  struct LightPrimitive {
+    uint32_t light = 0;
+    uint32_t prim = 0;
+  };
   struct LightGeometry {
     bool added = false;
-    size_t first_triangle = 0, first_sphere = 0;
+    std::vector<LightPrimitive> prims;
   } light_geometry;
 
   struct MeshInfo {
@@ -95,7 +77,7 @@ struct Scene {
   std::vector<MeshInfo> meshes;
 
   size_t primitive_count() const { return spheres.size() + cylinders.size() + triangles.size(); }
-  size_t light_count() const { return point_lights.size() + area_lights.size() + sphere_lights.size(); }
+  size_t light_count() const { return lights.size(); }
 };
 
 // Zero (or float-noise) area: sin of the corner angle below ~1e-7; also any

@@ -45,7 +45,7 @@
 #include "lib/caustics.h"
 #include "lib/film.h"
 #include "lib/material.h"
-#include "lib/path_lights.h"
+#include "lib/lights.h"
 #include "lib/queue.h"
 #include "lib/rng.h"
 #include "lib/surface.h"
@@ -98,7 +98,7 @@ inline uint light_of_hit(__global const uint* light_of_sphere, __global const ui
 #define PATH_NUMERICS_ARGS
 #endif
 #define PATH_VERTEX_PARAMS                                                                                  \
-  SCENE_SURFACE_PARAMS, __global const PathLight *restrict lights, __global const uint *restrict light_of_sphere, \
+  SCENE_SURFACE_PARAMS, __global const Light *restrict lights, __global const uint *restrict light_of_sphere, \
       __global const uint *restrict light_of_cylinder, __global const uint *restrict light_of_triangle,        \
       const PathParams *params, PATH_QUEUE_PARAMS(in), __global const Hit *restrict hits, FILM_PARAMS,        \
       PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow) PATH_CAUSTIC_PARAMS PATH_NUMERICS_PARAMS
@@ -142,7 +142,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   if (!sees_front) {
     /* the dark back of an emitter (its reflectance still scatters below) */
   } else if (light_index != LIGHT_NONE) {
-    __global const PathLight* light = &lights[light_index];
+    __global const Light* light = &lights[light_index];
     float weight = 1.0f;
     if (!arrived_by_delta) {
       if (params->strategy == PATH_STRATEGY_NEE) weight = 0.0f;
@@ -206,7 +206,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   const bool delta_only = bsdf_is_smooth(bsdf) && bsdf.kind != BSDF_PLASTIC;
   if (params->light_count > 0u && params->strategy != PATH_STRATEGY_BSDF && !delta_only && !nee_is_photon_maps) {
     const uint li = pick_light(lights, params->light_count, picks.x);
-    __global const PathLight* light = &lights[li];
+    __global const Light* light = &lights[li];
     LightSample ls;
     if (sample_light(light, light->select_probability, sp.position, u_light, &ls)) {
       const float3 wi = frame_to_local(ls.wi, t, b, n);
@@ -288,7 +288,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
  * per work-group, one global atomic each, not per path: every path of the
  * wave would otherwise contend on the same two counters. No early return,
  * so that every work-item reaches the barriers. */
-__kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const PathLight* restrict lights,
+__kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const Light* restrict lights,
                                  __global const uint* restrict light_of_sphere,
                                  __global const uint* restrict light_of_cylinder,
                                  __global const uint* restrict light_of_triangle, PathParams params,

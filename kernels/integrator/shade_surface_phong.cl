@@ -20,6 +20,7 @@
 #include "lib/photon_grid.h"
 #include "lib/caustics.h"
 #include "lib/film.h"
+#include "lib/lights.h"
 #include "lib/optics.h"
 #include "lib/queue.h"
 #include "lib/surface.h"
@@ -37,15 +38,16 @@ inline float blinn_lobe(float n_dot_h, float exponent) {
   return exp2(exponent * log2(n_dot_h));
 }
 
-/* Blinn-Phong for one point light, pushed as a shadow ray. */
-inline void shade_point_light(__global const PointLight* light, __global const Material* mat, float3 diffuse_colour,
+/* Blinn-Phong for one delta light (a point or spot light, or the point
+ * that stands in for an area light: host/lights/), pushed as a shadow ray. */
+inline void shade_point_light(__global const Light* light, __global const Material* mat, float3 diffuse_colour,
                               SurfacePoint sp, float3 n_facing, float3 view, float3 weight, uint pixel,
                               uint slot, SHADOW_QUEUE_PARAMS(shadow)) {
   /* The shadow ray leaves on the geometric side the light is on; the
    * shading normal only weights the light. */
   const float3 geometric = dot(sp.normal, n_facing) >= 0.0f ? sp.normal : -sp.normal;
   const float3 origin = spawn_ray_origin(sp.position, sp.p_error, sp.normal, geometric);
-  const float3 to_light = light->position.xyz - origin;
+  const float3 to_light = light->p0.xyz - origin;
   const float dist = length(to_light);
   if (!(dist > 0.0f)) return;
   const float3 l = to_light / dist;
@@ -56,7 +58,7 @@ inline void shade_point_light(__global const PointLight* light, __global const M
   if (dot(geometric, l) <= 0.0f) return; /* light behind the actual surface */
   const float3 diffuse = mat->diffuse.w * diffuse_colour * n_dot_l;
   const float3 specular = mat->specular.w * mat->specular.xyz * blinn_lobe(n_dot_h, mat->specular_exponent);
-  const float3 contribution = weight * light->intensity.xyz * (diffuse + specular);
+  const float3 contribution = weight * light_intensity_toward(light, -l) * (diffuse + specular);
   if (max3(contribution) <= 0.0f) return;
   ShadowRecord ray;
   /* A point light is no surface (no error, no normal); the relative margin
@@ -85,7 +87,7 @@ inline void push_specular(PATH_QUEUE_PARAMS(next), uint capacity, float min_weig
   path_push(PATH_QUEUE_ARGS(next), capacity, child);
 }
 
-__kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const PointLight* restrict lights,
+__kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const Light* restrict lights,
                                   ShadeParams params, PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits,
                                   FILM_PARAMS, PATH_QUEUE_PARAMS(next), volatile __global uint* restrict cleared_count,
                                   SHADOW_QUEUE_PARAMS(shadow), volatile __global uint* restrict rays_traced

@@ -2,11 +2,12 @@
 /* Stage (photon pass): photon path i of this pass leaves a light.
  *
  * Rules: the light is picked in proportion to its power (the path tracer's
- * table and pick), the point uniformly by area and the direction by cosine
- * over the emitting side (both sides of a two-sided emitter; every
- * direction of a point light). The photon's flux is then
- *     Le * area * pi * sides / p_pick   (point light: I * 4 pi / p_pick),
- * divided by the pass's photon count so that a pass's photons sum to the
+ * table and pick); its type (lib/lights/<type>_light.h) places the photon
+ * and, unguided, draws its direction and flux: area lights uniformly by
+ * area and by cosine over the emitting side (both sides of a two-sided
+ * emitter), flux Le * area * pi * sides; a point light over every
+ * direction, I * 4 pi; a spot light within its outer cone. The flux is
+ * divided by p_pick and by the pass's photon count so that a pass's photons sum to the
  * lights' power. Random numbers come from the photon's index, the pass and
  * the seed (a counter-based hash), so every photon is the same on any
  * device; its index rides in the record's pixel field.
@@ -20,14 +21,14 @@
  * inside a sphere gets the whole sphere of directions, 4 pi), uniformly
  * within it. The density of a direction is then (the number of cones
  * holding it) / sum Omega, and the flux Le |cos| A / (p_pick pdf) (point
- * light: I / (p_pick pdf)). Every direction that can meet a caster first
+ * light: I / (p_pick pdf); spot light: I f / (p_pick pdf)). Every direction that can meet a caster first
  * lies in a cone, so every stored photon path keeps a non-zero density and
  * the photon map's expectation is unchanged; directions that miss every
  * cone would have ended unstored. A direction behind a one-sided emitter
  * carries no flux. */
 
 #include "lib/caustics.h"
-#include "lib/path_lights.h"
+#include "lib/lights.h"
 #include "lib/queue.h"
 #include "lib/rng.h"
 #include "lib/surface.h"
@@ -85,7 +86,7 @@ inline float3 sample_toward_casters(__global const float4* restrict casters, uin
   return w;
 }
 
-__kernel void emit_photons(__global const PathLight* restrict lights, PhotonPassParams params,
+__kernel void emit_photons(__global const Light* restrict lights, PhotonPassParams params,
                            __global const float4* restrict casters, uint caster_count, PATH_QUEUE_PARAMS(out),
                            __global uint* restrict next_count) {
   const uint i = get_global_id(0);
@@ -95,45 +96,18 @@ __kernel void emit_photons(__global const PathLight* restrict lights, PhotonPass
   }
   if (i >= params.photon_count) return;
   const uint li = pick_light(lights, params.light_count, photon_random(i, params, 0u));
-  __global const PathLight* l = &lights[li];
+  __global const Light* l = &lights[li];
   const float2 u_point = (float2)(photon_random(i, params, 1u), photon_random(i, params, 2u));
   const float2 u_dir = (float2)(photon_random(i, params, 3u), photon_random(i, params, 4u));
+  float3 p_error, n; /* the point's error bound, as sample_light's (spawn_ray_origin), and its normal */
+  const float3 point = light_emission_point(l, u_point, &p_error, &n);
   float3 origin, dir, flux;
   if (caster_count > 0u) {
     float pdf;
-    if (l->kind == LIGHT_POINT) {
-      origin = l->p0.xyz;
-      dir = sample_toward_casters(casters, caster_count, origin, photon_random(i, params, 5u), u_dir, &pdf);
-      flux = l->emitted.xyz / pdf;
-    } else {
-      float3 n, p_error;
-      const float3 point = sample_light_surface(l, u_point, &p_error, &n);
-      dir = sample_toward_casters(casters, caster_count, point, photon_random(i, params, 5u), u_dir, &pdf);
-      const float cosine = dot(dir, n);
-      const float weight = (l->flags & LIGHT_TWO_SIDED) ? fabs(cosine) : fmax(cosine, 0.0f);
-      origin = spawn_ray_origin(point, p_error, cosine < 0.0f ? -n : n, dir);
-      flux = l->emitted.xyz * (l->emitted.w * weight / pdf);
-      /* behind a one-sided emitter: no flux, and a zero direction, which
-       * the traversal rejects without visiting a node (ray_traceable) */
-      if (!(weight > 0.0f)) dir = (float3)(0.0f);
-    }
-  } else if (l->kind == LIGHT_POINT) {
-    origin = l->p0.xyz;
-    dir = sample_uniform_sphere(u_dir);
-    flux = l->emitted.xyz * (4.0f * M_PI_F);
+    dir = sample_toward_casters(casters, caster_count, point, photon_random(i, params, 5u), u_dir, &pdf);
+    flux = light_emitted_toward(l, point, p_error, n, &dir, pdf, &origin);
   } else {
-    float3 n, p_error; /* the point's error bound, as sample_light's (spawn_ray_origin) */
-    origin = sample_light_surface(l, u_point, &p_error, &n);
-    float sides = 1.0f;
-    if (l->flags & LIGHT_TWO_SIDED) {
-      sides = 2.0f;
-      if (photon_random(i, params, 5u) < 0.5f) n = -n;
-    }
-    float3 t, b;
-    frame_from_normal(n, &t, &b);
-    dir = frame_to_world(sample_cosine_hemisphere(u_dir), t, b, n);
-    origin = spawn_ray_origin(origin, p_error, n, dir); /* off the light's own surface */
-    flux = l->emitted.xyz * (l->emitted.w * M_PI_F * sides);
+    flux = light_emit(l, point, p_error, n, u_dir, photon_random(i, params, 5u), &origin, &dir);
   }
   PathRecord photon;
   photon.origin = (float4)(origin, 0.0f);

@@ -183,44 +183,27 @@ typedef struct {
   float metallic;  /* path mode: 0 dielectric-coated ... 1 conductor ("metallic") */
 } Material; /* 80 bytes */
 
-typedef struct {
-  cs_float4 position;  /* xyz, w unused */
-  cs_float4 intensity; /* rgb, w unused */
-} PointLight; /* 32 bytes */
-
-/* A light as the path tracer samples it (host/render/path_lights.cpp).
- *   LIGHT_POINT: p0 = position; emitted = intensity I (radiance I / d^2 at d);
- *   LIGHT_RECT: p0 = centre, p1 / p2 = full edge vectors u, v; emits
- *     `emitted` (radiance) on the side of cross(u, v) only;
- *   LIGHT_SPHERE: p0.xyz = centre, p0.w = radius; radiance `emitted`
- *     outward;
- *   LIGHT_TRIANGLE: p0, p1, p2 = vertices (an emissive triangle of the
- *     scene); radiance `emitted` on the side of cross(p1 - p0, p2 - p0),
- *     or both with LIGHT_TWO_SIDED;
- *   LIGHT_CYLINDER: p0 = centre, radius; p1 = unit axis, half length;
- *     radiance `emitted` outward from the side and both caps.
- * Area lights are also scene geometry (so BSDF-sampled rays hit them); a
- * hit primitive's light is found through the per-primitive light indices
- * (light_of_sphere, light_of_cylinder, light_of_triangle; LIGHT_NONE for
- * none). Lights are
+/* A light, in the one form every integrator and the photon pass read, from
+ * the scene loader to the device. What p0, p1, p2 and emitted hold is
+ * each type's own (kernels/lib/lights/<type>_light.h says it; `kind` is a
+ * row of the registry, kernels/lib/lights.h); emitted.w is the area of an
+ * area light (0 for a delta light). Area lights are also scene geometry in
+ * path mode (so BSDF-sampled rays hit them); a hit primitive's light is
+ * found through the per-primitive light indices (light_of_sphere,
+ * light_of_cylinder, light_of_triangle; LIGHT_NONE for none). Lights are
  * picked in proportion to power: select_cdf is the inclusive prefix sum of
- * select_probability. */
+ * select_probability (host/lights/light_table.cpp). */
 #define LIGHT_NONE 0xFFFFFFFFu
-#define LIGHT_POINT 0u
-#define LIGHT_RECT 1u
-#define LIGHT_SPHERE 2u
-#define LIGHT_TRIANGLE 3u
-#define LIGHT_CYLINDER 4u
-#define LIGHT_TWO_SIDED 1u /* PathLight.flags */
+#define LIGHT_TWO_SIDED 1u /* Light.flags */
 
 typedef struct {
   cs_float4 p0, p1, p2;
-  cs_float4 emitted; /* rgb; w: the light's area (0 for points) */
+  cs_float4 emitted; /* rgb radiance (area lights) or intensity (delta lights); w: area */
   cs_uint kind;
   float select_probability;
   float select_cdf;
   cs_uint flags; /* LIGHT_TWO_SIDED */
-} PathLight; /* 80 bytes */
+} Light; /* 80 bytes */
 
 /* Pinhole camera (host: camera_for_image; the ray: shared/camera.h). */
 typedef struct {

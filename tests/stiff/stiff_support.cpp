@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "host/app/session.h"
+#include "host/lights/light_types.h"
 #include "tests/support/test_support.h"
 
 namespace caustica::stiff {
@@ -23,18 +24,24 @@ void transform_scene(Scene& s, float scale, glm::vec3 offset, bool point_light_f
   c.look_at = map(c.look_at, scale, offset);
   c.focus_distance *= scale;
   c.aperture_radius *= scale;
-  for (auto& l : s.point_lights) {
-    l.position = map(l.position, scale, offset);
-    if (point_light_falloff) l.intensity *= scale * scale;
-  }
-  for (auto& l : s.area_lights) {
-    l.center = map(l.center, scale, offset);
-    l.u *= scale;
-    l.v *= scale;
-  }
-  for (auto& l : s.sphere_lights) {
-    l.center = map(l.center, scale, offset);
-    l.radius *= scale;
+  for (Light& l : s.lights) {
+    // Positions and sizes per type (kernels/lib/lights/<type>_light.h).
+    const glm::vec3 p = map(to_vec3(l.p0), scale, offset);
+    if (l.kind == LIGHT_POINT || l.kind == LIGHT_SPOT) {
+      l.p0 = to_float4(p, l.p0.w);
+      if (point_light_falloff) l.emitted = to_float4(to_vec3(l.emitted) * (scale * scale), 0.0f);
+    } else if (l.kind == LIGHT_RECT) {
+      l.p0 = to_float4(p);
+      l.p1 = to_float4(to_vec3(l.p1) * scale);
+      l.p2 = to_float4(to_vec3(l.p2) * scale);
+      l.emitted.w = glm::length(glm::cross(to_vec3(l.p1), to_vec3(l.p2)));  // as the loader computes it
+    } else if (l.kind == LIGHT_SPHERE) {
+      const float r = l.p0.w * scale;
+      l.p0 = to_float4(p, r);
+      l.emitted.w = 4.0f * 3.14159265358979f * r * r;  // as the loader computes it
+    } else {
+      throw std::runtime_error("transform_scene: a file light of kind " + std::to_string(l.kind));
+    }
   }
   for (auto& sp : s.spheres) {
     map4(sp.center_radius, scale, offset);

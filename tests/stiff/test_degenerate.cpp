@@ -20,6 +20,7 @@
 #include <random>
 
 #include "host/error.h"
+#include "host/lights/light_types.h"
 #include "host/scene/load_scene.h"
 #include "tests/stiff/stiff_support.h"
 #include "tests/support/test_support.h"
@@ -94,7 +95,7 @@ Scene degenerate_scene() {
     s.triangles.push_back(tri(vec3(-2 + shift, -1, 4), vec3(2 + shift, -1, 4), vec3(2 + shift, 1.5f, 4)));
     s.triangles.push_back(tri(vec3(-2 + shift, -1, 4), vec3(2 + shift, 1.5f, 4), vec3(-2 + shift, 1.5f, 4)));
   }
-  s.point_lights.push_back({vec3(0, 3, -3), vec3(1.0f)});
+  s.lights.push_back(delta_light_at(vec3(0, 3, -3), vec3(1.0f)));
   s.camera.position = vec3(0, 0, -5);
   s.camera.look_at = vec3(0, 0, 0);
   s.camera.width = 96;

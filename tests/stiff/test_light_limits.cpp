@@ -16,7 +16,7 @@
 // any light, so the 1e12 light left 1/16 of resolution and every ordinary
 // contribution rounded to 0 (the image was black); a light
 // now bounds the film by the radiance its power gives a pixel-sized light
-// (host/render/path_lights.cpp, film_radiance).
+// (host/lights/light_table.cpp, film_radiance).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -30,7 +30,8 @@
 #include <glm/glm.hpp>
 #include <random>
 
-#include "host/render/path_lights.h"
+#include "host/lights/light_table.h"
+#include "host/lights/light_types.h"
 #include "host/scene/scene.h"
 #include "tests/stiff/stiff_support.h"
 #include "tests/support/test_support.h"
@@ -43,7 +44,7 @@ using test::runtime;
 
 const char* kIncludes = R"CLC(
 #include "lib/bvh_traverse.h"
-#include "lib/path_lights.h"
+#include "lib/lights.h"
 )CLC";
 
 const char* kKernel = R"CLC(
@@ -53,7 +54,7 @@ const char* kKernel = R"CLC(
  * points: shading point (xyz) per work-item; its surface normal faces the
  * light's centre and its error bound is that of a point made by a few
  * roundings of its coordinates. */
-__kernel void shadow_rays(__global const float4* points, uint n, __global const PathLight* light,
+__kernel void shadow_rays(__global const float4* points, uint n, __global const Light* light,
                           __global const Sphere* spheres, __global const Cylinder* cylinders,
                           __global const Triangle* triangles, __global const uint* prims, uint prim_count,
                           float surface_tolerance, volatile __global uint* counts, __global float2* weights) {
@@ -95,7 +96,8 @@ __kernel void shadow_rays(__global const float4* points, uint n, __global const 
     off = fabs(fabs(z) - h) < fabs(radial - r) ? fmax(fabs(fabs(z) - h), fmax(radial - r, 0.0f))
                                                : fmax(fabs(radial - r), fmax(fabs(z) - h, 0.0f));
   } else {
-    off = fabs(dot(q - light->p0.xyz, light_normal(light, q)));
+    const float3 n_l = light->kind == LIGHT_RECT ? rect_light_normal(light) : triangle_light_normal(light);
+    off = fabs(dot(q - light->p0.xyz, n_l));
   }
   if (!(off <= surface_tolerance)) atomic_inc(&counts[2]);
 }
@@ -114,14 +116,19 @@ Scene light_scene(const char* kind, float scale, vec3 centre) {
   s.materials.push_back(emissive);
   const std::string k = kind;
   if (k == "sphere") {
-    s.sphere_lights.push_back(SphereLightDesc{centre, scale, vec3(1.0f)});
+    Light l{};
+    l.kind = LIGHT_SPHERE;
+    l.p0 = to_float4(centre, scale);
+    l.emitted = to_float4(vec3(1.0f), 4.0f * 3.14159265f * scale * scale);
+    s.lights.push_back(l);
   } else if (k == "rectangle") {
-    AreaLightDesc a{};
-    a.center = centre;
-    a.u = scale * vec3(1.7f, 0.2f, -0.3f);
-    a.v = scale * vec3(0.1f, 0.4f, 1.1f);
-    a.intensity = vec3(1.0f);
-    s.area_lights.push_back(a);
+    Light l{};
+    l.kind = LIGHT_RECT;
+    l.p0 = to_float4(centre);
+    l.p1 = to_float4(scale * vec3(1.7f, 0.2f, -0.3f));
+    l.p2 = to_float4(scale * vec3(0.1f, 0.4f, 1.1f));
+    l.emitted = to_float4(vec3(1.0f), glm::length(glm::cross(to_vec3(l.p1), to_vec3(l.p2))));
+    s.lights.push_back(l);
   } else if (k == "triangle") {
     s.triangles.push_back(Triangle{to_float4(centre + scale * vec3(-1.0f, -0.2f, 0.4f)),
                                    to_float4(centre + scale * vec3(1.1f, -0.5f, 0.1f)),
@@ -162,7 +169,7 @@ TEST(ShadowRays, NeverOccludedByTheLightTheySampled) {
     for (const char* kind : {"sphere", "rectangle", "triangle", "cylinder"}) {
       const vec3 centre = c.offset + c.scale * vec3(1.5f, -0.5f, 2.0f);
       const Scene scene = light_scene(kind, c.scale, centre);
-      const PathLightTable table = build_path_lights(scene);
+      const LightTable table = build_light_table(scene);
       ASSERT_EQ(table.lights.size(), 1u) << kind;
       std::vector<uint32_t> prims;
       for (size_t i = 0; i < scene.spheres.size(); ++i) prims.push_back(uint32_t(PRIM_SPHERE << PRIM_TYPE_SHIFT | i));
@@ -194,7 +201,7 @@ TEST(ShadowRays, NeverOccludedByTheLightTheySampled) {
                                       upload_read_only(scene.spheres),   upload_read_only(scene.cylinders),
                                       upload_read_only(scene.triangles), upload_read_only(prims)};
       std::vector<cl_uint> counts(4, 0);
-      cl::Buffer count_buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, 16, counts.data());
+      cl::Buffer count_buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, counts.size() * sizeof(cl_uint), counts.data());
       cl::Kernel kernel(program, "shadow_rays");
       kernel.setArg(0, keep[0]);
       kernel.setArg(1, cl_uint(n));

@@ -1,0 +1,156 @@
+#include "host/lights/light_table.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "host/lights/light_types.h"
+
+namespace caustica {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+float max3(const glm::vec3& c) { return std::max(c.x, std::max(c.y, c.z)); }
+
+// The file's lights by kind, then in file order: the pick order (and so
+// the images) of the versions that kept one list per kind.
+std::vector<uint32_t> lights_by_kind(const Scene& scene) {
+  std::vector<uint32_t> order(scene.lights.size());
+  for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](uint32_t a, uint32_t b) { return scene.lights[a].kind < scene.lights[b].kind; });
+  return order;
+}
+
+}  // namespace
+
+void add_light_geometry(Scene& scene) {
+  if (scene.light_geometry.added) return;
+  scene.light_geometry.added = true;
+  for (uint32_t i : lights_by_kind(scene)) {
+    const LightType& type = light_type(scene.lights[i].kind);
+    if (type.add_geometry) type.add_geometry(scene, i);
+  }
+}
+
+LightTable build_light_table(const Scene& scene) {
+  LightTable t;
+  t.light_of_sphere.assign(scene.spheres.size(), LIGHT_NONE);
+  t.light_of_cylinder.assign(scene.cylinders.size(), LIGHT_NONE);
+  t.light_of_triangle.assign(scene.triangles.size(), LIGHT_NONE);
+  std::vector<float> power;
+  auto add = [&](Light l) {
+    const LightType& type = light_type(l.kind);
+    const float p = type.power(l);
+    if (!(p > 0.0f) || !std::isfinite(p)) return false;
+    t.lights.push_back(l);
+    power.push_back(p);
+    // The film's scale (PathIntegrator's pass bound) must resolve what a
+    // pixel gathers, not the rare sample that hits a light far smaller than
+    // a pixel: such a light puts at most its intensity (radiance x area) /
+    // d^2 into a pixel's mean, so it counts as the same power spread over a
+    // light 1e-3 of its distance d from the camera across (a pixel of a
+    // 1000-pixel-wide, ~60 degree view). Trade-off: a camera ray that hits
+    // the tiny light itself may exceed the film's range and is clamped and
+    // counted (probability ~ its share of the pixel); before, a 1e-6 light
+    // of radiance 1e12 left the film a resolution of 1/16 and rounded every
+    // ordinary contribution to 0 (stiff_light_limits).
+    float radiance = max3(to_vec3(l.emitted));
+    if (!type.delta) {
+      const float d = std::max(1e-30f, glm::length(to_vec3(l.p0) - scene.camera.position));
+      const float reference = 1e-6f * d * d;
+      if (l.emitted.w < reference) radiance *= l.emitted.w / reference;
+    }
+    t.max_radiance = std::max(t.max_radiance, radiance);
+    return true;
+  };
+  // The file's lights; the primitives of their geometry find them.
+  const Scene::LightGeometry& g = scene.light_geometry;
+  std::vector<uint32_t> table_index(scene.lights.size(), LIGHT_NONE);
+  for (uint32_t i : lights_by_kind(scene)) {
+    const LightType& type = light_type(scene.lights[i].kind);
+    if (!type.delta && !g.added) continue;  // an area light without its geometry: not sampled
+    if (add(scene.lights[i])) table_index[i] = uint32_t(t.lights.size() - 1);
+  }
+  std::vector<bool> geometry_sphere(scene.spheres.size(), false), geometry_triangle(scene.triangles.size(), false);
+  for (const Scene::LightPrimitive& p : g.prims) {
+    const uint32_t type = p.prim >> PRIM_TYPE_SHIFT, index = p.prim & PRIM_INDEX_MASK;
+    std::vector<uint32_t>& of = type == PRIM_SPHERE ? t.light_of_sphere : type == PRIM_CYLINDER ? t.light_of_cylinder
+                                                                                                  : t.light_of_triangle;
+    of[index] = table_index[p.light];
+    if (type == PRIM_SPHERE) geometry_sphere[index] = true;
+    if (type == PRIM_TRIANGLE) geometry_triangle[index] = true;
+  }
+  // Emissive shapes of the file: one light of `kind` with corners p0..p2
+  // and `area` per emissive shape.
+  auto add_shape = [&](uint32_t material, uint32_t kind, cs_float4 p0, cs_float4 p1, cs_float4 p2, float area,
+                       std::vector<uint32_t>& index_of_shape, size_t shape) {
+    const glm::vec3 e = to_vec3(scene.materials[material].emission);
+    if (!(max3(e) > 0.0f)) return;
+    const bool two_sided = kind == LIGHT_TRIANGLE && (scene.materials[material].flags & MATERIAL_TWO_SIDED);
+    Light l{};
+    l.kind = kind;
+    l.p0 = p0;
+    l.p1 = p1;
+    l.p2 = p2;
+    l.flags = two_sided ? LIGHT_TWO_SIDED : 0u;
+    l.emitted = to_float4(e, area);
+    if (add(l)) index_of_shape[shape] = uint32_t(t.lights.size() - 1);
+  };
+  for (size_t i = 0; i < scene.triangles.size(); ++i) {
+    if (geometry_triangle[i]) continue;
+    const Triangle& tri = scene.triangles[i];
+    const glm::vec3 a = to_vec3(tri.v0), b = to_vec3(tri.v1), c = to_vec3(tri.v2);
+    add_shape(tri.material, LIGHT_TRIANGLE, tri.v0, tri.v1, tri.v2, 0.5f * glm::length(glm::cross(b - a, c - a)),
+              t.light_of_triangle, i);
+  }
+  for (size_t i = 0; i < scene.spheres.size(); ++i) {
+    if (geometry_sphere[i]) continue;
+    const float r = scene.spheres[i].center_radius.w;
+    add_shape(scene.spheres[i].material, LIGHT_SPHERE, scene.spheres[i].center_radius, {}, {}, 4.0f * kPi * r * r,
+              t.light_of_sphere, i);
+  }
+  for (size_t i = 0; i < scene.cylinders.size(); ++i) {
+    const Cylinder& c = scene.cylinders[i];
+    const float r = c.center_radius.w, h = c.axis_half.w;
+    add_shape(c.material, LIGHT_CYLINDER, c.center_radius, c.axis_half, {}, 4.0f * kPi * r * h + 2.0f * kPi * r * r,
+              t.light_of_cylinder, i);
+  }
+  set_selection(t.lights, power);
+  return t;
+}
+
+void set_selection(std::vector<Light>& lights, const std::vector<float>& power) {
+  double total = 0.0;
+  for (float p : power) total += p;
+  double prefix = 0.0;
+  for (size_t i = 0; i < lights.size(); ++i) {
+    lights[i].select_probability = float(power[i] / total);
+    prefix += power[i] / total;
+    lights[i].select_cdf = i + 1 == lights.size() ? 1.0f : float(prefix);
+  }
+}
+
+std::vector<Light> whitted_lights(const Scene& scene) {
+  std::vector<Light> lights;
+  for (uint32_t i : lights_by_kind(scene)) {
+    const LightType& type = light_type(scene.lights[i].kind);
+    if (type.whitted_stand_in) lights.push_back(type.whitted_stand_in(scene.lights[i]));
+  }
+  return lights;
+}
+
+std::vector<Light> emitting_lights(const std::vector<Light>& lights) {
+  std::vector<Light> out;
+  std::vector<float> power;
+  for (const Light& l : lights) {
+    const float p = light_type(l.kind).power(l);
+    if (!(p > 0.0f) || !std::isfinite(p)) continue;
+    out.push_back(l);
+    power.push_back(p);
+  }
+  set_selection(out, power);
+  return out;
+}
+
+}  // namespace caustica

@@ -1,0 +1,45 @@
+// The lights each integrator uploads, derived from the scene's one form
+// (Scene::lights, Light in kernels/shared/types.h) through the light types
+// (host/lights/light_types.h).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "host/scene/scene.h"
+
+namespace caustica {
+
+// Appends the geometry of every light whose type has some (rectangle and
+// sphere lights), with an emissive material that reflects nothing, so that
+// BSDF-sampled rays hit the lights they could have sampled (MIS needs both
+// ways to reach a light). Path mode only; before the BVH is built.
+void add_light_geometry(Scene& scene);
+
+struct LightTable {
+  std::vector<Light> lights;                // selection probability by power
+  std::vector<uint32_t> light_of_sphere;    // per sphere: its light, or LIGHT_NONE
+  std::vector<uint32_t> light_of_cylinder;  // per cylinder
+  std::vector<uint32_t> light_of_triangle;  // per triangle: its light, or LIGHT_NONE
+  float max_radiance = 0.0f;                // largest emitted component, tiny lights scaled down (film scale)
+};
+
+// The path tracer's lights: the file's (their geometry added first), then
+// every other emissive triangle (front side, or both with "twosided"),
+// sphere and cylinder (outward). File lights come by kind (the registry's
+// order), then as the file lists them.
+LightTable build_light_table(const Scene& scene);
+
+// Phong's lights: each file light's delta stand-in (point and spot lights
+// themselves, a point at the centre of a rectangle or sphere light), by
+// kind.
+std::vector<Light> whitted_lights(const Scene& scene);
+
+// The lights of `lights` that emit, with selection probabilities by power
+// (phong's photon pass picks from them).
+std::vector<Light> emitting_lights(const std::vector<Light>& lights);
+
+// select_probability and select_cdf of `lights` from their powers.
+void set_selection(std::vector<Light>& lights, const std::vector<float>& power);
+
+}  // namespace caustica

@@ -1,0 +1,83 @@
+#include "host/lights/light_types.h"
+
+#include "host/error.h"
+
+namespace caustica {
+
+// The registry: one line per light type, in the order of the device's
+// LIGHT_TYPES rows (kernels/lib/lights.h), which number the kinds.
+#define HOST_LIGHT_TYPES(X) X(point) X(rect) X(sphere) X(triangle) X(cylinder) X(spot)
+
+#define DECLARE_LIGHT_TYPE(type) LightType type##_light_type();
+HOST_LIGHT_TYPES(DECLARE_LIGHT_TYPE)
+#undef DECLARE_LIGHT_TYPE
+
+const std::vector<LightType>& light_types() {
+#define LIST_LIGHT_TYPE(type) type##_light_type(),
+  static const std::vector<LightType> types = {HOST_LIGHT_TYPES(LIST_LIGHT_TYPE)};
+#undef LIST_LIGHT_TYPE
+  return types;
+}
+
+const LightType& light_type(uint32_t kind) {
+  const std::vector<LightType>& types = light_types();
+  if (kind >= types.size() || types[kind].kind != kind)
+    throw Error("internal: light kind " + std::to_string(kind) + " is not in the host's light registry");
+  return types[kind];
+}
+
+const LightType* light_type_of_file(const std::string& file_type) {
+  for (const LightType& t : light_types())
+    if (t.file_type && file_type == t.file_type) return &t;
+  return nullptr;
+}
+
+std::string light_file_types() {
+  std::string s;
+  for (const LightType& t : light_types())
+    if (t.file_type) s += std::string(s.empty() ? "" : ", ") + "\"" + t.file_type + "\"";
+  return s;
+}
+
+bool has_delta_light(const Scene& scene) {
+  for (const Light& l : scene.lights)
+    if (light_type(l.kind).delta) return true;
+  return false;
+}
+
+std::vector<Light> lights_of_kind(const Scene& scene, uint32_t kind) {
+  std::vector<Light> out;
+  for (const Light& l : scene.lights)
+    if (l.kind == kind) out.push_back(l);
+  return out;
+}
+
+float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+float area_light_power(const Light& l) {
+  constexpr float kPi = 3.14159265358979f;
+  return ((l.flags & LIGHT_TWO_SIDED) ? 2.0f : 1.0f) * kPi * l.emitted.w * luminance(to_vec3(l.emitted));
+}
+
+Light delta_light_at(const glm::vec3& p, const glm::vec3& intensity) {
+  Light l{};
+  l.kind = LIGHT_POINT;
+  l.p0 = to_float4(p);
+  l.emitted = to_float4(intensity, 0.0f);
+  return l;
+}
+
+uint32_t add_emissive_material(Scene& scene, const glm::vec3& radiance) {
+  Material m{};
+  m.diffuse = to_float4(glm::vec3(0.0f), 0.0f);
+  m.specular = to_float4(glm::vec3(0.0f), 0.0f);
+  m.emission = to_float4(radiance);
+  m.specular_exponent = 1.0f;
+  m.ior = 1.0f;
+  m.texture = -1;
+  m.roughness = -1.0f;
+  scene.materials.push_back(m);
+  return uint32_t(scene.materials.size() - 1);
+}
+
+}  // namespace caustica

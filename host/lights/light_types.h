@@ -1,0 +1,65 @@
+// The light types on the host: one file per type (host/lights/<type>_light.cpp)
+// and one registry (light_types.cpp), the device's
+// (kernels/lib/lights.h) in mirror.
+//
+// Rules: the scene keeps its lights in the one form the device reads
+// (Light, kernels/shared/types.h), as the file wrote them; a type's host
+// file says how a scene file writes it (read), how much it emits (power:
+// the pick probability's weight), what phong shades in its place (a delta
+// light) and what geometry path mode adds so that BSDF-sampled rays hit
+// it. Types made only from emissive shapes (triangles, cylinders) have no
+// file form and no stand-in.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "host/scene/scene.h"
+#include "lib/lights.h"
+
+namespace caustica {
+
+namespace scene_detail {
+class Reader;
+}
+
+struct LightType {
+  uint32_t kind = 0;             // the device registry's row (LIGHT_POINT, ...)
+  const char* file_type = nullptr;  // "type" in a scene file's lightsources; nullptr: made from shapes only
+  bool delta = false;            // no surface: reached by next-event estimation and photons only
+  // Appends the light written at `path` (an object whose "type" is file_type) to scene.lights.
+  void (*read)(const scene_detail::Reader& r, const nlohmann::json& light, const std::string& path,
+               Scene& scene) = nullptr;
+  float (*power)(const Light& l) = nullptr;  // luminance-weighted flux
+  // Phong's delta light in its place (point and spot lights: themselves).
+  Light (*whitted_stand_in)(const Light& l) = nullptr;
+  // Path mode: appends the light's own geometry to the scene (with an
+  // emissive material that reflects nothing) and names it in
+  // scene.light_geometry; nullptr for delta lights and shape lights.
+  void (*add_geometry)(Scene& scene, uint32_t light_index) = nullptr;
+};
+
+const std::vector<LightType>& light_types();  // in kind order
+const LightType& light_type(uint32_t kind);
+const LightType* light_type_of_file(const std::string& file_type);  // nullptr: no such type
+// "\"pointlight\", \"arealight\", ..." for error messages.
+std::string light_file_types();
+
+// Does the scene have a point or spot light (reached only by next-event
+// estimation and photons)?
+bool has_delta_light(const Scene& scene);
+// The scene's lights of one kind, in file order.
+std::vector<Light> lights_of_kind(const Scene& scene, uint32_t kind);
+
+// Helpers the type files share.
+float luminance(const glm::vec3& c);
+// An area light's flux: pi * area * luminance(radiance), twice for a
+// two-sided one.
+float area_light_power(const Light& l);
+// A point light at p with intensity i.
+Light delta_light_at(const glm::vec3& p, const glm::vec3& intensity);
+// An emissive material that reflects nothing, appended to the scene.
+uint32_t add_emissive_material(Scene& scene, const glm::vec3& radiance);
+
+}  // namespace caustica

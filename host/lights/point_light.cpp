@@ -1,0 +1,34 @@
+// Point light, "type": "pointlight" (kernels/lib/lights/point_light.h):
+// position and intensity I, radiance I / d^2 at distance d.
+#include "host/lights/light_types.h"
+#include "host/scene/scene_reader.h"
+
+namespace caustica {
+namespace {
+
+using namespace scene_detail;
+
+void read_point_light(const Reader& r, const json& l, const std::string& path, Scene& scene) {
+  r.check_keys(l, path, {"type", "position", "intensity"});
+  scene.lights.push_back(
+      delta_light_at(r.read_vec3(l, "position", path, Range::Any), r.read_vec3(l, "intensity", path, Range::NonNegative)));
+}
+
+float point_light_power(const Light& l) { return 4.0f * 3.14159265358979f * luminance(to_vec3(l.emitted)); }
+
+Light itself(const Light& l) { return l; }
+
+}  // namespace
+
+LightType point_light_type() {
+  LightType t;
+  t.kind = LIGHT_POINT;
+  t.file_type = "pointlight";
+  t.delta = true;
+  t.read = read_point_light;
+  t.power = point_light_power;
+  t.whitted_stand_in = itself;
+  return t;
+}
+
+}  // namespace caustica

@@ -1,0 +1,62 @@
+// Spot light, "type": "spotlight" (kernels/lib/lights/spot_light.h): a
+// point light limited to a cone about "direction", full intensity within
+// "inner_cone_angle" of it, falling off smoothly (glTF KHR_lights_punctual's
+// curve) to nothing at "outer_cone_angle". Angles in degrees from the axis,
+// as glTF's (which are radians): 0 <= inner < outer <= 90, defaults 0 and 45.
+#include <cmath>
+
+#include "host/lights/light_types.h"
+#include "host/scene/scene_reader.h"
+
+namespace caustica {
+namespace {
+
+using namespace scene_detail;
+
+void read_spot_light(const Reader& r, const json& l, const std::string& path, Scene& scene) {
+  r.check_keys(l, path, {"type", "position", "direction", "intensity", "inner_cone_angle", "outer_cone_angle"});
+  const glm::vec3 position = r.read_vec3(l, "position", path, Range::Any);
+  const glm::vec3 direction = r.read_vec3(l, "direction", path, Range::Any);
+  if (!(glm::length(direction) > 0.0f))
+    r.expected(path + "/direction", "a direction of nonzero length", l["direction"]);
+  const float inner = r.read_number(l, "inner_cone_angle", path, Range::NonNegative, 0.0f);
+  const float outer = r.read_number(l, "outer_cone_angle", path, Range::Positive, 45.0f);
+  if (!(outer <= 90.0f)) r.expected(path + "/outer_cone_angle", "an angle in degrees of at most 90", l["outer_cone_angle"]);
+  if (!(inner < outer))
+    r.fail(path + "/inner_cone_angle", "expected an angle below outer_cone_angle (" + std::to_string(outer) +
+                                           " degrees), got " + std::to_string(inner));
+  const double to_radians = 3.14159265358979323846 / 180.0;
+  const double cos_inner = std::cos(inner * to_radians), cos_outer = std::cos(outer * to_radians);
+  const double half_outer = 0.5 * outer * to_radians;
+  Light s = delta_light_at(position, r.read_vec3(l, "intensity", path, Range::NonNegative));
+  s.kind = LIGHT_SPOT;
+  s.p1 = to_float4(glm::normalize(direction), float(cos_outer));
+  // 1 - cos(outer) = 2 sin^2(outer / 2): exact for narrow cones.
+  s.p2 = cs_float4{float(cos_inner), float(2.0 * std::sin(half_outer) * std::sin(half_outer)), 0.0f, 0.0f};
+  scene.lights.push_back(s);
+}
+
+// Its flux: 2 pi I (integral of the falloff over cos from cos_o to 1) =
+// 2 pi I ((1 - cos_i) + (cos_i - cos_o) / 3).
+float spot_light_power(const Light& l) {
+  const double cos_outer = l.p1.w, cos_inner = l.p2.x;
+  const double solid = 2.0 * 3.14159265358979323846 * ((1.0 - cos_inner) + (cos_inner - cos_outer) / 3.0);
+  return float(solid * luminance(to_vec3(l.emitted)));
+}
+
+Light itself(const Light& l) { return l; }
+
+}  // namespace
+
+LightType spot_light_type() {
+  LightType t;
+  t.kind = LIGHT_SPOT;
+  t.file_type = "spotlight";
+  t.delta = true;
+  t.read = read_spot_light;
+  t.power = spot_light_power;
+  t.whitted_stand_in = itself;
+  return t;
+}
+
+}  // namespace caustica

@@ -1,0 +1,133 @@
+#line 2 "kernels/lib/lights.h"
+/* The light registry: every light type, and the dispatch from a Light
+ * (shared/types.h) to its type's functions.
+ *
+ * Rules: a light type is one file here (lib/lights/<type>_light.h, its six
+ * functions described in lib/lights/light_common.h), one file on the host
+ * (host/lights/<type>_light.cpp: reading it from a scene file, its power,
+ * phong's stand-in, its geometry) and one line in each registry: the
+ * LIGHT_TYPES row below, with its #include beside it, and the host's
+ * (host/lights/light_types.cpp). Kind numbers are the rows' order, so a new
+ * type goes last. The third column marks area lights, whose sampling
+ * programs of point-lit scenes leave out (-DPATH_WITH_AREA_LIGHTS=0).
+ * Densities are per unit solid angle at the shading point and include the
+ * probability of picking the light; a delta light's density is that
+ * probability alone, and MIS never weights it. */
+#ifndef CAUSTICA_LIB_LIGHTS_H
+#define CAUSTICA_LIB_LIGHTS_H
+
+#include "lib/lights/point_light.h"
+#include "lib/lights/rect_light.h"
+#include "lib/lights/sphere_light.h"
+#include "lib/lights/triangle_light.h"
+#include "lib/lights/cylinder_light.h"
+#include "lib/lights/spot_light.h"
+
+/*                 kind            type      area */
+#define LIGHT_TYPES(X)                       \
+  X(LIGHT_POINT,    point,    0)             \
+  X(LIGHT_RECT,     rect,     1)             \
+  X(LIGHT_SPHERE,   sphere,   1)             \
+  X(LIGHT_TRIANGLE, triangle, 1)             \
+  X(LIGHT_CYLINDER, cylinder, 1)             \
+  X(LIGHT_SPOT,     spot,     0)
+
+#define LIGHT_KIND_ENUM(kind, type, area) kind,
+enum { LIGHT_TYPES(LIGHT_KIND_ENUM) LIGHT_KIND_COUNT };
+#undef LIGHT_KIND_ENUM
+
+#ifndef PATH_WITH_AREA_LIGHTS
+#define PATH_WITH_AREA_LIGHTS 1
+#endif
+
+/* The light whose prefix probability first exceeds u (binary search). */
+inline uint pick_light(__global const Light* lights, uint count, float u) {
+  uint lo = 0u, hi = count - 1u;
+  while (lo < hi) {
+    const uint mid = (lo + hi) / 2u;
+    if (u < lights[mid].select_cdf) hi = mid;
+    else lo = mid + 1u;
+  }
+  return lo;
+}
+
+/* Next-event estimation toward light l, picked with pick_probability. */
+inline bool sample_light(__global const Light* l, float pick_probability, float3 p, float2 u, LightSample* s) {
+  s->delta = false;
+  bool found = false;
+  switch (l->kind) {
+#define LIGHT_SAMPLE_CASE(kind, type, area) \
+  case kind: found = (!(area) || PATH_WITH_AREA_LIGHTS) && type##_light_sample(l, p, u, s); break;
+    LIGHT_TYPES(LIGHT_SAMPLE_CASE)
+#undef LIGHT_SAMPLE_CASE
+  }
+  if (!found) return false;
+  s->pdf = pick_probability * s->pdf;
+  return s->pdf > 0.0f;
+}
+
+/* What sample_light's density would have been for the direction wi from p
+ * that reached point q of light l (a BSDF-sampled ray's hit). */
+inline float light_pdf(__global const Light* l, float pick_probability, float3 p, float3 q, float3 wi) {
+  float pdf = 0.0f;
+  switch (l->kind) {
+#define LIGHT_PDF_CASE(kind, type, area) \
+  case kind: pdf = (!(area) || PATH_WITH_AREA_LIGHTS) ? type##_light_pdf(l, p, q, wi) : 0.0f; break;
+    LIGHT_TYPES(LIGHT_PDF_CASE)
+#undef LIGHT_PDF_CASE
+  }
+  return pick_probability * pdf;
+}
+
+/* A delta light's intensity along w (phong). */
+inline float3 light_intensity_toward(__global const Light* l, float3 w) {
+  switch (l->kind) {
+#define LIGHT_INTENSITY_CASE(kind, type, area) \
+  case kind: return type##_light_intensity_toward(l, w);
+    LIGHT_TYPES(LIGHT_INTENSITY_CASE)
+#undef LIGHT_INTENSITY_CASE
+  }
+  return splat_float3(0.0f);
+}
+
+/* A photon's start on light l: the point, its error bound, the normal. */
+inline float3 light_emission_point(__global const Light* l, float2 u, float3* p_error, float3* n) {
+  switch (l->kind) {
+#define LIGHT_POINT_CASE(kind, type, area) \
+  case kind: return type##_light_emission_point(l, u, p_error, n);
+    LIGHT_TYPES(LIGHT_POINT_CASE)
+#undef LIGHT_POINT_CASE
+  }
+  *p_error = *n = splat_float3(0.0f);
+  return l->p0.xyz;
+}
+
+/* An unguided photon from that point: its origin, direction and flux. */
+inline float3 light_emit(__global const Light* l, float3 point, float3 p_error, float3 n, float2 u, float u_side,
+                         float3* origin, float3* dir) {
+  switch (l->kind) {
+#define LIGHT_EMIT_CASE(kind, type, area) \
+  case kind: return type##_light_emit(l, point, p_error, n, u, u_side, origin, dir);
+    LIGHT_TYPES(LIGHT_EMIT_CASE)
+#undef LIGHT_EMIT_CASE
+  }
+  *origin = point;
+  *dir = splat_float3(0.0f);
+  return splat_float3(0.0f);
+}
+
+/* The flux of a photon sent from that point along *dir with density pdf. */
+inline float3 light_emitted_toward(__global const Light* l, float3 point, float3 p_error, float3 n, float3* dir,
+                                   float pdf, float3* origin) {
+  switch (l->kind) {
+#define LIGHT_TOWARD_CASE(kind, type, area) \
+  case kind: return type##_light_emitted_toward(l, point, p_error, n, dir, pdf, origin);
+    LIGHT_TYPES(LIGHT_TOWARD_CASE)
+#undef LIGHT_TOWARD_CASE
+  }
+  *origin = point;
+  *dir = splat_float3(0.0f);
+  return splat_float3(0.0f);
+}
+
+#endif /* CAUSTICA_LIB_LIGHTS_H */
