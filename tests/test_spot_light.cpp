@@ -128,7 +128,9 @@ TEST(SpotLight, BadValuesNameTheirKey) {
   EXPECT_TRUE(test::Contains(error(head + R"("direction": [0, -1, 0], "inner_cone_angle": 30, "outer_cone_angle": 30})"),
                              {"/scene/lightsources/0/inner_cone_angle", "below outer_cone_angle"}));
   EXPECT_TRUE(test::Contains(error(head + R"("direction": [0, -1, 0], "outer_cone_angle": 120})"),
-                             {"/scene/lightsources/0/outer_cone_angle", "at most 90"}));
+                             {"/scene/lightsources/0/outer_cone_angle", "from 0.5 to 90"}));
+  EXPECT_TRUE(test::Contains(error(head + R"("direction": [0, -1, 0], "outer_cone_angle": 0.01})"),
+                             {"/scene/lightsources/0/outer_cone_angle", "from 0.5 to 90"}));
   EXPECT_TRUE(test::Contains(error(head + R"("direction": [0, -1, 0], "outer_cone_angle": -5})"),
                              {"/scene/lightsources/0/outer_cone_angle"}));
   EXPECT_TRUE(test::Contains(error(R"({"type": "spotlight", "position": [0, 2, 0], "intensity": [1, 1, 1]})"),

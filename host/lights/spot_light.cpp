@@ -2,7 +2,8 @@
 // point light limited to a cone about "direction", full intensity within
 // "inner_cone_angle" of it, falling off smoothly (glTF KHR_lights_punctual's
 // curve) to nothing at "outer_cone_angle". Angles in degrees from the axis,
-// as glTF's (which are radians): 0 <= inner < outer <= 90, defaults 0 and 45.
+// as glTF's (which are radians): 0 <= inner < outer, 0.5 <= outer <= 90,
+// defaults 0 and 45.
 #include <cmath>
 
 #include "host/lights/light_types.h"
@@ -21,7 +22,12 @@ void read_spot_light(const Reader& r, const json& l, const std::string& path, Sc
     r.expected(path + "/direction", "a direction of nonzero length", l["direction"]);
   const float inner = r.read_number(l, "inner_cone_angle", path, Range::NonNegative, 0.0f);
   const float outer = r.read_number(l, "outer_cone_angle", path, Range::Positive, 45.0f);
-  if (!(outer <= 90.0f)) r.expected(path + "/outer_cone_angle", "an angle in degrees of at most 90", l["outer_cone_angle"]);
+  // The kernels compare cosines in float32: a cone narrower than half a
+  // degree (1 - cos < 4e-5, some 600 float steps below 1) would lose its
+  // falloff's shape to their rounding, and one below ~0.02 degrees would
+  // round shut and emit nothing.
+  if (!(outer <= 90.0f && outer >= 0.5f))
+    r.expected(path + "/outer_cone_angle", "an angle in degrees from 0.5 to 90", l["outer_cone_angle"]);
   if (!(inner < outer))
     r.fail(path + "/inner_cone_angle", "expected an angle below outer_cone_angle (" + std::to_string(outer) +
                                            " degrees), got " + std::to_string(inner));
