@@ -17,8 +17,9 @@
  *   emitted_toward(l, point, e, n, dir, pdf, origin)
  *                                 the flux of a photon sent along *dir with density pdf (guided
  *                                 emission, emit_photons.cl); may zero *dir when no flux leaves
- * Every type takes the same parameters, used or not ((void) marks the
- * unused ones on the host, where they would warn).
+ * Area types write four of them with AREA_LIGHT_SAMPLE_BY_AREA and
+ * AREA_LIGHT_EMISSION (below). Every type takes the same parameters, used
+ * or not ((void) marks the unused ones on the host, where they would warn).
  * Radiance conventions (scenes/FORMAT.md): a point light's intensity I gives
  * radiance I / d^2; area lights emit their radiance `emitted` from their
  * front side, both sides with LIGHT_TWO_SIDED. */
@@ -118,5 +119,30 @@ inline float3 area_light_emitted_toward(__global const Light* l, float3 point, f
   if (!(weight > 0.0f)) *dir = splat_float3(0.0f);
   return flux;
 }
+
+/* The functions every area light type writes alike, from its
+ * <type>_light_emission_point: next-event estimation toward a point drawn
+ * uniformly by area (sphere lights sample their cone instead and define
+ * their own), its radiance as phong's intensity, and the photon emission
+ * of emit_area_light / area_light_emitted_toward. */
+#define AREA_LIGHT_SAMPLE_BY_AREA(type)                                                                  \
+  inline bool type##_light_sample(__global const Light* l, float3 p, float2 u, LightSample* s) {      \
+    float3 p_error, n_l;                                                                                \
+    const float3 q = type##_light_emission_point(l, u, &p_error, &n_l);                                 \
+    return sample_area_light_point(l, p, q, p_error, n_l, s);                                           \
+  }
+#define AREA_LIGHT_EMISSION(type)                                                                        \
+  inline float3 type##_light_intensity_toward(__global const Light* l, float3 w) {                     \
+    (void)w;                                                                                            \
+    return l->emitted.xyz;                                                                              \
+  }                                                                                                     \
+  inline float3 type##_light_emit(__global const Light* l, float3 point, float3 p_error, float3 n,      \
+                                  float2 u, float u_side, float3* origin, float3* dir) {                \
+    return emit_area_light(l, point, p_error, n, u, u_side, origin, dir);                               \
+  }                                                                                                     \
+  inline float3 type##_light_emitted_toward(__global const Light* l, float3 point, float3 p_error,     \
+                                            float3 n, float3* dir, float pdf, float3* origin) {         \
+    return area_light_emitted_toward(l, point, p_error, n, dir, pdf, origin);                           \
+  }
 
 #endif /* CAUSTICA_LIB_LIGHTS_LIGHT_COMMON_H */

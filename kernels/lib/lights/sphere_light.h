@@ -63,11 +63,6 @@ inline float sphere_light_pdf(__global const Light* l, float3 p, float3 q, float
   return pdf_uniform_cone(sphere_cone_one_minus_cos(d2, r * r));
 }
 
-inline float3 sphere_light_intensity_toward(__global const Light* l, float3 w) {
-  (void)w;
-  return l->emitted.xyz;
-}
-
 /* Uniform by area: the centre plus the radius times a unit vector, a few
  * roundings each (8 bounds them all). */
 inline float3 sphere_light_emission_point(__global const Light* l, float2 u, float3* p_error, float3* n) {
@@ -76,14 +71,6 @@ inline float3 sphere_light_emission_point(__global const Light* l, float2 u, flo
   return l->p0.xyz + l->p0.w * *n;
 }
 
-inline float3 sphere_light_emit(__global const Light* l, float3 point, float3 p_error, float3 n, float2 u,
-                                float u_side, float3* origin, float3* dir) {
-  return emit_area_light(l, point, p_error, n, u, u_side, origin, dir);
-}
-
-inline float3 sphere_light_emitted_toward(__global const Light* l, float3 point, float3 p_error, float3 n, float3* dir,
-                                          float pdf, float3* origin) {
-  return area_light_emitted_toward(l, point, p_error, n, dir, pdf, origin);
-}
+AREA_LIGHT_EMISSION(sphere)
 
 #endif /* CAUSTICA_LIB_LIGHTS_SPHERE_LIGHT_H */

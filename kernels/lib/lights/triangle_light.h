@@ -21,29 +21,11 @@ inline float3 triangle_light_emission_point(__global const Light* l, float2 u, f
   return q;
 }
 
-inline bool triangle_light_sample(__global const Light* l, float3 p, float2 u, LightSample* s) {
-  float3 p_error, n_l;
-  const float3 q = triangle_light_emission_point(l, u, &p_error, &n_l);
-  return sample_area_light_point(l, p, q, p_error, n_l, s);
-}
-
 inline float triangle_light_pdf(__global const Light* l, float3 p, float3 q, float3 wi) {
   return area_to_solid_angle(p, q, wi, l->emitted.w, triangle_light_normal(l));
 }
 
-inline float3 triangle_light_intensity_toward(__global const Light* l, float3 w) {
-  (void)w;
-  return l->emitted.xyz;
-}
-
-inline float3 triangle_light_emit(__global const Light* l, float3 point, float3 p_error, float3 n, float2 u,
-                                  float u_side, float3* origin, float3* dir) {
-  return emit_area_light(l, point, p_error, n, u, u_side, origin, dir);
-}
-
-inline float3 triangle_light_emitted_toward(__global const Light* l, float3 point, float3 p_error, float3 n,
-                                            float3* dir, float pdf, float3* origin) {
-  return area_light_emitted_toward(l, point, p_error, n, dir, pdf, origin);
-}
+AREA_LIGHT_SAMPLE_BY_AREA(triangle)
+AREA_LIGHT_EMISSION(triangle)
 
 #endif /* CAUSTICA_LIB_LIGHTS_TRIANGLE_LIGHT_H */
