@@ -189,18 +189,8 @@ TEST(BvhBuild, EmptySceneMisses) {
 // Primitive code is cut by HAS_* flags: every subset, none included, must
 // compile (the renderer builds only what the scene needs).
 TEST(BvhKernels, CompileForEveryPrimitiveSubset) {
-  const char* kernel = R"CLC(
-#include "lib/bvh_traverse.h"
-#include "lib/surface.h"
-__kernel void k(SCENE_GEOMETRY_PARAMS, __global float4* out) {
-  float3 o = (float3)(0.0f), d = (float3)(0.0f, 0.0f, 1.0f);
-  Hit h = trace_closest(SCENE_GEOMETRY_ARGS, o, d, 0.0f, RAY_T_FAR);
-  SurfacePoint sp = surface_at(spheres, cylinders, triangles, (__global const TriangleShading*)0, h, o, d);
-  out[0] = (float4)(sp.position, trace_any(SCENE_GEOMETRY_ARGS, o, d, 0.0f, 1.0f) ? 1.0f : 0.0f);
-}
-)CLC";
   for (const char* options : {"", "-DHAS_SPHERES", "-DHAS_CYLINDERS", "-DHAS_TRIANGLES -cl-fast-relaxed-math"})
-    EXPECT_NO_THROW(runtime().build_source("test_bvh_subset.cl", kernel, options)) << options;
+    EXPECT_NO_THROW(test::build_test_kernel("bvh_subset.cl", options)) << options;
 }
 
 TEST(BvhBuild, FastEnoughForLargeScenes) {

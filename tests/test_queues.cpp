@@ -17,19 +17,6 @@
 namespace caustica {
 namespace {
 
-const char* kPushKernel = R"CL(
-#include "lib/queue.h"
-/* Work-item i pushes (i % 4) entries, each tagged with (i << 2) | k. */
-__kernel void push_test(volatile __global uint* count, uint capacity, __global uint* slots, uint n) {
-  const uint i = get_global_id(0);
-  if (i >= n) return;
-  for (uint k = 0; k < i % 4; ++k) {
-    const uint slot = queue_reserve(count, capacity);
-    if (slot != 0xFFFFFFFFu) slots[slot] = (i << 2) | k;
-  }
-}
-)CL";
-
 struct PushResult {
   uint32_t count;
   std::vector<uint32_t> slots;  // capacity + 16 guard entries
@@ -37,7 +24,7 @@ struct PushResult {
 
 PushResult run_push(uint32_t n, uint32_t capacity, size_t local) {
   Runtime& rt = test::runtime();
-  auto built = rt.build_source("test_queues.cl", kPushKernel, "");
+  auto built = test::build_test_kernel("queues_push.cl", "", rt);
   cl::Kernel k(built.program, "push_test");
   const uint32_t guard = 16;
   std::vector<uint32_t> init(capacity + guard, 0xDEADBEEFu);

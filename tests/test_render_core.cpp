@@ -130,21 +130,11 @@ TEST(KernelArgs, BindingIsCheckedAgainstTheKernelsNames) {
 // ------------------------------------------------------------------ film
 
 // film_add from a list of contributions, plus the pass accumulation, in one
-// program: the Film class drives it as the integrators do.
-const char* kFilmKernel = R"CL(
-#include "lib/film.h"
-#include "film/accumulate_film_pass.cl"
-__kernel void add_contributions(FILM_PARAMS, __global const float4* restrict values,
-                                __global const uint* restrict pixels, uint count) {
-  const uint i = get_global_id(0);
-  if (i >= count) return;
-  film_add(FILM_ARGS, pixels[i], values[i].xyz);
-}
-)CL";
-
+// program (tests/kernels/render_core_film.cl): the Film class drives it as
+// the integrators do.
 struct FilmRig {
   Runtime& rt = test::runtime();
-  BuiltProgram built = rt.build_source("film_test.cl", kFilmKernel, "");
+  BuiltProgram built = test::build_test_kernel("render_core_film.cl", "", rt);
   Film film;
   StageKernel add{built.program, "add_contributions"};
   StageLauncher launcher{rt, 64};

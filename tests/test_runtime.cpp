@@ -45,13 +45,19 @@ TEST(DeviceSelection, UnknownDeviceListsTheAvailableOnes) {
 }
 
 TEST(ProgramBuild, FailureCarriesTheLogAtTheOriginalLine) {
-  const std::string broken = "#include \"shared/types.h\"\n__kernel void k(__global float* x) {\n  x[0] = undefined_name;\n}\n";
-  const std::string msg = error_of([&] { test::runtime().build_source("broken.cl", broken, ""); });
-  EXPECT_NE(msg.find("kernel build failed for broken.cl"), std::string::npos) << msg;
+  // tests/kernels/runtime_broken.cl: an include, then an undefined name on line 9.
+  const std::string msg = error_of([&] { test::build_test_kernel("runtime_broken.cl", ""); });
+  EXPECT_NE(msg.find("kernel build failed for tests/kernels/runtime_broken.cl"), std::string::npos) << msg;
   EXPECT_NE(msg.find("undefined_name"), std::string::npos) << msg;
   // PoCL honours the #line markers; Oclgrind ("input.cl:312") and NVIDIA
   // ("<kernel>:330:10") count physical lines, which the runtime maps back.
-  EXPECT_NE(msg.find("broken.cl:3"), std::string::npos) << "log should point at line 3 of broken.cl:\n" << msg;
+  EXPECT_NE(msg.find("tests/kernels/runtime_broken.cl:9"), std::string::npos)
+      << "log should point at line 9 of tests/kernels/runtime_broken.cl:\n" << msg;
+}
+
+TEST(ProgramBuild, MissingTestKernelIsNamed) {
+  const std::string msg = error_of([&] { test::build_test_kernel("no_such_kernel.cl", ""); });
+  EXPECT_NE(msg.find("tests/kernels/no_such_kernel.cl"), std::string::npos) << msg;
 }
 
 TEST(ProgramBuild, PhysicalLinesInALogAreMappedToTheirFiles) {
@@ -81,10 +87,9 @@ TEST(ProgramBuild, SecondBuildComesFromTheCache) {
   const std::string dir = test::temp_dir() + "/cache";
   setenv("CAUSTICA_CACHE_DIR", dir.c_str(), 1);
   Runtime rt(select_device(test::device_spec()));
-  const std::string src = "__kernel void k(__global int* x) { x[get_global_id(0)] = 7; }\n";
-  const auto cold = rt.build_source("cached.cl", src, "-DVARIANT=1");
-  const auto warm = rt.build_source("cached.cl", src, "-DVARIANT=1");
-  const auto other = rt.build_source("cached.cl", src, "-DVARIANT=2");
+  const auto cold = test::build_test_kernel("runtime_cached.cl", "-DVARIANT=1", rt);
+  const auto warm = test::build_test_kernel("runtime_cached.cl", "-DVARIANT=1", rt);
+  const auto other = test::build_test_kernel("runtime_cached.cl", "-DVARIANT=2", rt);
   unsetenv("CAUSTICA_CACHE_DIR");
   EXPECT_FALSE(cold.from_cache);
   EXPECT_TRUE(warm.from_cache);

@@ -27,39 +27,6 @@ using test::runtime;
 
 const float kPi = 3.14159265358979f;
 
-const char* kSurfaceKernel = R"CLC(
-#include "lib/surface.h"
-
-__kernel void surface(__global const float4* hits, __global const float4* origins, __global const float4* dirs,
-                      uint count, __global const Sphere* spheres, __global const Cylinder* cylinders,
-                      __global const Triangle* triangles, __global const TriangleShading* shading,
-                      __global float4* out) {
-  uint i = get_global_id(0);
-  if (i >= count) return;
-  Hit h;
-  h.t = hits[i].x;
-  h.u = hits[i].y;
-  h.v = hits[i].z;
-  h.prim = as_uint(hits[i].w);
-  SurfacePoint sp = surface_at(spheres, cylinders, triangles, shading, h, origins[i].xyz, dirs[i].xyz);
-  out[4 * i] = (float4)(sp.position, 0.0f);
-  out[4 * i + 1] = (float4)(sp.normal, 0.0f);
-  out[4 * i + 2] = (float4)(sp.shading_normal, 0.0f);
-  out[4 * i + 3] = (float4)(sp.uv, 0.0f, 0.0f);
-}
-)CLC";
-
-const char* kSampleKernel = R"CLC(
-#include "lib/texture.h"
-
-__kernel void sample(__global const Texture* textures, __global const half* texels, __global const int* index,
-                     __global const float2* uv, uint count, __global float4* out) {
-  uint i = get_global_id(0);
-  if (i >= count) return;
-  out[i] = (float4)(texture_lookup(textures, texels, index[i], uv[i]), 0.0f);
-}
-)CLC";
-
 template <class T>
 cl::Buffer upload(std::vector<T> v) {
   if (v.empty()) v.resize(1);  // OpenCL refuses zero-sized buffers
@@ -92,11 +59,12 @@ struct Surface {
 
 class Textures : public ::testing::TestWithParam<const char*> {
  protected:
-  cl::Program program(const char* name, const char* source, const std::string& options) {
+  // tests/kernels/<file> built with `options` and the parameter's.
+  cl::Program program(const char* file, const std::string& options) {
     static auto& programs = *new std::map<std::string, cl::Program>;  // never released (test::runtime() says why)
     const std::string all = options + " " + GetParam();
-    auto& p = programs[std::string(name) + all];
-    if (!p()) p = runtime().build_source(name, source, all).program;
+    auto& p = programs[std::string(file) + all];
+    if (!p()) p = test::build_test_kernel(file, all).program;
     return p;
   }
 
@@ -104,7 +72,7 @@ class Textures : public ::testing::TestWithParam<const char*> {
     // Texture coordinates of spheres and cylinders exist only with textures.
     std::string options = "-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES -DHAS_TEXTURES";
     if (with_shading) options += " -DHAS_TRIANGLE_SHADING";
-    cl::Kernel k(program("test_textures_surface.cl", kSurfaceKernel, options), "surface");
+    cl::Kernel k(program("textures_surface.cl", options), "surface");
     std::vector<cs_float4> hits, origins, dirs;
     for (const Query& q : queries) {
       hits.push_back(cs_float4{q.t, q.u, q.v, from_bits(q.type << PRIM_TYPE_SHIFT | q.index)});
@@ -133,7 +101,7 @@ class Textures : public ::testing::TestWithParam<const char*> {
   }
 
   std::vector<vec3> sample(const Scene& s, const std::vector<std::pair<int, vec2>>& lookups) {
-    cl::Kernel k(program("test_textures_sample.cl", kSampleKernel, "-DHAS_TEXTURES"), "sample");
+    cl::Kernel k(program("textures_sample.cl", "-DHAS_TEXTURES"), "sample");
     std::vector<int> index;
     std::vector<float> uv;
     for (const auto& l : lookups) {
@@ -428,12 +396,7 @@ TEST_P(Textures, CheckerPattern) {
 // The body is guarded by HAS_TEXTURES: without it nothing is defined, so a
 // program may define the same names itself.
 TEST_P(Textures, LookupCompiledOnlyWithTheFlag) {
-  const char* src = R"CLC(
-#include "lib/texture.h"
-float3 texture_lookup(float x) { return (float3)(x); }
-__kernel void k(__global float4* out) { out[0] = (float4)(texture_lookup(1.0f), 0.0f); }
-)CLC";
-  EXPECT_NO_THROW(runtime().build_source("test_textures_guard.cl", src, GetParam()));
+  EXPECT_NO_THROW(test::build_test_kernel("textures_guard.cl", GetParam()));
 }
 
 INSTANTIATE_TEST_SUITE_P(BuildOptions, Textures, ::testing::Values("", "-cl-fast-relaxed-math"),
@@ -687,7 +650,7 @@ TEST(TextureHost, LoadedImageSampledInTheKernelIsUpright) {
   const int index = lib.image("updown.png", dir, "x", warnings);
   ASSERT_EQ(index, 2);
   ASSERT_TRUE(warnings.empty());
-  cl::Program program = runtime().build_source("test_textures_upright.cl", kSampleKernel, "-DHAS_TEXTURES").program;
+  cl::Program program = test::build_test_kernel("textures_sample.cl", "-DHAS_TEXTURES").program;
   cl::Kernel k(program, "sample");
   const std::vector<int> indices = {index, index};
   const std::vector<float> uv = {0.25f, 0.75f, 0.75f, 0.25f};

@@ -159,14 +159,6 @@ glm::vec3 random_unit(std::mt19937& rng) {
   return glm::normalize(glm::vec3(g(rng), g(rng), g(rng)));
 }
 
-const char* const kKernelRandom = R"CLC(
-uint mix32(uint x) {
-  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
-  return x;
-}
-float unit_float(uint* s) { *s = mix32(*s + 0x9e3779b9u); return (float)(*s >> 8) * 0x1.0p-24f; }
-)CLC";
-
 double mean_abs_difference(const ImageF& a, const ImageF& b) {
   double sum = 0.0;
   for (size_t i = 0; i < a.rgb.size(); ++i) sum += std::fabs(double(a.rgb[i]) - double(b.rgb[i]));

@@ -100,8 +100,4 @@ cl::Buffer upload_read_only(std::vector<T> v) {
                     v.data());
 }
 
-// OpenCL C for the ray-set kernels: unit_float(&state) draws from a
-// per-work-item hash chain (seed it with mix32 of the work-item's index).
-extern const char* const kKernelRandom;
-
 }  // namespace caustica::stiff

@@ -27,19 +27,6 @@ namespace {
 using glm::vec3;
 using test::runtime;
 
-const char* kKernel = R"CLC(
-#include "lib/bvh_traverse.h"
-__kernel void probe(__global const float4* rays, uint n, __global const Sphere* spheres,
-                    __global const Cylinder* cylinders, __global const Triangle* triangles, uint ref,
-                    __global float4* out) {
-  const uint i = get_global_id(0);
-  if (i >= n) return;
-  Hit h = hit_none(RAY_T_FAR);
-  intersect_prim_ref(spheres, cylinders, triangles, ref, rays[2 * i].xyz, rays[2 * i + 1].xyz, 0.0f, &h);
-  out[i] = (float4)(h.t, h.u, h.v, as_float(h.prim));
-}
-)CLC";
-
 enum Expect { Hit_, Miss, Either };
 struct Probe {
   vec3 o, d;
@@ -57,9 +44,8 @@ class Grazing : public ::testing::TestWithParam<const char*> {
     static auto& programs = *new std::map<std::string, cl::Program>;  // never released (test::runtime() says why)
     cl::Program& program = programs[GetParam()];
     if (!program())
-      program = runtime()
-                    .build_source("stiff_grazing.cl", kKernel,
-                                  std::string("-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES ") + GetParam())
+      program = test::build_test_kernel("stiff/grazing.cl",
+                                        std::string("-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES ") + GetParam())
                     .program;
     std::vector<cs_float4> rays;
     for (const Probe& p : probes) {

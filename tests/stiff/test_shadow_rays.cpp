@@ -42,67 +42,6 @@ namespace {
 using glm::vec3;
 using test::runtime;
 
-const char* kIncludes = R"CLC(
-#include "lib/bvh_traverse.h"
-#include "lib/lights.h"
-)CLC";
-
-const char* kKernel = R"CLC(
-
-/* counts: 0 samples taken, 1 occluded by the light itself, 2 sample off the
- * light's surface, 3 non-finite direction or tmax.
- * points: shading point (xyz) per work-item; its surface normal faces the
- * light's centre and its error bound is that of a point made by a few
- * roundings of its coordinates. */
-__kernel void shadow_rays(__global const float4* points, uint n, __global const Light* light,
-                          __global const Sphere* spheres, __global const Cylinder* cylinders,
-                          __global const Triangle* triangles, __global const uint* prims, uint prim_count,
-                          float surface_tolerance, volatile __global uint* counts, __global float2* weights) {
-  const uint i = get_global_id(0);
-  if (i >= n) return;
-  weights[i] = (float2)(0.0f);
-  const float3 p = points[i].xyz;
-  const float3 n_p = normalize(light->p0.xyz - p);
-  const float3 p_error = error_gamma(4.0f) * fabs(p);
-  uint s = mix32(i * 0x2545f491u + 17u);
-  const float2 u = (float2)(unit_float(&s), unit_float(&s));
-  LightSample ls;
-  if (!sample_light(light, 1.0f, p, u, &ls)) return;
-  atomic_inc(&counts[0]);
-  float3 dir;
-  float tmax;
-  const float3 origin = spawn_ray_to(p, p_error, n_p, ls.point, ls.p_error, ls.normal, &dir, &tmax);
-  if (!(isfinite(tmax) && isfinite(dir.x) && isfinite(dir.y) && isfinite(dir.z))) atomic_inc(&counts[3]);
-  /* The sample's weight in next-event estimation (radiance / density), and
-   * that weight again when the light shadows it. */
-  weights[i].x = 1.0f / ls.pdf;
-  for (uint k = 0; k < prim_count; ++k) {
-    Hit h = hit_none(tmax);
-    if (intersect_prim_ref(spheres, cylinders, triangles, prims[k], origin, dir, 0.0f, &h)) {
-      atomic_inc(&counts[1]);
-      weights[i].y = 1.0f / ls.pdf;
-      break;
-    }
-  }
-  /* On the surface: the distance to it from the sampled point, by kind. */
-  const float3 q = ls.point;
-  float off = 0.0f;
-  if (light->kind == LIGHT_SPHERE) {
-    off = fabs(length(q - light->p0.xyz) - light->p0.w);
-  } else if (light->kind == LIGHT_CYLINDER) {
-    const float3 rel = q - light->p0.xyz, axis = light->p1.xyz;
-    const float z = dot(rel, axis), r = light->p0.w, h = light->p1.w;
-    const float radial = length(rel - z * axis);
-    off = fabs(fabs(z) - h) < fabs(radial - r) ? fmax(fabs(fabs(z) - h), fmax(radial - r, 0.0f))
-                                               : fmax(fabs(radial - r), fmax(fabs(z) - h, 0.0f));
-  } else {
-    const float3 n_l = light->kind == LIGHT_RECT ? rect_light_normal(light) : triangle_light_normal(light);
-    off = fabs(dot(q - light->p0.xyz, n_l));
-  }
-  if (!(off <= surface_tolerance)) atomic_inc(&counts[2]);
-}
-)CLC";
-
 using stiff::random_unit;
 using stiff::upload_read_only;
 
@@ -160,10 +99,7 @@ float distance_lower_bound(const Scene& s, vec3 p) {
 TEST(ShadowRays, NeverOccludedByTheLightTheySampled) {
   // Never released (test::runtime() says why).
   static cl::Program& program = *new cl::Program(
-      runtime()
-          .build_source("stiff_shadow_rays.cl", std::string(kIncludes) + stiff::kKernelRandom + kKernel,
-                        "-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES")
-          .program);
+      test::build_test_kernel("stiff/shadow_rays.cl", "-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES").program);
   const uint32_t n = uint32_t(test::sized(1000000, 1000));
   for (const stiff::ScaleCase& c : stiff::kScaleCases) {
     for (const char* kind : {"sphere", "rectangle", "triangle", "cylinder"}) {

@@ -1,5 +1,6 @@
 // Random scenes and rays for the BVH tests, and the device kernel that
-// compares BVH traversal with brute force (see bvh_compare.h).
+// compares BVH traversal with brute force (tests/kernels/support/
+// bvh_compare.cl; see bvh_compare.h).
 #include "tests/support/bvh_compare.h"
 
 #include <algorithm>
@@ -13,24 +14,6 @@ namespace caustica::test {
 namespace {
 
 using glm::vec3;
-
-const char* kCompareKernel = R"CLC(
-#include "lib/bvh_traverse.h"
-
-__kernel void compare(SCENE_GEOMETRY_PARAMS, __global const uint* all_refs, uint prim_count,
-                      __global const float4* rays, uint ray_count, __global float4* out) {
-  uint i = get_global_id(0);
-  if (i >= ray_count) return;
-  float4 o = rays[2 * i], d = rays[2 * i + 1]; /* o.w = tmin, d.w = tmax of the any-hit query */
-  Hit bvh = trace_closest(SCENE_GEOMETRY_ARGS, o.xyz, d.xyz, o.w, RAY_T_FAR);
-  Hit brute = hit_none(RAY_T_FAR);
-  for (uint p = 0; p < prim_count; ++p)
-    intersect_prim_ref(spheres, cylinders, triangles, all_refs[p], o.xyz, d.xyz, o.w, &brute);
-  bool any = trace_any(SCENE_GEOMETRY_ARGS, o.xyz, d.xyz, o.w, d.w);
-  out[i] = (float4)(bvh.t, as_float(bvh.prim), brute.t, as_float(brute.prim));
-  out[ray_count + i] = (float4)(any ? 1.0f : 0.0f, 0.0f, 0.0f, 0.0f);
-}
-)CLC";
 
 uint32_t bits(float f) {
   uint32_t u;
@@ -191,11 +174,10 @@ std::vector<Outcome> run_compare(const Scene& s, const WideBvh& bvh, const std::
   constexpr int kBuilds = static_cast<int>(KernelBuild::PortableLanes) + 1;
   static cl::Program* programs = new cl::Program[kBuilds];
   cl::Program& program = programs[static_cast<int>(build)];
-  if (!program())
-    program = runtime()
-                  .build_source("bvh_compare.cl", kCompareKernel,
-                                "-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES " + build_options(build))
-                  .program;
+  if (!program()) {
+    const std::string options = "-DHAS_SPHERES -DHAS_CYLINDERS -DHAS_TRIANGLES " + build_options(build);
+    program = build_test_kernel("support/bvh_compare.cl", options).program;
+  }
   std::vector<cs_float4> data;
   for (const Ray& r : rays) {
     data.push_back(to_float4(r.o, r.tmin));

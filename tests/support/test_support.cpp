@@ -9,10 +9,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <mutex>
 #include <set>
+#include <sstream>
 #include <unistd.h>
 
 namespace caustica::test {
@@ -62,7 +64,47 @@ TempDirCleaner& temp_dir_cleaner() {
   return *cleaner;
 }
 
+const char* const kTestKernelDir = "tests/kernels/";
+
+// Appends tests/kernels/<relative_path> to `out`, its test-kernel includes
+// expanded in place (see test_kernel_source).
+void expand_test_kernel(const std::string& relative_path, std::set<std::string>& included, std::ostringstream& out) {
+  const std::string name = kTestKernelDir + relative_path;
+  const std::string path = std::string(CAUSTICA_SOURCE_DIR) + "/" + name;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("test kernel " + path + " cannot be read (tests/kernels/ of the source tree)");
+  int line_no = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_no;
+    const size_t start = line.find_first_not_of(" \t");
+    const std::string directive = std::string("#include \"") + kTestKernelDir;
+    if (start != std::string::npos && line.compare(start, directive.size(), directive) == 0) {
+      const size_t end = line.find('"', start + directive.size());
+      if (end == std::string::npos) throw Error(name + ":" + std::to_string(line_no) + ": unterminated #include");
+      const std::string inc = line.substr(start + directive.size(), end - start - directive.size());
+      if (included.insert(inc).second) {
+        out << "#line 1 \"" << kTestKernelDir << inc << "\"\n";
+        expand_test_kernel(inc, included, out);
+      }
+      out << "#line " << (line_no + 1) << " \"" << name << "\"\n";
+      continue;
+    }
+    out << line << '\n';
+  }
+}
+
 }  // namespace
+
+std::string test_kernel_source(const std::string& relative_path) {
+  std::set<std::string> included{relative_path};
+  std::ostringstream out;
+  expand_test_kernel(relative_path, included, out);
+  return out.str();
+}
+
+BuiltProgram build_test_kernel(const std::string& relative_path, const std::string& options, Runtime& rt) {
+  return rt.build_source(kTestKernelDir + relative_path, test_kernel_source(relative_path), options);
+}
 
 std::string device_spec() {
   const char* env = std::getenv("CAUSTICA_TEST_DEVICE");

@@ -1,6 +1,7 @@
 // Helpers shared by the test executables: one OpenCL runtime on the test
-// device (PoCL's CPU device unless CAUSTICA_TEST_DEVICE says otherwise), paths
-// to the repository and to ../shared (tests that need it skip when absent).
+// device (PoCL's CPU device unless CAUSTICA_TEST_DEVICE says otherwise), the
+// test kernels of tests/kernels/, paths to the repository and to ../shared
+// (tests that need it skip when absent).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -31,6 +32,18 @@ bool on_simulator();
 // them. Each call site says what it cuts.
 inline size_t sized(size_t full, size_t simulated) { return on_simulator() ? simulated : full; }
 std::string source_dir();
+
+// The test kernels live in tests/kernels/ (read from the source tree when a
+// test runs, not embedded): test_kernel_source("stiff/grazing.cl") is the
+// text of tests/kernels/stiff/grazing.cl with its `#include
+// "tests/kernels/..."` lines replaced by those files (each file once, with
+// #line markers); other includes ("lib/bvh_traverse.h") are left to the
+// runtime, which resolves them against the embedded kernels/ files. Throws
+// caustica::Error naming the path of a file that cannot be read.
+std::string test_kernel_source(const std::string& relative_path);
+// Builds test_kernel_source(relative_path) on `rt` with `options`; the
+// program (and its build log) is named "tests/kernels/<relative_path>".
+BuiltProgram build_test_kernel(const std::string& relative_path, const std::string& options, Runtime& rt = runtime());
 // "<repo>/../shared" or $CAUSTICA_SHARED_DIR; empty when it does not exist.
 std::string shared_dir();
 std::string binary_path();  // the caustica executable
