@@ -18,9 +18,9 @@
 #include "shared/types.h"
 
 /* Programs whose scene has point lights only leave area-light sampling out
- * (-DPATH_WITH_AREA_LIGHTS=0). */
-#ifndef PATH_WITH_AREA_LIGHTS
-#define PATH_WITH_AREA_LIGHTS 1
+ * (-DHAS_AREA_LIGHTS=0). */
+#ifndef HAS_AREA_LIGHTS
+#define HAS_AREA_LIGHTS 1
 #endif
 
 typedef struct {
@@ -145,7 +145,7 @@ inline bool sample_light(__global const PathLight* l, float pick_probability, fl
     s->delta = true;
     return true;
   }
-#if PATH_WITH_AREA_LIGHTS
+#if HAS_AREA_LIGHTS
   if (l->kind == LIGHT_SPHERE) {
     /* Uniform in the cone of directions the sphere subtends, but the point
      * is placed on the sphere from the cone's angles (pbrt-v4's
@@ -211,7 +211,7 @@ inline bool sample_light(__global const PathLight* l, float pick_probability, fl
 /* What sample_light's density would have been for the direction wi from p
  * that reached point q of light l (a BSDF-sampled ray's hit). */
 inline float light_pdf(__global const PathLight* l, float pick_probability, float3 p, float3 q, float3 wi) {
-#if !PATH_WITH_AREA_LIGHTS
+#if !HAS_AREA_LIGHTS
   return 0.0f;
 #endif
   if (l->kind == LIGHT_POINT) return 0.0f;
