@@ -31,7 +31,7 @@ SHARED = os.path.join(os.path.dirname(ROOT), "shared", "scenes-coursework")
 WROTE = re.compile(r"wrote \S+ \((\d+)x(\d+), (\d+) spp\) in ([\d.]+) s(?:, estimated relMSE ([\d.e+-]+))?"
                    r"(?:, relMSE against the reference ([\d.e+-]+))?")
 PHOTONS = re.compile(r"photons: (\d+) maps in ([\d.]+) s \(([\d.]+)% of the render\)")
-FEATURES = re.compile(r"photon-pass=(compiled|left out) \(([^)]*)\)")
+FEATURES = re.compile(r"photon-pass=(yes|no) \(([^)]*)\)")
 DECISION = re.compile(r"caustics auto: (.*)")
 
 
@@ -74,7 +74,7 @@ def render(binary, scene, mode, seconds, size, extra=()):
 
 
 def decision_summary(r):
-    if r["feature"][0] != "compiled":
+    if r["feature"][0] != "yes":
         return "left out (%s)" % r["feature"][1]
     text = " ".join(r["decisions"])
     if "off after" in text:
@@ -138,7 +138,7 @@ def main():
             ratio = auto["spp"] / off["spp"] if off.get("spp") else None
             late = (auto["seconds"] - a.seconds, off["seconds"] - a.seconds)
             worst_late = max(worst_late, *late)
-            if auto["feature"][0] == "compiled" and ratio is not None:
+            if auto["feature"][0] == "yes" and ratio is not None:
                 worst_ratio = ratio if worst_ratio is None else min(worst_ratio, ratio)
             print("| %s | %d | %d | %s | %s | %s | %s | %+.2f s, %+.2f s | %s |" %
                   (name, auto["spp"], off["spp"], fmt(ratio, "%.2f"), "%.1f%%" % auto["photon_share"],

@@ -2,7 +2,7 @@
 /* The path tracer's program: generate_camera_samples ->
  * { intersect_closest -> shade_surface_path -> intersect_shadow }* and the
  * film's pass accumulation (host/render/integrator_path.cpp drives it);
- * with -DPATH_WITH_CAUSTICS=1 also the photon pass (host/render/
+ * with -DHAS_CAUSTICS=1 also the photon pass (host/render/
  * photon_pass.cpp): emit_photons -> { intersect_closest -> bounce_photons }*
  * -> compact_photons -> the grid's build -> gather_photons. */
 
@@ -11,9 +11,8 @@
 #include "integrator/shade_surface_path.cl"
 #include "integrator/intersect_shadow.cl"
 #include "film/accumulate_film_pass.cl"
-/* Last, and only stage files: the host inlines every file once, ignoring
- * #if, so a header first included below would be lost to anything after. */
-#if PATH_WITH_CAUSTICS
+/* The photon pass's stages, only in programs that run it. */
+#if HAS_CAUSTICS
 #include "photon/emit_photons.cl"
 #include "photon/bounce_photons.cl"
 #include "photon/compact_photons.cl"

@@ -2,7 +2,7 @@
 /* The Whitted (phong) integrator's program: generate_camera_rays ->
  * { intersect_closest -> shade_surface_phong -> intersect_shadow }* and the
  * film's pass accumulation (host/render/integrator_phong.cpp drives it);
- * with -DPHONG_WITH_CAUSTICS=1 (--caustics on) also the photon pass's
+ * with -DHAS_CAUSTICS=1 (--caustics on) also the photon pass's
  * tracing and grid (emit_photons -> { intersect_closest -> bounce_photons }*
  * -> compact_photons -> the grid), which shade_surface_phong gathers from. */
 
@@ -11,9 +11,8 @@
 #include "integrator/shade_surface_phong.cl"
 #include "integrator/intersect_shadow.cl"
 #include "film/accumulate_film_pass.cl"
-/* Last, and only stage files: the host inlines every file once, ignoring
- * #if, so a header first included below would be lost to anything after. */
-#if PHONG_WITH_CAUSTICS
+/* The photon pass's stages, only in programs that run it. */
+#if HAS_CAUSTICS
 #include "photon/emit_photons.cl"
 #include "photon/bounce_photons.cl"
 #include "photon/compact_photons.cl"

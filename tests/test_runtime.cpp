@@ -10,9 +10,11 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <set>
 #include <sstream>
 #include <sys/wait.h>
 
+#include "host/cl/embedded_kernels.h"
 #include "host/cl/runtime.h"
 #include "host/error.h"
 #include "tests/support/test_support.h"
@@ -81,6 +83,87 @@ TEST(ProgramBuild, MissingIncludeIsNamed) {
       error_of([&] { test::runtime().build_source("inc.cl", "#include \"lib/nope.h\"\n", ""); });
   EXPECT_NE(msg.find("inc.cl:1"), std::string::npos) << msg;
   EXPECT_NE(msg.find("lib/nope.h"), std::string::npos) << msg;
+}
+
+// The include expander honours #if (issue 21): a file first included
+// inside a false #if is compiled where it is next included; one included
+// inside a true #if is not compiled twice; #line markers still name the
+// original lines.
+TEST(ProgramBuild, IncludesInsideIfAreDecidedByThePreprocessor) {
+  const std::string body =
+      "__kernel void k(__global float* out) {\n"
+      "  float cos_t;\n"
+      "  out[0] = fresnel_dielectric(1.0f, 1.0f / 1.5f, &cos_t);\n"
+      "}\n";
+  for (const char* condition : {"0", "1", "HAS_CAUSTICS"}) {
+    const std::string src = std::string("#if ") + condition + "\n#include \"lib/optics.h\"\n#endif\n" +
+                            "#include \"lib/optics.h\"\n" + body;
+    const std::string expanded = expand_kernel_source("conditional.cl", src);
+    EXPECT_NE(expanded.find("#ifndef CS_INCLUDED_lib_2Foptics_2Eh"), std::string::npos) << expanded;
+    const BuiltProgram built = test::runtime().build_source("conditional.cl", src, "");
+    cl::Kernel k(built.program, "k");
+    cl::Buffer out(test::runtime().context(), CL_MEM_WRITE_ONLY, sizeof(float));
+    k.setArg(0, out);
+    test::runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(1), cl::NullRange);
+    float r = 0.0f;
+    test::runtime().queue().enqueueReadBuffer(out, CL_TRUE, 0, sizeof r, &r);
+    EXPECT_NEAR(r, 0.04f, 1e-6f) << "#if " << condition;  // ((1 - 1.5) / (1 + 1.5))^2
+  }
+  // The C++ side of a shared header is known dead: its includes are dropped
+  // (they need not be kernel files), and the OpenCL side counts as
+  // unconditional.
+  const std::string shared = "#ifdef __OPENCL_C_VERSION__\n#include \"lib/optics.h\"\n#else\n"
+                             "#include \"host/not_a_kernel.h\"\n#endif\n" + body;
+  EXPECT_NO_THROW(test::runtime().build_source("shared.cl", shared, ""));
+  // The integrators' programs inline every file once (no copies of headers
+  // that shared headers include for OpenCL only).
+  for (const char* program : {"integrator_binary.cl", "integrator_phong.cl", "integrator_path.cl"}) {
+    std::string text;
+    for (const auto& f : embedded_kernel_files())
+      if (f.path == program) text = f.text;
+    const std::string expanded = expand_kernel_source(program, text);
+    std::istringstream in(expanded);
+    std::set<std::string> guards;
+    int copies = 0;
+    for (std::string line; std::getline(in, line);)
+      if (line.rfind("#ifndef CS_INCLUDED_", 0) == 0) ++copies, guards.insert(line);
+    EXPECT_GT(copies, 10) << program;
+    EXPECT_EQ(copies, int(guards.size())) << program << ": a file inlined more than once";
+  }
+  // The build log still points at the root file's own line.
+  const std::string broken = "#if 0\n#include \"lib/optics.h\"\n#endif\n#include \"lib/optics.h\"\n"
+                             "__kernel void k(__global float* x) {\n  x[0] = undefined_name;\n}\n";
+  const std::string msg = error_of([&] { test::runtime().build_source("broken_if.cl", broken, ""); });
+  EXPECT_NE(msg.find("broken_if.cl:6"), std::string::npos) << msg;
+  const std::string source = expand_kernel_source("broken_if.cl", broken);
+  std::istringstream in(source);
+  int physical = 0, target = 0;
+  for (std::string line; std::getline(in, line);)
+    if (++physical && line == "  x[0] = undefined_name;") target = physical;
+  EXPECT_EQ(map_build_log_lines("<kernel>:" + std::to_string(target) + ":3: e", source), "broken_if.cl:6:3: e");
+}
+
+// Options that name the same feature flags in another order or spelling
+// share one cache entry (complete_feature_flags normalises them).
+TEST(ProgramBuild, SameFlagsInAnotherOrderShareTheCacheEntry) {
+  const std::string dir = test::temp_dir() + "/cache_flags";
+  setenv("CAUSTICA_CACHE_DIR", dir.c_str(), 1);
+  Runtime rt(select_device(test::device_spec()));
+  const std::string src = "__kernel void k(__global int* x) { x[0] = HAS_SPHERES + 2 * HAS_TRIANGLES + 4 * HAS_DIELECTRIC; }\n";
+  const auto cold = rt.build_source("flags.cl", src, "-DHAS_SPHERES -DHAS_TRIANGLES");
+  const auto warm = rt.build_source("flags.cl", src, "-DHAS_TRIANGLES=1 -DHAS_DIELECTRIC=1 -D HAS_SPHERES=1");
+  const auto other = rt.build_source("flags.cl", src, "-DHAS_TRIANGLES");
+  unsetenv("CAUSTICA_CACHE_DIR");
+  EXPECT_FALSE(cold.from_cache);
+  EXPECT_TRUE(warm.from_cache) << "the same flags must give the same cache key";
+  EXPECT_FALSE(other.from_cache);
+  cl::Kernel k(warm.program, "k");
+  cl::Buffer buf(rt.context(), CL_MEM_READ_WRITE, sizeof(int));
+  k.setArg(0, buf);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(1), cl::NullRange);
+  int out = 0;
+  rt.queue().enqueueReadBuffer(buf, CL_TRUE, 0, sizeof out, &out);
+  EXPECT_EQ(out, 7) << "every flag has a value, the unnamed ones their defaults";
 }
 
 TEST(ProgramBuild, SecondBuildComesFromTheCache) {

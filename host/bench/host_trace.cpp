@@ -1,3 +1,9 @@
+// Every primitive type: the feature flags (kernels/shared/feature_flags.h)
+// are set before the first include, which gives the others their defaults.
+#define HAS_SPHERES 1
+#define HAS_CYLINDERS 1
+#define HAS_TRIANGLES 1
+
 #include "host/bench/host_trace.h"
 
 // The kernels' own traversal, primitive tests, ray origins and surface
@@ -7,9 +13,6 @@
 // the host surface point is position, geometric normal and error bound.
 // Compiled with -ffp-contract=off (CMakeLists.txt), as the kernels evaluate
 // intersect_primitives.h with FP_CONTRACT OFF.
-#define HAS_SPHERES
-#define HAS_CYLINDERS
-#define HAS_TRIANGLES
 #include "lib/bvh_traverse.h"
 #include "lib/surface.h"
 

@@ -1,6 +1,7 @@
 #include "host/cl/runtime.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -14,6 +15,7 @@
 
 #include "host/cl/embedded_kernels.h"
 #include "host/error.h"
+#include "kernels/shared/feature_flags.h"
 
 namespace caustica {
 namespace {
@@ -71,40 +73,201 @@ const std::map<std::string, const std::string*>& embedded_index() {
   return index;
 }
 
-// Inlines kernel includes from the embedded files, each file once per
-// program. The preprocessor has not run yet: an #include inside a false
-// #if is still inlined (and then compiled away), and marks the file as
-// included; kernel files therefore keep their includes unconditional, or
-// put conditional ones last (integrator_*.cl).
-void expand_into(const std::string& name, const std::string& text, std::set<std::string>& included,
+// One line of a kernel file, as the include expander sees it.
+struct ScannedLine {
+  enum Kind { Code, Blank, Directive } kind = Blank;
+  std::string directive;  // "if", "ifndef", "include", "line", ...
+  std::string argument;   // the rest, without comments and white space
+};
+
+// Classifies the lines of a kernel file: preprocessor directives (outside
+// block comments), lines with code, and blank or comment-only lines.
+std::vector<ScannedLine> scan_lines(const std::vector<std::string>& lines) {
+  std::vector<ScannedLine> out(lines.size());
+  bool in_comment = false;
+  for (size_t n = 0; n < lines.size(); ++n) {
+    const std::string& line = lines[n];
+    const bool starts_in_comment = in_comment;
+    bool code = false;
+    std::string uncommented;
+    for (size_t i = 0; i < line.size(); ++i) {
+      if (in_comment) {
+        if (line.compare(i, 2, "*/") == 0) in_comment = false, ++i;
+      } else if (line.compare(i, 2, "/*") == 0) {
+        in_comment = true, ++i;
+      } else if (line.compare(i, 2, "//") == 0) {
+        break;
+      } else if (!std::isspace(static_cast<unsigned char>(line[i]))) {
+        code = true;
+        uncommented += line[i];
+      }
+    }
+    ScannedLine& s = out[n];
+    if (!starts_in_comment && !uncommented.empty() && uncommented[0] == '#') {
+      // uncommented has no white space: "#ifndef X" is "#ifndefX"; the
+      // directive's name is read from the line itself.
+      const std::string t = trim(line);
+      size_t i = 1;
+      while (i < t.size() && std::isspace(static_cast<unsigned char>(t[i]))) ++i;
+      size_t j = i;
+      while (j < t.size() && std::isalpha(static_cast<unsigned char>(t[j]))) ++j;
+      s.kind = ScannedLine::Directive;
+      s.directive = t.substr(i, j - i);  // "include" also in #include"x"
+      const size_t at = uncommented.find(s.directive);
+      s.argument = at == std::string::npos ? "" : uncommented.substr(at + s.directive.size());
+    } else {
+      s.kind = code ? ScannedLine::Code : ScannedLine::Blank;
+    }
+  }
+  return out;
+}
+
+bool opens_conditional(const ScannedLine& s) {
+  return s.kind == ScannedLine::Directive && (s.directive == "if" || s.directive == "ifdef" || s.directive == "ifndef");
+}
+bool closes_conditional(const ScannedLine& s) { return s.kind == ScannedLine::Directive && s.directive == "endif"; }
+
+// The lines of a classic include guard (#ifndef X / #define X ... #endif
+// around everything but comments, blank lines and #line markers), as
+// {open, close}; {-1, -1} when the file has none. The guard's condition is
+// false only when the file was compiled before, so it does not make the
+// file's includes conditional.
+std::pair<int, int> include_guard(const std::vector<ScannedLine>& s) {
+  const std::pair<int, int> none{-1, -1};
+  int open = -1;
+  for (int i = 0; i < int(s.size()); ++i) {
+    if (s[i].kind == ScannedLine::Blank || (s[i].kind == ScannedLine::Directive && s[i].directive == "line")) continue;
+    if (s[i].kind != ScannedLine::Directive || s[i].directive != "ifndef") return none;
+    open = i;
+    break;
+  }
+  if (open < 0) return none;
+  int define = open + 1;
+  while (define < int(s.size()) && s[define].kind == ScannedLine::Blank) ++define;
+  if (define >= int(s.size()) || s[define].kind != ScannedLine::Directive || s[define].directive != "define" ||
+      s[define].argument != s[open].argument)
+    return none;
+  int depth = 0;
+  for (int i = open; i < int(s.size()); ++i) {
+    if (opens_conditional(s[i])) ++depth;
+    if (closes_conditional(s[i]) && --depth == 0) {
+      for (int j = i + 1; j < int(s.size()); ++j)
+        if (s[j].kind != ScannedLine::Blank) return none;
+      return {open, i};
+    }
+  }
+  return none;
+}
+
+// What the expander knows of an open conditional. It expands for OpenCL C
+// only, so a test of __OPENCL_C_VERSION__ is known (the shared headers'
+// `#ifdef __OPENCL_C_VERSION__ ... #else <C++ side> #endif`); any other
+// condition is the preprocessor's to decide.
+enum class Branch { Guard, Taken, Dead, Unknown };
+
+Branch branch_of(const ScannedLine& s) {
+  const std::string& a = s.argument;
+  const bool opencl = a == "__OPENCL_C_VERSION__" || a == "defined(__OPENCL_C_VERSION__)" || a == "defined__OPENCL_C_VERSION__";
+  const bool not_opencl = a == "!defined(__OPENCL_C_VERSION__)" || a == "!defined__OPENCL_C_VERSION__";
+  if (s.directive == "ifdef") return a == "__OPENCL_C_VERSION__" ? Branch::Taken : Branch::Unknown;
+  if (s.directive == "ifndef") return a == "__OPENCL_C_VERSION__" ? Branch::Dead : Branch::Unknown;
+  if (opencl && a != "__OPENCL_C_VERSION__") return Branch::Taken;  // #if defined(...); a bare #if V is a number
+  if (not_opencl) return Branch::Dead;
+  return Branch::Unknown;
+}
+
+// The macro that guards an inlined kernel file: CS_INCLUDED_ and the path,
+// every character but letters and digits written as _ and its hex code.
+std::string inline_guard(const std::string& path) {
+  std::string g = "CS_INCLUDED_";
+  for (unsigned char c : path) {
+    if (std::isalnum(c)) {
+      g += static_cast<char>(c);
+    } else {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "_%02X", c);
+      g += hex;
+    }
+  }
+  return g;
+}
+
+struct ExpandState {
+  std::set<std::string> unconditional;  // inlined at a site no #if encloses: compiled by the time it is passed
+  std::vector<std::string> stack;       // files being inlined (their guards are defined already)
+};
+
+// Inlines kernel includes from the embedded files. The preprocessor has not
+// run yet, so the real one decides: every inlined file is wrapped in its own
+// guard (#ifndef CS_INCLUDED_<path> / #define ... / #endif), and a file is
+// inlined again at each include site until one that no #if / #ifdef /
+// #ifndef encloses (counting the enclosing files' sites; a file's own
+// include guard and a taken #ifdef __OPENCL_C_VERSION__ do not count); after
+// that site the file has been compiled, and later includes of it are
+// dropped. An #include inside a false #if therefore costs nothing and hides
+// nothing from later includes. Includes in the C++ side of a shared header
+// (the #else of #ifdef __OPENCL_C_VERSION__) are dropped. #line markers keep
+// every line at its original file and line (build logs,
+// map_build_log_lines).
+void expand_into(const std::string& name, const std::string& text, int site_depth, ExpandState& state,
                  std::ostringstream& out) {
   out << "#line 1 \"" << name << "\"\n";
-  std::istringstream in(text);
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    std::string t = trim(line);
-    if (t.rfind("#include", 0) == 0) {
+  std::vector<std::string> lines;
+  {
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+  }
+  const std::vector<ScannedLine> scanned = scan_lines(lines);
+  const std::pair<int, int> guard = include_guard(scanned);
+  std::vector<Branch> open;  // this file's open conditionals
+  state.stack.push_back(name);
+  for (size_t n = 0; n < lines.size(); ++n) {
+    const std::string& line = lines[n];
+    const ScannedLine& s = scanned[n];
+    const int line_no = int(n) + 1;
+    if (opens_conditional(s)) {
+      open.push_back(int(n) == guard.first ? Branch::Guard : branch_of(s));
+    } else if (closes_conditional(s)) {
+      if (!open.empty()) open.pop_back();
+    } else if (s.kind == ScannedLine::Directive && (s.directive == "else" || s.directive == "elif") && !open.empty()) {
+      Branch& b = open.back();
+      if (b == Branch::Taken) b = Branch::Dead;
+      else if (b == Branch::Dead) b = s.directive == "else" ? Branch::Taken : Branch::Unknown;
+      else b = Branch::Unknown;
+    }
+    const std::string t = trim(line);
+    if (s.kind == ScannedLine::Directive && s.directive == "include") {
       size_t q0 = t.find('"');
       size_t q1 = q0 == std::string::npos ? q0 : t.find('"', q0 + 1);
       if (q0 != std::string::npos && q1 != std::string::npos) {
+        const bool dead = std::count(open.begin(), open.end(), Branch::Dead) > 0;
+        const int depth = site_depth + int(std::count(open.begin(), open.end(), Branch::Unknown));
         std::string inc = t.substr(q0 + 1, q1 - q0 - 1);
         // Shared headers are written relative to the repository root for the
         // C++ side ("kernels/shared/types.h"); accept both spellings.
         if (inc.rfind("kernels/", 0) == 0) inc = inc.substr(8);
         const auto& index = embedded_index();
         auto it = index.find(inc);
-        if (it == index.end())
+        if (it == index.end() && !dead)
           throw Error(name + ":" + std::to_string(line_no) + ": kernel include \"" + inc +
                       "\" is not an embedded kernel file (kernels/" + inc + ")");
-        if (included.insert(inc).second) expand_into(inc, *it->second, included, out);
+        const bool on_stack = std::find(state.stack.begin(), state.stack.end(), inc) != state.stack.end();
+        if (!dead && !on_stack && !state.unconditional.count(inc)) {
+          if (depth == 0) state.unconditional.insert(inc);
+          const std::string g = inline_guard(inc);
+          // The first marker names the guard's lines (as the include's
+          // first lines); the second restarts the file at line 1.
+          out << "#line 1 \"" << inc << "\"\n#ifndef " << g << "\n#define " << g << "\n";
+          expand_into(inc, *it->second, depth, state, out);
+          out << "#endif /* " << g << " */\n";
+        }
         out << "#line " << (line_no + 1) << " \"" << name << "\"\n";
         continue;
       }
     }
     out << line << '\n';
   }
+  state.stack.pop_back();
 }
 
 std::string device_string(const cl::Device& d, cl_device_info what) {
@@ -132,10 +295,53 @@ std::string cl_error_name(cl_int code) {
 }
 
 std::string expand_kernel_source(const std::string& root_name, const std::string& root_text) {
-  std::set<std::string> included{root_name};
+  ExpandState state;
+  state.unconditional.insert(root_name);
   std::ostringstream out;
-  expand_into(root_name, root_text, included, out);
+  expand_into(root_name, root_text, 0, state, out);
   return out.str();
+}
+
+std::string complete_feature_flags(const std::string& options) {
+  std::vector<std::string> tokens, others;
+  {
+    std::istringstream in(options);
+    for (std::string t; in >> t;) tokens.push_back(t);
+  }
+  std::vector<std::string> value(kFeatureFlagCount);
+  for (size_t i = 0; i < tokens.size(); ++i) {
+    std::string definition;
+    size_t used = 1;
+    if (tokens[i] == "-D" && i + 1 < tokens.size()) {
+      definition = tokens[i + 1];
+      used = 2;
+    } else if (tokens[i].rfind("-D", 0) == 0) {
+      definition = tokens[i].substr(2);
+    }
+    const size_t eq = definition.find('=');
+    const std::string name = definition.substr(0, eq);
+    const std::string v = eq == std::string::npos ? "1" : definition.substr(eq + 1);
+    int flag = -1;
+    for (int f = 0; f < kFeatureFlagCount; ++f)
+      if (name == kFeatureFlags[f].name) flag = f;
+    if (flag < 0 && name.rfind("HAS_", 0) == 0)
+      throw Error("kernel option -D" + definition + ": " + name +
+                  " is not a feature flag (kernels/shared/feature_flags.h lists them)");
+    if (flag < 0) {
+      for (size_t k = 0; k < used; ++k) others.push_back(tokens[i + k]);
+    } else if (v != "0" && v != "1") {
+      throw Error("kernel option -D" + definition + ": a feature flag is 0 or 1");
+    } else {
+      value[flag] = v;
+    }
+    i += used - 1;
+  }
+  std::string out;
+  for (const auto& t : others) out += (out.empty() ? "" : " ") + t;
+  for (int f = 0; f < kFeatureFlagCount; ++f)
+    out += std::string(out.empty() ? "" : " ") + "-D" + kFeatureFlags[f].name + "=" +
+           (value[f].empty() ? std::to_string(kFeatureFlags[f].default_value) : value[f]);
+  return out;
 }
 
 std::string map_build_log_lines(const std::string& log, const std::string& expanded_source) {
@@ -342,6 +548,9 @@ BuiltProgram Runtime::build_source(const std::string& name, const std::string& t
   // -cl-fast-relaxed-math, which asks for approximations anyway, and whose
   // traversal NVIDIA's compiler (driver 580) gets wrong with both flags.
   // CAUSTICA_EXTRA_KERNEL_OPTIONS: appended to every build (a developer knob).
+  // Every feature flag gets a value (complete_feature_flags): the kernels
+  // test them with #if, and the cache key below sees each flag once, in
+  // table order.
   const char* extra = std::getenv("CAUSTICA_EXTRA_KERNEL_OPTIONS");
   const bool oclgrind = simulator_;
   const bool fast_math = (raw_options + (extra ? extra : "")).find("-cl-fast-relaxed-math") != std::string::npos;
@@ -350,8 +559,8 @@ BuiltProgram Runtime::build_source(const std::string& name, const std::string& t
                               std::string(info_.correctly_rounded_divide_sqrt && !oclgrind && !fast_math
                                               ? "-cl-fp32-correctly-rounded-divide-sqrt "
                                               : "") +
-                              raw_options +
-                              (oclgrind ? " -cl-opt-disable" : "") + (extra ? std::string(" ") + extra : std::string());
+                              complete_feature_flags(raw_options + (extra ? std::string(" ") + extra : std::string())) +
+                              (oclgrind ? " -cl-opt-disable" : "");
   auto t0 = std::chrono::steady_clock::now();
   BuiltProgram built;
 

@@ -43,9 +43,20 @@ struct BuiltProgram {
 };
 
 // Expands `#include "..."` directives against the embedded kernel files
-// (paths relative to kernels/), each file once, with #line markers so build
-// logs point at the original file and line.
+// (paths relative to kernels/), with #line markers so build logs point at the
+// original file and line. Each inlined file carries a generated guard, so
+// the preprocessor's #if decides which includes count (runtime.cpp,
+// expand_into).
 std::string expand_kernel_source(const std::string& root_name, const std::string& root_text);
+
+// A program's options with every feature flag of kernels/shared/
+// feature_flags.h given a value: the flags named (-DHAS_X, -DHAS_X=0|1,
+// -D HAS_X; the last one counts) keep theirs, the others get the table's
+// default. The other options come first, in their order, then every flag as
+// -DHAS_X=v in table order: two option strings that mean the same flags give
+// the same string (and program cache key). Throws caustica::Error for a
+// HAS_* name the table does not have or a value other than 0 or 1.
+std::string complete_feature_flags(const std::string& options);
 
 // Rewrites the line references of a build log that count physical lines of
 // the expanded source ("<kernel>:330:10", "input.cl:312") as the original

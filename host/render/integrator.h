@@ -58,7 +58,7 @@ struct RenderSettings {
   bool photon_guiding = true;
   uint32_t photons_per_pass = 0;  // 0: default_photons_per_pass
   float caustic_radius = 0.0f;  // every pixel's initial gather radius; 0: its footprint
-  bool check_numerics = false;  // path: BSDF weight counters (program built with -DPATH_CHECK_NUMERICS=1)
+  bool check_numerics = false;  // path: BSDF weight counters (program built with -DHAS_NUMERIC_CHECKS=1)
 };
 
 struct RenderStats {

@@ -79,48 +79,41 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
   return f;
 }
 
+int SceneFeatures::flag_value(FeatureFlag flag) const {
+  const bool path = mode == RenderMode::Path;
+  switch (flag) {
+    case FeatureFlag::kHAS_SPHERES: return spheres;
+    case FeatureFlag::kHAS_CYLINDERS: return cylinders;
+    case FeatureFlag::kHAS_TRIANGLES: return triangles;
+    case FeatureFlag::kHAS_TRIANGLE_SHADING: return triangle_shading;
+    case FeatureFlag::kHAS_TEXTURES: return textures;
+    case FeatureFlag::kHAS_LIGHTS: return lights;
+    case FeatureFlag::kHAS_REFLECTION: return reflection;
+    case FeatureFlag::kHAS_REFRACTION: return refraction;
+    // The path tracer leaves out what its scene does not have; phong's
+    // photon pass keeps both (it may trace glass without refraction rays,
+    // and its lights are emitted as the path tracer's are).
+    case FeatureFlag::kHAS_DIELECTRIC: return path ? refraction : 1;
+    case FeatureFlag::kHAS_AREA_LIGHTS: return path ? area_lights : 1;
+    case FeatureFlag::kHAS_CAUSTICS: return caustics;
+    case FeatureFlag::kHAS_NUMERIC_CHECKS: return path && check_numerics;
+  }
+  throw Error("unknown feature flag");
+}
+
 std::string SceneFeatures::build_options() const {
   std::string o;
-  if (spheres) o += " -DHAS_SPHERES";
-  if (cylinders) o += " -DHAS_CYLINDERS";
-  if (triangles) o += " -DHAS_TRIANGLES";
-  if (lights) o += " -DHAS_LIGHTS";
-  if (reflection) o += " -DHAS_REFLECTION";
-  if (refraction) o += " -DHAS_REFRACTION";
-  if (mode == RenderMode::Path) {
-    // The path tracer's libraries compile everything unless told otherwise
-    // (tests include them bare); the renderer leaves out what is not there.
-    if (!refraction) o += " -DBSDF_WITH_DIELECTRIC=0";
-    if (!area_lights) o += " -DPATH_WITH_AREA_LIGHTS=0";
-    if (caustics) o += " -DPATH_WITH_CAUSTICS=1";
-    if (check_numerics) o += " -DPATH_CHECK_NUMERICS=1";
-  }
-  if (mode == RenderMode::Phong && caustics) o += " -DPHONG_WITH_CAUSTICS=1";
-  if (textures) o += " -DHAS_TEXTURES";
-  if (triangle_shading) o += " -DHAS_TRIANGLE_SHADING";
+  for (int f = 0; f < kFeatureFlagCount; ++f)
+    o += std::string(" -D") + kFeatureFlags[f].name + "=" + std::to_string(flag_value(FeatureFlag(f)));
   return o;
 }
 
 std::string SceneFeatures::describe() const {
   std::string s = std::string("mode=") + render_mode_name(mode);
-  s += " primitives={";
-  std::string prims;
-  if (spheres) prims += "sphere,";
-  if (cylinders) prims += "cylinder,";
-  if (triangles) prims += "triangle,";
-  if (!prims.empty()) prims.pop_back();
-  s += prims + "}";
-  s += std::string(" lights=") + (lights ? "yes" : "no");
-  s += std::string(" reflection=") + (reflection ? "yes" : "no");
-  s += std::string(" refraction=") + (refraction ? "yes" : "no");
-  s += std::string(" textures=") + (textures ? "yes" : "no");
-  s += std::string(" vertex-data=") + (triangle_shading ? "yes" : "no");
-  if (mode == RenderMode::Path) {
-    s += std::string(" area-light-sampling=") + (area_lights ? "compiled" : "left out");
-    s += std::string(" dielectric-bsdf=") + (refraction ? "compiled" : "left out");
+  for (int f = 0; f < kFeatureFlagCount; ++f) {
+    s += std::string(" ") + kFeatureFlags[f].word + "=" + (flag_value(FeatureFlag(f)) ? "yes" : "no");
+    if (FeatureFlag(f) == FeatureFlag::kHAS_CAUSTICS && !caustics_reason.empty()) s += " (" + caustics_reason + ")";
   }
-  if (mode != RenderMode::Binary)
-    s += std::string(" photon-pass=") + (caustics ? "compiled" : "left out") + " (" + caustics_reason + ")";
   return s;
 }
 

@@ -1,13 +1,15 @@
 // What a scene needs, decided once on the host. Two tiers (DESIGN.md):
 // run time (stages and buffers not launched/allocated) and compile time (a
-// few coarse -D flags). Keep the flags coarse: each distinct feature set is
-// one program build and one cache entry, so a flag must cut a whole code
-// path, never encode a per-scene number.
+// few coarse -D flags, the HAS_* of kernels/shared/feature_flags.h). Keep
+// the flags coarse: each distinct feature set is one program build and one
+// cache entry, so a flag must cut a whole code path, never encode a
+// per-scene number.
 #pragma once
 
 #include <string>
 
 #include "host/scene/scene.h"
+#include "kernels/shared/feature_flags.h"
 
 namespace caustica {
 
@@ -38,8 +40,10 @@ struct SceneFeatures {
   bool check_numerics = false;  // path: --check-numerics counters compiled in (set by the session)
   bool secondary_rays() const { return reflection || refraction; }
 
-  std::string build_options() const;  // the -D flags
-  std::string describe() const;       // one line for --verbose
+  // The value (0 or 1) this scene gives a feature flag.
+  int flag_value(FeatureFlag flag) const;
+  std::string build_options() const;  // every flag, " -DHAS_X=v" in table order
+  std::string describe() const;       // one line for --verbose: mode, then each flag's word=yes|no
 };
 
 SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode caustics = CausticsMode::Auto);

@@ -15,7 +15,7 @@
  * two-sided (the frame turns toward the path); dielectrics keep the outward
  * normal so that the side tells inside from outside. No direction below the
  * geometric surface of an opaque material is followed (no light leaks
- * through shading normals). With the photon pass (PATH_WITH_CAUSTICS), the
+ * through shading normals). With the photon pass (HAS_CAUSTICS), the
  * first receiving vertex records the pixel's visible point (in passes that
  * trace a photon map: record_visible_points), later ones gather the latest
  * photon map inline, and the paths the photon map covers are dropped here
@@ -31,14 +31,6 @@
  * PATH_CONE_DIFFUSE_SPREAD (shared/photon.h). The photon pass's radii are
  * the footprints: a visible point's initial radius, and a later receiver's
  * inline gather radius (at most the pass's cap, caustic_radius). */
-
-#ifndef PATH_WITH_CAUSTICS
-#define PATH_WITH_CAUSTICS 0
-#endif
-#ifndef PATH_CHECK_NUMERICS
-#define PATH_CHECK_NUMERICS 0
-#endif
-
 
 #include "lib/photon_grid.h" /* before caustics.h: its gathers need the grid */
 #include "lib/camera_sample.h"
@@ -81,7 +73,7 @@ inline uint light_of_hit(__global const uint* light_of_sphere, __global const ui
 
 /* Everything a path vertex reads and writes (the kernel's parameters, less
  * the wave's own). */
-#if PATH_WITH_CAUSTICS
+#if HAS_CAUSTICS
 #define PATH_CAUSTIC_PARAMS                                                                   \
   , __global VisiblePoint *restrict visible_points, uint record_visible_points, PHOTON_GRID_PARAMS, \
       float caustic_radius, volatile __global ulong *restrict gather_counters
@@ -90,7 +82,7 @@ inline uint light_of_hit(__global const uint* light_of_sphere, __global const ui
 #define PATH_CAUSTIC_PARAMS
 #define PATH_CAUSTIC_ARGS
 #endif
-#if PATH_CHECK_NUMERICS
+#if HAS_NUMERIC_CHECKS
 #define PATH_NUMERICS_PARAMS , volatile __global ulong *restrict numerics
 #define PATH_NUMERICS_ARGS , numerics
 #else
@@ -129,7 +121,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   const uint light_index = params->light_count > 0u
                                ? light_of_hit(light_of_sphere, light_of_cylinder, light_of_triangle, hit.prim)
                                : LIGHT_NONE;
-#if PATH_WITH_CAUSTICS
+#if HAS_CAUSTICS
   /* The photon pass is on for this pass unless `auto` turned it off. */
   const bool photon_map_on = caustic_radius > 0.0f;
   /* light -> caster+ -> receiver: the photon map's, when the photons
@@ -157,7 +149,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   if (ray.depth >= params->max_depth) return false;
 
   float3 diffuse_colour = mat->diffuse.xyz;
-#ifdef HAS_TEXTURES
+#if HAS_TEXTURES
   if (mat->texture >= 0) diffuse_colour = texture_lookup(textures, (__global const half*)texels, mat->texture, sp.uv);
 #endif
   const Bsdf bsdf = bsdf_of_material(mat, diffuse_colour);
@@ -165,7 +157,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   const ShadingFrame frame = shading_frame(bsdf, sp.shading_normal, sp.normal, d);
   const float3 t = frame.t, b = frame.b, n = frame.n, ng = frame.ng;
   const float3 wo = frame_to_local(-d, t, b, n);
-#if PATH_WITH_CAUSTICS
+#if HAS_CAUSTICS
   const bool caster = photon_map_on && bsdf_casts_caustics(bsdf);
   if (!caster && photon_map_on && record_visible_points && !(ray.flags & PATH_PAST_RECEIVER)) {
     VisiblePoint vp;
@@ -238,7 +230,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   float pdf;
   uint flags;
   if (!bsdf_sample(bsdf, wo, (float3)(u_dir, picks.y), &wi_local, &weight, &pdf, &flags)) return false;
-#if PATH_CHECK_NUMERICS
+#if HAS_NUMERIC_CHECKS
   count_bsdf_weight(numerics, ray.depth, weight);
 #endif
   const float3 wi = frame_to_world(wi_local, t, b, n);
@@ -252,7 +244,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   if (!(max3_of(continued_throughput) > 0.0f)) return false;
   /* The cone past this vertex (the rules above); only the photon pass reads it. */
   float spread = ray.dir.w;
-#if PATH_WITH_CAUSTICS
+#if HAS_CAUSTICS
   if (flags & BSDF_SAMPLED_SPECULAR) {
     if (prim_ref_type(hit.prim) == PRIM_SPHERE) {
       const float inv_r = 1.0f / spheres[prim_ref_index(hit.prim)].center_radius.w;
@@ -272,7 +264,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   child.sample = ray.sample;
   child.bsdf_pdf = (flags & BSDF_SAMPLED_SPECULAR) ? 0.0f : pdf;
   child.flags = (flags & BSDF_SAMPLED_SPECULAR) ? PATH_SPECULAR : 0u;
-#if PATH_WITH_CAUSTICS
+#if HAS_CAUSTICS
   const uint caustic_flags = PATH_PAST_RECEIVER | PATH_AFTER_RECEIVER | PATH_CASTER_SINCE_RECEIVER;
   if (!caster) /* leaving a receiver starts a new chain */
     child.flags |= PATH_PAST_RECEIVER | PATH_AFTER_RECEIVER;

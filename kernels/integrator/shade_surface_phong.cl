@@ -8,15 +8,9 @@
  * direct terms without visibility (emission, ambient, background) go to the
  * film at once. Reflection and refraction rays go to the next queue while
  * depth < max_depth and their weight is not negligible. With
- * PHONG_WITH_CAUSTICS, the local term also gathers the photon map's caustic
+ * HAS_CAUSTICS, the local term also gathers the photon map's caustic
  * irradiance (lib/caustics.h). */
 
-#ifndef PHONG_WITH_CAUSTICS
-#define PHONG_WITH_CAUSTICS 0
-#endif
-
-/* Unconditional: the host inlines each file once and ignores #if, so a
- * header first met inside a false #if would be lost to later includes. */
 #include "lib/photon_grid.h"
 #include "lib/caustics.h"
 #include "lib/film.h"
@@ -28,7 +22,7 @@
 
 inline float max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 
-#ifdef HAS_LIGHTS
+#if HAS_LIGHTS
 /* n_dot_h ^ exponent (n_dot_h in [0, 1], exponent >= 0) as exp2(e log2 x):
  * within a few 1e-6 of pow where the lobe is above 1e-9, and 4x cheaper
  * than PoCL's pow, whose extended-precision logarithm and exponential were
@@ -91,7 +85,7 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const Light* re
                                   ShadeParams params, PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits,
                                   FILM_PARAMS, PATH_QUEUE_PARAMS(next), volatile __global uint* restrict cleared_count,
                                   SHADOW_QUEUE_PARAMS(shadow), volatile __global uint* restrict rays_traced
-#if PHONG_WITH_CAUSTICS
+#if HAS_CAUSTICS
                                   , PHOTON_GRID_PARAMS, float caustic_radius
 #endif
 ) {
@@ -103,7 +97,7 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const Light* re
     atomic_add(rays_traced, count);
   }
   if (i >= count) return;
-#ifdef HAS_LIGHTS
+#if HAS_LIGHTS
   /* This ray's shadow slots: empty unless a light below fills its own. */
   for (uint l = 0; l < params.light_count; ++l) shadow_mark_empty(SHADOW_QUEUE_ARGS(shadow), i * params.light_count + l);
 #endif
@@ -124,7 +118,7 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const Light* re
   const float3 n = front ? sp.normal : -sp.normal;                  /* geometric, faces the ray */
   const float3 ns = front ? sp.shading_normal : -sp.shading_normal; /* shading, same side */
   float3 diffuse_colour = mat->diffuse.xyz;
-#ifdef HAS_TEXTURES
+#if HAS_TEXTURES
   /* An image or checker texture replaces the diffuse colour. */
   if (mat->texture >= 0) diffuse_colour = texture_lookup(textures, (__global const half*)texels, mat->texture, sp.uv);
 #endif
@@ -142,7 +136,7 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const Light* re
   float cos_i = -dot(d, n_spec), cos_t = 0.0f;
   float eta = 1.0f;
   bool refractive = false;
-#ifdef HAS_REFRACTION
+#if HAS_REFRACTION
   if (mat->flags & MATERIAL_REFRACTIVE) {
     refractive = true;
     eta = front ? 1.0f / mat->ior : mat->ior;
@@ -152,7 +146,7 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const Light* re
     refract_weight = weight * (1.0f - fresnel);
   }
 #endif
-#ifdef HAS_REFLECTION
+#if HAS_REFLECTION
   if (!refractive && (mat->flags & MATERIAL_REFLECTIVE)) {
     const float r = clamp(mat->reflectivity, 0.0f, 1.0f);
     local_share = 1.0f - r;
@@ -163,11 +157,11 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const Light* re
   if (local_share > 0.0f) {
     const float3 local_weight = weight * local_share;
     film_add(FILM_ARGS, pixel, local_weight * mat->ka * params.ambient_light.xyz * diffuse_colour);
-#if PHONG_WITH_CAUSTICS
+#if HAS_CAUSTICS
     film_add(FILM_ARGS, pixel, local_weight * mat->diffuse.w * diffuse_colour *
                                    phong_caustic_irradiance(PHOTON_GRID_ARGS, sp.position, n, caustic_radius));
 #endif
-#ifdef HAS_LIGHTS
+#if HAS_LIGHTS
     for (uint l = 0; l < params.light_count; ++l)
       shade_point_light(&lights[l], mat, diffuse_colour, sp, ns, -d, local_weight, pixel, i * params.light_count + l,
                         SHADOW_QUEUE_ARGS(shadow));

@@ -31,10 +31,8 @@
 #include "lib/optics.h"
 #include "lib/sampling.h"
 
-/* Programs without glass leave the dielectric out (-DBSDF_WITH_DIELECTRIC=0). */
-#ifndef BSDF_WITH_DIELECTRIC
-#define BSDF_WITH_DIELECTRIC 1
-#endif
+/* Programs without glass leave the dielectric out (#if HAS_DIELECTRIC,
+ * shared/feature_flags.h). */
 
 #define BSDF_PLASTIC 0u
 #define BSDF_CONDUCTOR 1u
@@ -149,7 +147,7 @@ inline float3 bsdf_eval(Bsdf b, float3 wo, float3 wi) {
   }
   if (bsdf_is_smooth(b)) return splat_float3(0.0f); /* delta lobes only */
   if (b.kind == BSDF_CONDUCTOR) return ggx_reflection(b.specular, b.alpha, wo, wi);
-#if BSDF_WITH_DIELECTRIC
+#if HAS_DIELECTRIC
   /* rough dielectric */
   if (wo.z == 0.0f || wi.z == 0.0f) return splat_float3(0.0f);
   const float eta = dielectric_eta(b, wo); /* transmitted side over wo's side */
@@ -185,7 +183,7 @@ inline float bsdf_pdf(Bsdf b, float3 wo, float3 wi) {
   }
   if (bsdf_is_smooth(b)) return 0.0f;
   if (b.kind == BSDF_CONDUCTOR) return ggx_reflection_pdf(b.alpha, wo, wi);
-#if BSDF_WITH_DIELECTRIC
+#if HAS_DIELECTRIC
   if (wo.z == 0.0f || wi.z == 0.0f) return 0.0f;
   const float eta = dielectric_eta(b, wo);
   const float sign = wo.z > 0.0f ? 1.0f : -1.0f;
@@ -243,7 +241,7 @@ inline bool bsdf_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight,
     *weight = bsdf_eval(b, wo, *wi) * (wi->z / *pdf);
     return true;
   }
-#if BSDF_WITH_DIELECTRIC
+#if HAS_DIELECTRIC
   /* dielectric */
   const float eta = dielectric_eta(b, wo);
   const float sign = wo.z > 0.0f ? 1.0f : -1.0f;

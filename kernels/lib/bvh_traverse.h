@@ -122,7 +122,7 @@ CS_DEVICE void bvh8_prefetch_item(__global const BvhNode8* nodes, __global const
   (void)nodes; /* used only where the prefetch is compiled */
   (void)blocks;
   if ((item & WIDE_LEAF_FLAG) == 0) BVH_PREFETCH(&nodes[item], sizeof(BvhNode8));
-#ifdef HAS_TRIANGLES
+#if HAS_TRIANGLES
   else if (!(item & WIDE_LEAF_PRIMS)) BVH_PREFETCH(&blocks[item & WIDE_LEAF_INDEX_MASK], sizeof(TriangleBlock4));
 #endif
 }
@@ -132,7 +132,7 @@ CS_DEVICE bool intersect_prim_ref(__global const Sphere* spheres, __global const
                         __global const Triangle* triangles, uint ref, float3 o, float3 d, float tmin, Hit* hit) {
   uint type = prim_ref_type(ref);
   uint index = prim_ref_index(ref);
-#ifdef HAS_SPHERES
+#if HAS_SPHERES
   if (type == PRIM_SPHERE) {
     float4 s = spheres[index].center_radius;
     if (!intersect_sphere(s.xyz, s.w, o, d, tmin, &hit->t)) return false;
@@ -142,7 +142,7 @@ CS_DEVICE bool intersect_prim_ref(__global const Sphere* spheres, __global const
     return true;
   }
 #endif
-#ifdef HAS_CYLINDERS
+#if HAS_CYLINDERS
   if (type == PRIM_CYLINDER) {
     float4 cr = cylinders[index].center_radius;
     float4 ah = cylinders[index].axis_half;
@@ -155,7 +155,7 @@ CS_DEVICE bool intersect_prim_ref(__global const Sphere* spheres, __global const
     return true;
   }
 #endif
-#ifdef HAS_TRIANGLES
+#if HAS_TRIANGLES
   if (type == PRIM_TRIANGLE) {
     float t = hit->t, u = 0.0f, v = 0.0f;
     if (!intersect_triangle(triangles[index].v0.xyz, triangles[index].v1.xyz, triangles[index].v2.xyz, o, d,
@@ -298,7 +298,7 @@ CS_DEVICE Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmi
   Hit hit = hit_none(tmax);
   if (!ray_traceable(o, d)) return hit;
   const WideRay ray = wide_ray(o, d, tmin);
-#ifdef HAS_TRIANGLES
+#if HAS_TRIANGLES
   /* Set up at the first triangle leaf: rays that reach none skip it. */
   TriangleRay tri;
   bool tri_ready = false;
@@ -368,12 +368,12 @@ CS_DEVICE Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmi
       }
     } else {
       uint first = item & WIDE_LEAF_INDEX_MASK, end = first + wide_leaf_count(item);
-#if defined(HAS_SPHERES) || defined(HAS_CYLINDERS)
+#if HAS_SPHERES || HAS_CYLINDERS
       if (item & WIDE_LEAF_PRIMS)
         for (uint i = first; i < end; ++i)
           intersect_prim_ref(spheres, cylinders, triangles, prim_refs[i], o, d, tmin, &hit);
 #endif
-#ifdef HAS_TRIANGLES
+#if HAS_TRIANGLES
       if (!(item & WIDE_LEAF_PRIMS)) {
         if (!tri_ready) {
           tri = triangle_ray(o, d);
@@ -396,7 +396,7 @@ CS_DEVICE Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmi
 CS_DEVICE bool trace_any(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax) {
   if (!ray_traceable(o, d)) return false;
   const WideRay ray = wide_ray(o, d, tmin);
-#ifdef HAS_TRIANGLES
+#if HAS_TRIANGLES
   /* Set up at the first triangle leaf: rays that reach none skip it. */
   TriangleRay tri;
   bool tri_ready = false;
@@ -430,14 +430,14 @@ CS_DEVICE bool trace_any(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, 
       }
     } else {
       uint first = item & WIDE_LEAF_INDEX_MASK, end = first + wide_leaf_count(item);
-#if defined(HAS_SPHERES) || defined(HAS_CYLINDERS)
+#if HAS_SPHERES || HAS_CYLINDERS
       if (item & WIDE_LEAF_PRIMS) {
         Hit hit = hit_none(tmax);
         for (uint i = first; i < end; ++i)
           if (intersect_prim_ref(spheres, cylinders, triangles, prim_refs[i], o, d, tmin, &hit)) return true;
       }
 #endif
-#ifdef HAS_TRIANGLES
+#if HAS_TRIANGLES
       if (!(item & WIDE_LEAF_PRIMS)) {
         if (!tri_ready) {
           tri = triangle_ray(o, d);

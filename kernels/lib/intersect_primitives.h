@@ -26,10 +26,10 @@
 #pragma OPENCL FP_CONTRACT OFF
 #endif /* the host builds this without contraction (-ffp-contract=off) */
 
-#if defined(HAS_TRIANGLES) && defined(cl_khr_fp64)
+#if HAS_TRIANGLES && defined(cl_khr_fp64)
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #define CAUSTICA_EDGE_FP64 1
-#elif defined(HAS_TRIANGLES) && !defined(__OPENCL_C_VERSION__)
+#elif HAS_TRIANGLES && !defined(__OPENCL_C_VERSION__)
 #define CAUSTICA_EDGE_FP64 1 /* the host has double, as every device that reports fp64 */
 #endif
 

@@ -9,7 +9,7 @@
  * LIGHT_TYPES row below, with its #include beside it, and the host's
  * (host/lights/light_types.cpp). Kind numbers are the rows' order, so a new
  * type goes last. The third column marks area lights, whose sampling
- * programs of point-lit scenes leave out (-DPATH_WITH_AREA_LIGHTS=0).
+ * programs of point-lit scenes leave out (HAS_AREA_LIGHTS=0, shared/feature_flags.h).
  * Densities are per unit solid angle at the shading point and include the
  * probability of picking the light; a delta light's density is that
  * probability alone, and MIS never weights it. */
@@ -36,8 +36,12 @@
 enum { LIGHT_TYPES(LIGHT_KIND_ENUM) LIGHT_KIND_COUNT };
 #undef LIGHT_KIND_ENUM
 
-#ifndef PATH_WITH_AREA_LIGHTS
-#define PATH_WITH_AREA_LIGHTS 1
+/* Whether a type's sampling is compiled: area types only in programs whose
+ * scene has area lights (the constant false drops their code). */
+#if HAS_AREA_LIGHTS
+#define LIGHT_TYPE_SAMPLED(area) 1
+#else
+#define LIGHT_TYPE_SAMPLED(area) (!(area))
 #endif
 
 /* The light whose prefix probability first exceeds u (binary search). */
@@ -57,7 +61,7 @@ inline bool sample_light(__global const Light* l, float pick_probability, float3
   bool found = false;
   switch (l->kind) {
 #define LIGHT_SAMPLE_CASE(kind, type, area) \
-  case kind: found = (!(area) || PATH_WITH_AREA_LIGHTS) && type##_light_sample(l, p, u, s); break;
+  case kind: found = LIGHT_TYPE_SAMPLED(area) && type##_light_sample(l, p, u, s); break;
     LIGHT_TYPES(LIGHT_SAMPLE_CASE)
 #undef LIGHT_SAMPLE_CASE
   }
@@ -72,7 +76,7 @@ inline float light_pdf(__global const Light* l, float pick_probability, float3 p
   float pdf = 0.0f;
   switch (l->kind) {
 #define LIGHT_PDF_CASE(kind, type, area) \
-  case kind: pdf = (!(area) || PATH_WITH_AREA_LIGHTS) ? type##_light_pdf(l, p, q, wi) : 0.0f; break;
+  case kind: pdf = LIGHT_TYPE_SAMPLED(area) ? type##_light_pdf(l, p, q, wi) : 0.0f; break;
     LIGHT_TYPES(LIGHT_PDF_CASE)
 #undef LIGHT_PDF_CASE
   }

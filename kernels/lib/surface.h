@@ -92,7 +92,7 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
   sp.p_error = splat_float3(0.0f);
   uint type = prim_ref_type(hit.prim);
   uint index = prim_ref_index(hit.prim);
-#ifdef HAS_SPHERES
+#if HAS_SPHERES
   if (type == PRIM_SPHERE) {
     float4 s = spheres[index].center_radius;
     /* Relative to the centre, so the direction is as exact as the hit. */
@@ -106,12 +106,12 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
      * near the surface are good to a few roundings of r: 8, not 5, covers
      * them too. */
     sp.p_error = error_gamma(8.0f) * fabs(s.w * sp.normal) + error_gamma(1.0f) * fabs(sp.position);
-#ifdef HAS_TEXTURES
+#if HAS_TEXTURES
     sp.uv = make_float2(angle_unit(sp.normal.z, sp.normal.x), acos(clamp(-sp.normal.y, -1.0f, 1.0f)) * M_1_PI_F);
 #endif
   }
 #endif
-#ifdef HAS_CYLINDERS
+#if HAS_CYLINDERS
   if (type == PRIM_CYLINDER) {
     float4 cr = cylinders[index].center_radius;
     float3 axis = cylinders[index].axis_half.xyz;
@@ -119,7 +119,7 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
     float3 rel = (o - cr.xyz) + hit.t * d;
     float z = clamp(dot(rel, axis), -half_length, half_length);
     float3 radial = rel - dot(rel, axis) * axis;
-#ifdef HAS_TEXTURES
+#if HAS_TEXTURES
     float3 t1, t2;
     cylinder_uv_frame(axis, &t1, &t2);
 #endif
@@ -129,7 +129,7 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
        * perpendicular to the axis is as good as another there. */
       sp.normal = len > 0.0f ? radial / len : normalize(cross(axis, make_float3(axis.y, axis.z, axis.x)));
       sp.position = cr.xyz + z * axis + cr.w * sp.normal;
-#ifdef HAS_TEXTURES
+#if HAS_TEXTURES
       sp.uv = make_float2(angle_unit(dot(sp.normal, t2), dot(sp.normal, t1)),
                        half_length > 0.0f ? (z + half_length) / (2.0f * half_length) : 0.5f);
 #endif
@@ -140,7 +140,7 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
       float len = length(radial);
       if (len > cr.w) radial *= cr.w / len;
       sp.position = cr.xyz + (sgn * half_length) * axis + radial;
-#ifdef HAS_TEXTURES
+#if HAS_TEXTURES
       float scale = cr.w > 0.0f ? 0.5f / cr.w : 0.0f;
       sp.uv = make_float2(0.5f + dot(radial, t1) * scale, 0.5f + dot(radial, t2) * scale);
 #endif
@@ -155,7 +155,7 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
   }
 #endif
   sp.shading_normal = sp.normal;
-#ifdef HAS_TRIANGLES
+#if HAS_TRIANGLES
   if (type == PRIM_TRIANGLE) {
     float3 v0 = triangles[index].v0.xyz;
     float3 v1 = triangles[index].v1.xyz;
@@ -178,7 +178,7 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
     const float3 e1 = v1 - v0, e2 = v2 - v0;
     sp.p_error = error_gamma(7.0f) * (fabs(v0) + fabs(hit.u * e1) + fabs(hit.v * e2)) +
                  splat_float3(error_gamma(32.0f) * (max_abs3(e1) + max_abs3(e2)));
-#ifdef HAS_TRIANGLE_SHADING
+#if HAS_TRIANGLE_SHADING
     __global const TriangleShading* ts = &triangle_shading[index];
     /* Edge form for the same reason as the position: tiled UVs (1000.25...)
      * keep their fraction. */

@@ -13,7 +13,7 @@
 #ifndef CAUSTICA_LIB_TEXTURE_H
 #define CAUSTICA_LIB_TEXTURE_H
 
-#ifdef HAS_TEXTURES
+#if HAS_TEXTURES
 
 #include "shared/types.h"
 

@@ -36,7 +36,7 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PATH
   const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, photon.origin.xyz, d);
   __global const Material* mat = &materials[sp.material];
   float3 diffuse_colour = mat->diffuse.xyz;
-#ifdef HAS_TEXTURES
+#if HAS_TEXTURES
   if (mat->texture >= 0) diffuse_colour = texture_lookup(textures, (__global const half*)texels, mat->texture, sp.uv);
 #endif
   const Bsdf bsdf = bsdf_of_material(mat, diffuse_colour);

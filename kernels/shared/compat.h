@@ -28,6 +28,14 @@
 #ifndef CAUSTICA_SHARED_COMPAT_H
 #define CAUSTICA_SHARED_COMPAT_H
 
+/* The feature flags' defaults (HAS_*, always 0 or 1) for code that reads
+ * them; the runtime names every flag in a program's options anyway. */
+#ifdef __OPENCL_C_VERSION__
+#include "shared/feature_flags.h"
+#else
+#include "kernels/shared/feature_flags.h"
+#endif
+
 #ifdef __OPENCL_C_VERSION__
 
 #define CS_DEVICE

@@ -285,7 +285,7 @@ typedef struct {
 #define FILM_COUNT_CLAMPED 2u   /* components above max_contribution clamped */
 #define FILM_COUNTERS 3u
 
-/* --check-numerics (path mode, -DPATH_CHECK_NUMERICS=1): per scattering
+/* --check-numerics (path mode, -DHAS_NUMERIC_CHECKS=1): per scattering
  * event d < NUMERICS_DEPTHS (deeper ones count as the last), three 64-bit
  * counters at 3 d: BSDF samples taken, the sum of their weights' largest
  * channel (fixed point, NUMERICS_WEIGHT_SCALE), and samples whose weight

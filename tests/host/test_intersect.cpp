@@ -3,16 +3,20 @@
 // kernels/shared/compat.h): hand-made rays against analytic answers, random rays
 // against a double-precision reference (near and 1e4 away from the origin),
 // watertightness of shared triangle edges and self-intersection avoidance.
+
+// Every primitive type, no shading table (the host trace's configuration):
+// the feature flags are set before the first include (shared/compat.h gives
+// the others their defaults).
+#define HAS_SPHERES 1
+#define HAS_CYLINDERS 1
+#define HAS_TRIANGLES 1
+
 #include <gtest/gtest.h>
 
 #include <glm/glm.hpp>
 #include <random>
 
 #include "host/scene/scene.h"
-// Every primitive type, no shading table (the host trace's configuration).
-#define HAS_SPHERES
-#define HAS_CYLINDERS
-#define HAS_TRIANGLES
 #include "lib/bvh_traverse.h"
 #include "lib/surface.h"
 
