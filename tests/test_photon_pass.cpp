@@ -71,6 +71,7 @@ PhotonMap trace_photons(Session& s, uint32_t count, size_t local = 64) {
 }
 
 glm::dvec3 d3(const cs_float4& v) { return glm::dvec3(v.x, v.y, v.z); }
+glm::dvec3 d3(const cs_packed3& v) { return glm::dvec3(v.x, v.y, v.z); }
 double luminance(glm::dvec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 // Every light type once: point, rectangle, sphere, one-sided and two-sided
@@ -108,7 +109,7 @@ TEST(PhotonPass, EmittedFluxSumsToTheLightsPower) {
   const PathLightTable table = build_path_lights(s->scene);
   ASSERT_EQ(table.lights.size(), 6u);
   const cl::Buffer lights = upload_buffer(s->runtime->context(), table.lights);
-  DeviceQueue out(s->runtime->context(), path_record_layout(), n);
+  DeviceQueue out(s->runtime->context(), photon_record_layout(), n);
   StageKernel emit(s->program.program, "emit_photons");
   PhotonPassParams p{};
   p.photon_count = n;
@@ -124,7 +125,7 @@ TEST(PhotonPass, EmittedFluxSumsToTheLightsPower) {
       .finish();
   launcher.launch(emit, n, nullptr);
   std::vector<cs_float4> flux(n);
-  s->runtime->queue().enqueueReadBuffer(out.field("throughput"), CL_TRUE, 0, n * sizeof(cs_float4), flux.data());
+  s->runtime->queue().enqueueReadBuffer(out.field("power"), CL_TRUE, 0, n * sizeof(cs_float4), flux.data());
   glm::dvec3 sum(0.0), sum2(0.0);
   for (const cs_float4& f : flux) sum += d3(f), sum2 += d3(f) * d3(f);
   std::printf("[measure] emitted flux %.4f %.4f %.4f, lights' power %.4f %.4f %.4f\n", sum.x, sum.y, sum.z, power.x,

@@ -11,7 +11,8 @@
  *
  * Everything below is generated from the field lists; a stage names a queue
  * by its prefix: PATH_QUEUE_PARAMS(next) declares next_count, next_origin,
- * ..., and path_push(PATH_QUEUE_ARGS(next), capacity, record) pushes. */
+ * ..., and path_push(PATH_QUEUE_ARGS(next), capacity, record) pushes
+ * (PHOTON_QUEUE_PARAMS / photon_push and SHADOW_QUEUE_PARAMS likewise). */
 #ifndef CAUSTICA_LIB_QUEUE_H
 #define CAUSTICA_LIB_QUEUE_H
 
@@ -24,6 +25,8 @@
 
 #define PATH_QUEUE_PARAMS(q) volatile __global uint* q##_count PATH_RECORD_FIELDS(QUEUE_FIELD_PARAM, q)
 #define PATH_QUEUE_ARGS(q) q##_count PATH_RECORD_FIELDS(QUEUE_FIELD_ARG, q)
+#define PHOTON_QUEUE_PARAMS(q) volatile __global uint* q##_count PHOTON_RECORD_FIELDS(QUEUE_FIELD_PARAM, q)
+#define PHOTON_QUEUE_ARGS(q) q##_count PHOTON_RECORD_FIELDS(QUEUE_FIELD_ARG, q)
 #define SHADOW_QUEUE_PARAMS(q) volatile __global uint* q##_count SHADOW_RECORD_FIELDS(QUEUE_FIELD_PARAM, q)
 #define SHADOW_QUEUE_ARGS(q) q##_count SHADOW_RECORD_FIELDS(QUEUE_FIELD_ARG, q)
 
@@ -40,7 +43,8 @@ inline uint queue_reserve(volatile __global uint* counter, uint capacity) {
 
 /* A path as the camera starts it: full throughput, no scattering yet,
  * counted as arriving by a delta lobe (emission seen directly is not
- * MIS-weighted). */
+ * MIS-weighted), a cone of width 0 and no spread (the path tracer's camera
+ * sets the spread, lib/camera_sample.h). */
 inline PathRecord camera_path(float3 origin, float3 dir, uint pixel, uint sample) {
   PathRecord ray;
   ray.origin = (float4)(origin, 0.0f);
@@ -51,6 +55,8 @@ inline PathRecord camera_path(float3 origin, float3 dir, uint pixel, uint sample
   ray.bsdf_pdf = 0.0f;
   ray.flags = PATH_SPECULAR;
   ray.sample = sample;
+  ray.cone_width = 0.0f;
+  ray.cone_spread = 0.0f;
   return ray;
 }
 
@@ -69,6 +75,24 @@ inline bool path_push(PATH_QUEUE_PARAMS(q), uint capacity, PathRecord record) {
   const uint slot = queue_reserve(q_count, capacity);
   if (slot == 0xFFFFFFFFu) return false;
   PATH_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
+  return true;
+}
+
+inline PhotonRecord photon_load(PHOTON_QUEUE_PARAMS(q), uint slot) {
+  PhotonRecord record;
+  PHOTON_RECORD_FIELDS(QUEUE_FIELD_LOAD, q)
+  return record;
+}
+
+inline void photon_store(PHOTON_QUEUE_PARAMS(q), uint slot, PhotonRecord record) {
+  PHOTON_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
+}
+
+/* False when the queue is full (the host sees the overflow in the count). */
+inline bool photon_push(PHOTON_QUEUE_PARAMS(q), uint capacity, PhotonRecord record) {
+  const uint slot = queue_reserve(q_count, capacity);
+  if (slot == 0xFFFFFFFFu) return false;
+  PHOTON_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
   return true;
 }
 
