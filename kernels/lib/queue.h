@@ -60,21 +60,35 @@ inline PathRecord camera_path(float3 origin, float3 dir, uint pixel, uint sample
   return ray;
 }
 
+/* The ray cone is read only with the photon pass (PATH_WITH_CAUSTICS, a
+ * -D of the whole program): every other program (path tracing without it,
+ * Whitted, binary) moves only the ray's own fields, so the cone costs them
+ * no memory traffic, and its loads read 0. */
+#if PATH_WITH_CAUSTICS
+#define PATH_MOVED_FIELDS PATH_RECORD_FIELDS
+#define PATH_UNMOVED_ZERO(record)
+#else
+#define PATH_MOVED_FIELDS PATH_RAY_FIELDS
+#define QUEUE_FIELD_ZERO(q, type, name) record.name = 0;
+#define PATH_UNMOVED_ZERO(record) PATH_CONE_FIELDS(QUEUE_FIELD_ZERO, _)
+#endif
+
 inline PathRecord path_load(PATH_QUEUE_PARAMS(q), uint slot) {
   PathRecord record;
-  PATH_RECORD_FIELDS(QUEUE_FIELD_LOAD, q)
+  PATH_MOVED_FIELDS(QUEUE_FIELD_LOAD, q)
+  PATH_UNMOVED_ZERO(record)
   return record;
 }
 
 inline void path_store(PATH_QUEUE_PARAMS(q), uint slot, PathRecord record) {
-  PATH_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
+  PATH_MOVED_FIELDS(QUEUE_FIELD_STORE, q)
 }
 
 /* False when the queue is full (the host sees the overflow in the count). */
 inline bool path_push(PATH_QUEUE_PARAMS(q), uint capacity, PathRecord record) {
   const uint slot = queue_reserve(q_count, capacity);
   if (slot == 0xFFFFFFFFu) return false;
-  PATH_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
+  PATH_MOVED_FIELDS(QUEUE_FIELD_STORE, q)
   return true;
 }
 

@@ -29,10 +29,11 @@
 #endif
 
 /* A ray on its way: camera rays and every ray a shade stage spawns (path
- * tracer, Whitted and binary modes alike). The ray cone (Amanatides 1984:
- * shade_surface_path) is the path tracer's; the other modes start it at 0
- * and never read it. */
-#define PATH_RECORD_FIELDS(F, q)                                             \
+ * tracer, Whitted and binary modes alike), with its ray cone (Amanatides
+ * 1984: shade_surface_path), which only the path tracer's photon pass reads:
+ * programs without it neither store nor load those two fields (queue.h). */
+#define PATH_RECORD_FIELDS(F, q) PATH_RAY_FIELDS(F, q) PATH_CONE_FIELDS(F, q)
+#define PATH_RAY_FIELDS(F, q)                                                \
   F(q, cs_float4, origin)     /* xyz; w unused */                            \
   F(q, cs_float4, dir)        /* xyz unit direction; w unused */             \
   F(q, cs_float4, throughput) /* rgb share of the pixel; w unused */         \
@@ -40,7 +41,8 @@
   F(q, cs_uint, depth)        /* scattering events so far */                 \
   F(q, float, bsdf_pdf)       /* density of the sampled direction (MIS); 0 after a delta lobe or from the camera */ \
   F(q, cs_uint, flags)        /* PATH_* bits (PATH_FLAGS) */                 \
-  F(q, cs_uint, sample)       /* index into the pixel's sample sequence (its pass) */ \
+  F(q, cs_uint, sample)       /* index into the pixel's sample sequence (its pass) */
+#define PATH_CONE_FIELDS(F, q)                                               \
   F(q, float, cone_width)     /* the ray cone's footprint width at origin */ \
   F(q, float, cone_spread)    /* the ray cone's spread angle (radians) */
 
