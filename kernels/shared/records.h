@@ -85,7 +85,7 @@ enum { PHOTON_FLAGS(RECORD_FLAG_CONSTANT) };
 #define RECORD_STRUCT_MEMBER(q, type, name) type name;
 typedef struct {
   PATH_RECORD_FIELDS(RECORD_STRUCT_MEMBER, _)
-} PathRecord; /* 76 bytes of fields (what a queue slot stores: queues are SoA), 80 with the struct's float4 alignment */
+} PathRecord; /* 76 bytes of fields (what a queue slot holds: queues are SoA; 68 moved without the photon pass), 80 with the struct's float4 alignment */
 
 typedef struct {
   PHOTON_RECORD_FIELDS(RECORD_STRUCT_MEMBER, _)
