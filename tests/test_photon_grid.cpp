@@ -37,8 +37,8 @@ namespace {
 
 // The kernels' own cell and bucket of a position (kernels/lib/photon_grid.h
 // on the host), to recompute buckets; hash_u32 (lib/rng.h) for checksums.
-uint32_t host_bucket(const PhotonGridParams& g, const cs_float4& p) {
-  return photon_grid_bucket(g, photon_grid_cell(g, p.xyz));
+uint32_t host_bucket(const PhotonGridParams& g, const cs_packed3& p) {
+  return photon_grid_bucket(g, photon_grid_cell(g, unpack3(p)));
 }
 
 struct QueryResult {
@@ -52,7 +52,7 @@ std::vector<QueryResult> brute_force(const std::vector<Photon>& photons, const s
     const cs_float4& c = queries[q];
     const float radius2 = c.w * c.w;
     for (size_t i = 0; i < photons.size(); ++i) {
-      if (photon_distance2(photons[i].position.xyz, c.xyz) > radius2) continue;
+      if (photon_distance2(unpack3(photons[i].position), c.xyz) > radius2) continue;
       ++out[q].found;
       out[q].sum_a += hash_u32(uint32_t(i));
       out[q].sum_b += hash_u32(uint32_t(i) ^ 0x5bd1e995u);
@@ -112,8 +112,8 @@ struct GridRig {
 
 Photon photon_at(float x, float y, float z) {
   Photon p{};
-  p.position = cs_float4{x, y, z, 0.0f};
-  p.wi = cs_float4{0.0f, 0.0f, 1.0f, 0.0f};
+  p.position = cs_packed3{x, y, z};
+  p.wi = cs_packed3{0.0f, 0.0f, 1.0f};
   p.power = cs_float4{1.0f, 1.0f, 1.0f, 0.0f};
   return p;
 }

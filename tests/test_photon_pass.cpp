@@ -71,6 +71,7 @@ PhotonMap trace_photons(Session& s, uint32_t count, size_t local = 64) {
 }
 
 glm::dvec3 d3(const cs_float4& v) { return glm::dvec3(v.x, v.y, v.z); }
+glm::dvec3 d3(const cs_packed3& v) { return glm::dvec3(v.x, v.y, v.z); }
 double luminance(glm::dvec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 // Every light type once: point, rectangle, sphere, one-sided and two-sided
@@ -92,6 +93,31 @@ const char* kAllLights = R"({"nbounces": 4, "rendermode": "pathtracer",
       {"type": "sphere", "center": [0, -3, 0], "radius": 1,
        "material": {"isrefractive": true, "refractiveindex": 1.5}}]}})";
 
+// emit_photons without casters: n photons from the table's lights; one
+// field of each photon record (power, dir, ...).
+std::vector<cs_float4> emit_unguided(Session& s, const LightTable& table, uint32_t n, const char* field) {
+  StageLauncher launcher(*s.runtime, 64);
+  const cl::Buffer lights = upload_buffer(s.runtime->context(), table.lights);
+  DeviceQueue out(s.runtime->context(), photon_record_layout(), n);
+  StageKernel emit(s.program.program, "emit_photons");
+  PhotonPassParams p{};
+  p.photon_count = n;
+  p.light_count = cl_uint(table.lights.size());
+  const cl::Buffer no_casters(s.runtime->context(), CL_MEM_READ_ONLY, sizeof(cs_float4));
+  KernelArgs(emit)
+      .arg("lights", lights)
+      .arg("params", p)
+      .arg("casters", no_casters)
+      .arg("caster_count", cl_uint(0))
+      .queue("out", out)
+      .arg("next_count", out.count())  // no bounce follows: any counter will do
+      .finish();
+  launcher.launch(emit, n, nullptr);
+  std::vector<cs_float4> values(n);
+  s.runtime->queue().enqueueReadBuffer(out.field(field), CL_TRUE, 0, n * sizeof(cs_float4), values.data());
+  return values;
+}
+
 TEST(PhotonPass, EmittedFluxSumsToTheLightsPower) {
   auto s = caustics_session(write_scene("lights.json", kAllLights));
   // The lights' power, by hand: point 4 pi I; rectangle pi A L; sphere
@@ -104,27 +130,9 @@ TEST(PhotonPass, EmittedFluxSumsToTheLightsPower) {
   // 2^12 photons on Oclgrind: each carries the same luminance, and the
   // channels' bounds are in their standard errors.
   const uint32_t n = uint32_t(test::sized(1u << 20, 1u << 12));
-  StageLauncher launcher(*s->runtime, 64);
   const LightTable table = build_light_table(s->scene);
   ASSERT_EQ(table.lights.size(), 6u);
-  const cl::Buffer lights = upload_buffer(s->runtime->context(), table.lights);
-  DeviceQueue out(s->runtime->context(), path_record_layout(), n);
-  StageKernel emit(s->program.program, "emit_photons");
-  PhotonPassParams p{};
-  p.photon_count = n;
-  p.light_count = cl_uint(table.lights.size());
-  const cl::Buffer no_casters(s->runtime->context(), CL_MEM_READ_ONLY, sizeof(cs_float4));
-  KernelArgs(emit)
-      .arg("lights", lights)
-      .arg("params", p)
-      .arg("casters", no_casters)
-      .arg("caster_count", cl_uint(0))
-      .queue("out", out)
-      .arg("next_count", out.count())  // no bounce follows: any counter will do
-      .finish();
-  launcher.launch(emit, n, nullptr);
-  std::vector<cs_float4> flux(n);
-  s->runtime->queue().enqueueReadBuffer(out.field("throughput"), CL_TRUE, 0, n * sizeof(cs_float4), flux.data());
+  const std::vector<cs_float4> flux = emit_unguided(*s, table, n, "power");
   glm::dvec3 sum(0.0), sum2(0.0);
   for (const cs_float4& f : flux) sum += d3(f), sum2 += d3(f) * d3(f);
   std::printf("[measure] emitted flux %.4f %.4f %.4f, lights' power %.4f %.4f %.4f\n", sum.x, sum.y, sum.z, power.x,
@@ -134,6 +142,35 @@ TEST(PhotonPass, EmittedFluxSumsToTheLightsPower) {
     const double se = std::sqrt(std::max(0.0, sum2[c] - sum[c] * sum[c] / n));  // of the sum
     EXPECT_NEAR(sum[c], power[c], 5.0 * se + 1e-6 * power[c]) << "channel " << c;
   }
+}
+
+// A spot light (inner 20, outer 40 degrees): its photons leave within the
+// outer cone and their flux sums to its power, 2 pi I ((1 - cos_i) +
+// (cos_i - cos_o) / 3) (each photon's flux follows the falloff, so the
+// bound is the standard error's).
+TEST(PhotonPass, SpotLightPhotonsCarryItsPower) {
+  auto s = caustics_session(write_scene("spot.json", R"({"nbounces": 4, "rendermode": "pathtracer",
+    "camera": {"type": "pinhole", "width": 8, "height": 8, "position": [0, 0, -6], "lookAt": [0, 0, 0],
+               "upVector": [0, 1, 0], "fov": 45},
+    "scene": {"backgroundcolor": [0, 0, 0],
+      "lightsources": [{"type": "spotlight", "position": [0, 2, 0], "direction": [0, -1, 0],
+                        "intensity": [4, 4, 4], "inner_cone_angle": 20, "outer_cone_angle": 40}],
+      "shapes": [{"type": "sphere", "center": [0, -3, 0], "radius": 1,
+                  "material": {"isrefractive": true, "refractiveindex": 1.5}}]}})"));
+  const double ci = std::cos(20 * kPi / 180), co = std::cos(40 * kPi / 180);
+  const double power = 2 * kPi * 4 * ((1 - ci) + (ci - co) / 3);
+  const uint32_t n = uint32_t(test::sized(1u << 18, 1u << 11));
+  const LightTable table = build_light_table(s->scene);
+  ASSERT_EQ(table.lights.size(), 1u);
+  const std::vector<cs_float4> flux = emit_unguided(*s, table, n, "power"), dir = emit_unguided(*s, table, n, "dir");
+  double sum = 0.0, sum2 = 0.0;
+  for (uint32_t i = 0; i < n; ++i) {
+    sum += flux[i].x, sum2 += double(flux[i].x) * flux[i].x;
+    ASSERT_LE(dir[i].y, -co + 1e-6) << "photon " << i << " left the outer cone";
+  }
+  const double se = std::sqrt(std::max(0.0, sum2 - sum * sum / n));  // of the sum
+  std::printf("[measure] emit_photons: spot flux %.4f (se %.4f), power %.4f\n", sum, se, power);
+  EXPECT_NEAR(sum, power, 5.0 * se);
 }
 
 // Fresnel reflectance of an unpolarised dielectric interface, in double.

@@ -63,8 +63,22 @@ namespace {
   X(__builtin_offsetof(Photon, power)) X(sizeof(PhotonGridParams))                                           \
   X(__builtin_offsetof(PhotonGridParams, cell_size)) X(__builtin_offsetof(PhotonGridParams, table_size))     \
   X(__builtin_offsetof(PhotonGridParams, photon_count)) X(sizeof(PhotonPassParams))                            \
-  X(__builtin_offsetof(PhotonPassParams, alpha)) X(sizeof(VisiblePoint)) X(__builtin_offsetof(VisiblePoint, beta)) \
-  X(__builtin_offsetof(VisiblePoint, kind)) X(sizeof(SppmPixel)) X(__builtin_offsetof(SppmPixel, radius2))
+  X(__builtin_offsetof(PhotonPassParams, alpha)) X(__builtin_offsetof(PhotonPassParams, footprint_radius))        \
+  X(sizeof(VisiblePoint)) X(__builtin_offsetof(VisiblePoint, recorded)) X(__builtin_offsetof(VisiblePoint, depth))  \
+  X(__builtin_offsetof(VisiblePoint, footprint)) X(__builtin_offsetof(VisiblePoint, beta))                         \
+  X(__builtin_offsetof(VisiblePoint, kind)) X(__builtin_offsetof(VisiblePoint, alpha))                             \
+  X(__builtin_offsetof(VisiblePoint, specular)) X(__builtin_offsetof(VisiblePoint, ior))                           \
+  X(sizeof(SppmPixel)) X(__builtin_offsetof(SppmPixel, radius2)) X(__builtin_offsetof(SppmPixel, sum_r2))          \
+  X(sizeof(cs_packed3)) X(__builtin_offsetof(Photon, bounces)) X(__builtin_offsetof(Photon, path_length))           \
+  X(__builtin_offsetof(PathRecord, cone_width)) X(__builtin_offsetof(PathRecord, cone_spread))                      \
+  X(sizeof(PhotonRecord)) X(__builtin_offsetof(PhotonRecord, power)) X(__builtin_offsetof(PhotonRecord, index))      \
+  X(__builtin_offsetof(PhotonRecord, depth)) X(__builtin_offsetof(PhotonRecord, path_length))                       \
+  X(__builtin_offsetof(PhotonRecord, flags)) X(__builtin_offsetof(ShadowRecord, tmax))                              \
+  X(sizeof(PathParams)) X(__builtin_offsetof(PathParams, light_count)) X(__builtin_offsetof(PathParams, max_depth)) \
+  X(__builtin_offsetof(PathParams, ray_capacity)) X(__builtin_offsetof(PathParams, first_pass))                     \
+  X(__builtin_offsetof(PathParams, seed)) X(__builtin_offsetof(PathParams, strategy))                               \
+  X(__builtin_offsetof(PathParams, rr_depth)) X(__builtin_offsetof(PathParams, sampler))                            \
+  X(__builtin_offsetof(PathParams, wave_pixels)) X(__builtin_offsetof(PathParams, wave_samples))
 
 #define CAUSTICA_STR(...) #__VA_ARGS__
 #define CAUSTICA_XSTR(...) CAUSTICA_STR(__VA_ARGS__)
@@ -90,11 +104,16 @@ TEST(RecordLayout, DeviceAgreesWithHost) {
   size_t path_bytes = 0;
   for (const RecordField& f : path_record_layout().fields) path_bytes += f.bytes;
   // Every field, no gap between them: the struct's tail padding (float4
-  // alignment rounds 68 bytes up to 80) is not stored by a queue.
-  EXPECT_EQ(path_bytes, offsetof(PathRecord, sample) + sizeof(cs_uint));
-  EXPECT_EQ(path_bytes, 68u);
-  EXPECT_EQ(path_record_layout().fields.size(), 8u);
-  EXPECT_EQ(shadow_record_layout().fields.size(), 4u);
+  // alignment rounds 76 bytes up to 80) is not stored by a queue.
+  EXPECT_EQ(path_bytes, offsetof(PathRecord, cone_spread) + sizeof(float));
+  EXPECT_EQ(path_bytes, 76u);
+  EXPECT_EQ(path_record_layout().fields.size(), 10u);
+  size_t photon_bytes = 0;
+  for (const RecordField& f : photon_record_layout().fields) photon_bytes += f.bytes;
+  EXPECT_EQ(photon_bytes, sizeof(PhotonRecord));
+  EXPECT_EQ(photon_bytes, 64u);
+  EXPECT_EQ(photon_record_layout().fields.size(), 7u);
+  EXPECT_EQ(shadow_record_layout().fields.size(), 5u);
 }
 
 // ------------------------------------------------------------------ binding
@@ -123,7 +142,7 @@ TEST(KernelArgs, BindingIsCheckedAgainstTheKernelsNames) {
     KernelArgs(too_few).arg("camera", camera).finish();
     ADD_FAILURE() << "a binding with too few arguments was accepted";
   } catch (const Error& e) {
-    EXPECT_TRUE(test::Contains(e.what(), {"generate_camera_rays", "declares 11 arguments", "binds 1"}));
+    EXPECT_TRUE(test::Contains(e.what(), {"generate_camera_rays", "declares 13 arguments", "binds 1"}));
   }
 }
 
@@ -420,10 +439,12 @@ TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
   EXPECT_EQ(empty_slot_pixel, 0xFFFFFFFFu);
   cs_float4 s_origin, s_dir, s_contribution, n_origin, n_dir, n_weight;
   cl_uint s_pixel, n_pixel, n_depth;
+  float s_tmax;
   q.enqueueReadBuffer(shadow.field("origin"), CL_TRUE, 0, 16, &s_origin);
   q.enqueueReadBuffer(shadow.field("dir"), CL_TRUE, 0, 16, &s_dir);
   q.enqueueReadBuffer(shadow.field("contribution"), CL_TRUE, 0, 16, &s_contribution);
   q.enqueueReadBuffer(shadow.field("pixel"), CL_TRUE, 0, 4, &s_pixel);
+  q.enqueueReadBuffer(shadow.field("tmax"), CL_TRUE, 0, 4, &s_tmax);
   q.enqueueReadBuffer(next.field("origin"), CL_TRUE, 0, 16, &n_origin);
   q.enqueueReadBuffer(next.field("dir"), CL_TRUE, 0, 16, &n_dir);
   q.enqueueReadBuffer(next.field("throughput"), CL_TRUE, 0, 16, &n_weight);
@@ -434,8 +455,8 @@ TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
   // n.l = n.h = 1, so Blinn-Phong gives I (kd diffuse + ks specular) x local.
   EXPECT_NEAR(s_origin.y, 1.0f, 1e-4f);
   EXPECT_GT(s_origin.y, 1.0f);
-  EXPECT_NEAR(s_origin.w, 4.0f, 1e-3f);
-  EXPECT_LT(s_origin.w, 4.0f);
+  EXPECT_NEAR(s_tmax, 4.0f, 1e-3f);
+  EXPECT_LT(s_tmax, 4.0f);
   EXPECT_EQ(to_vec3(s_dir), glm::vec3(0, 1, 0));
   EXPECT_EQ(s_pixel, 0u);
   for (int c = 0; c < 3; ++c) {

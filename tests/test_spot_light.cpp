@@ -6,7 +6,8 @@
 //   the falloff curve; the power the host picks by (host/lights/
 //   spot_light.cpp) is the integral of the intensity over the sphere, and
 //   unguided photons carry it (Monte Carlo on the host, 5 standard errors);
-// - the photon pass's emit_photons kernel: its photons' flux sums to the power;
+// - (the photon pass's emit_photons kernel: tests/test_photon_pass.cpp,
+//   PhotonPass.SpotLightPhotonsCarryItsPower);
 // - renders of a floor under a spot, phong and path mode, against the
 //   closed forms kd I f cos (phong) and (rho / pi) I f cos / d^2 (path);
 // - a spot whose inner cone holds the whole scene is the point light:
@@ -22,8 +23,6 @@
 #include "host/error.h"
 #include "host/lights/light_table.h"
 #include "host/lights/light_types.h"
-#include "host/render/kernel_args.h"
-#include "host/render/integrator.h"
 #include "host/scene/load_scene.h"
 #include "kernels/shared/camera.h"
 #include "tests/support/test_support.h"
@@ -198,50 +197,6 @@ TEST(SpotLight, UnguidedPhotonsCarryItsPower) {
   const double power = light_type(LIGHT_SPOT).power(l) / luminance(glm::vec3(4, 2, 1)) * 2.0;
   std::printf("[measure] spot photons' mean flux %.5f (se %.5f), power %.5f\n", mean, se, power);
   EXPECT_NEAR(mean, power, 5.0 * se);
-}
-
-// ------------------------------------------------------ photon pass kernel
-
-TEST(SpotLight, EmitPhotonsKernelCarriesItsPower) {
-  SessionOptions o;
-  o.scene_path = write_scene("spot_photons.json", floor_scene(kSpot));
-  o.device = test::device_spec();
-  o.mode = RenderMode::Path;
-  o.caustics = CausticsMode::On;
-  o.width = o.height = 8;
-  auto s = prepare_session(o);
-  const LightTable table = build_light_table(s->scene);
-  ASSERT_EQ(table.lights.size(), 1u);
-  const double power = light_type(LIGHT_SPOT).power(table.lights[0]) / luminance(glm::vec3(4)) * 4.0;
-  const uint32_t n = uint32_t(test::sized(1u << 18, 1u << 11));
-  StageLauncher launcher(*s->runtime, 64);
-  const cl::Buffer lights = upload_buffer(s->runtime->context(), table.lights);
-  DeviceQueue out(s->runtime->context(), path_record_layout(), n);
-  StageKernel emit(s->program.program, "emit_photons");
-  PhotonPassParams p{};
-  p.photon_count = n;
-  p.light_count = 1;
-  const cl::Buffer no_casters(s->runtime->context(), CL_MEM_READ_ONLY, sizeof(cs_float4));
-  KernelArgs(emit)
-      .arg("lights", lights)
-      .arg("params", p)
-      .arg("casters", no_casters)
-      .arg("caster_count", cl_uint(0))
-      .queue("out", out)
-      .arg("next_count", out.count())  // no bounce follows: any counter will do
-      .finish();
-  launcher.launch(emit, n, nullptr);
-  std::vector<cs_float4> flux(n), dir(n);
-  s->runtime->queue().enqueueReadBuffer(out.field("throughput"), CL_TRUE, 0, n * sizeof(cs_float4), flux.data());
-  s->runtime->queue().enqueueReadBuffer(out.field("dir"), CL_TRUE, 0, n * sizeof(cs_float4), dir.data());
-  double sum = 0.0, sum2 = 0.0;
-  for (uint32_t i = 0; i < n; ++i) {
-    sum += flux[i].x, sum2 += double(flux[i].x) * flux[i].x;
-    ASSERT_LE(dir[i].y, -std::cos(40 * kPi / 180) + 1e-6) << "photon " << i << " left the outer cone";
-  }
-  const double se = std::sqrt(std::max(0.0, sum2 - sum * sum / n));  // of the sum
-  std::printf("[measure] emit_photons: spot flux %.4f (se %.4f), power %.4f\n", sum, se, power);
-  EXPECT_NEAR(sum, power, 5.0 * se);
 }
 
 // -------------------------------------------------------------- renders

@@ -25,8 +25,9 @@
 namespace caustica {
 
 // Rays in the kernels' queue layout, ready to upload: origin.xyz / dir.xyz,
-// dir unit length. For segments (shadow rays) origin.w is tmax, as in the
-// renderer's shadow queue; otherwise origin.w is 0 and tmax is kRayTFar.
+// dir unit length. For segments (shadow rays) origin.w is tmax (the bench's
+// own packing: the renderer's shadow queue has a tmax field); otherwise
+// origin.w is 0 and tmax is kRayTFar.
 struct RaySet {
   std::vector<cs_float4> origin;
   std::vector<cs_float4> dir;

@@ -1,4 +1,4 @@
-// The device layout of kernels/shared/types.h (and photon.h) must be the same in C++ and
+// The device layout of kernels/shared/types.h (and photon.h, records.h) must be the same in C++ and
 // OpenCL C: fixed sizes, 16-byte float4 alignment, explicit padding. These
 // asserts catch a field added on one side only, or a padding slip.
 #include <cstddef>
@@ -48,18 +48,48 @@ static_assert(sizeof(FilmAccumulate) == 32 && offsetof(FilmAccumulate, inv_scale
               "FilmAccumulate layout");
 static_assert(sizeof(PathRecord) == 80 && offsetof(PathRecord, throughput) == 32 && offsetof(PathRecord, pixel) == 48 &&
                   offsetof(PathRecord, depth) == 52 && offsetof(PathRecord, bsdf_pdf) == 56 &&
-                  offsetof(PathRecord, flags) == 60 && offsetof(PathRecord, sample) == 64,
+                  offsetof(PathRecord, flags) == 60 && offsetof(PathRecord, sample) == 64 &&
+                  offsetof(PathRecord, cone_width) == 68 && offsetof(PathRecord, cone_spread) == 72,
               "PathRecord layout");
+static_assert(sizeof(PhotonRecord) == 64 && offsetof(PhotonRecord, power) == 32 && offsetof(PhotonRecord, index) == 48 &&
+                  offsetof(PhotonRecord, depth) == 52 && offsetof(PhotonRecord, path_length) == 56 &&
+                  offsetof(PhotonRecord, flags) == 60,
+              "PhotonRecord layout");
 static_assert(sizeof(ShadowRecord) == 64 && offsetof(ShadowRecord, contribution) == 32 &&
-                  offsetof(ShadowRecord, pixel) == 48,
+                  offsetof(ShadowRecord, pixel) == 48 && offsetof(ShadowRecord, tmax) == 52,
               "ShadowRecord layout");
-static_assert(sizeof(Photon) == 48 && offsetof(Photon, wi) == 16 && offsetof(Photon, power) == 32, "Photon layout");
+
+// One flag namespace per record: every flag a single bit, no two of one
+// record sharing it (their sum is then their union).
+#define FLAG_SUM(name, bit) +(0u + (name))
+#define FLAG_UNION(name, bit) | (0u + (name))
+#define FLAG_SINGLE_BIT(name, bit) &&(0u + (name)) == (1u << (bit))
+static_assert((0u PATH_FLAGS(FLAG_SUM)) == (0u PATH_FLAGS(FLAG_UNION)) && (true PATH_FLAGS(FLAG_SINGLE_BIT)),
+              "PATH_FLAGS share a bit");
+static_assert((0u PHOTON_FLAGS(FLAG_SUM)) == (0u PHOTON_FLAGS(FLAG_UNION)) && (true PHOTON_FLAGS(FLAG_SINGLE_BIT)),
+              "PHOTON_FLAGS share a bit");
+#undef FLAG_SUM
+#undef FLAG_UNION
+#undef FLAG_SINGLE_BIT
+
+static_assert(sizeof(cs_packed3) == 12 && alignof(cs_packed3) == 4, "cs_packed3 layout");
+static_assert(sizeof(Photon) == 48 && offsetof(Photon, bounces) == 12 && offsetof(Photon, wi) == 16 &&
+                  offsetof(Photon, path_length) == 28 && offsetof(Photon, power) == 32,
+              "Photon layout");
 static_assert(sizeof(PhotonGridParams) == 32 && offsetof(PhotonGridParams, cell_size) == 16 &&
                   offsetof(PhotonGridParams, inv_cell_size) == 20 && offsetof(PhotonGridParams, table_size) == 24 &&
                   offsetof(PhotonGridParams, photon_count) == 28,
               "PhotonGridParams layout");
-static_assert(sizeof(PhotonPassParams) == 48 && offsetof(PhotonPassParams, alpha) == 40, "PhotonPassParams layout");
-static_assert(sizeof(VisiblePoint) == 112 && offsetof(VisiblePoint, beta) == 48 && offsetof(VisiblePoint, kind) == 96,
+static_assert(sizeof(PhotonPassParams) == 48 && offsetof(PhotonPassParams, alpha) == 24 &&
+                  offsetof(PhotonPassParams, radius_cap) == 28 && offsetof(PhotonPassParams, footprint_radius) == 32,
+              "PhotonPassParams layout");
+static_assert(sizeof(VisiblePoint) == 96 && offsetof(VisiblePoint, recorded) == 12 &&
+                  offsetof(VisiblePoint, normal) == 16 && offsetof(VisiblePoint, depth) == 28 &&
+                  offsetof(VisiblePoint, wo) == 32 && offsetof(VisiblePoint, footprint) == 44 &&
+                  offsetof(VisiblePoint, beta) == 48 && offsetof(VisiblePoint, kind) == 60 &&
+                  offsetof(VisiblePoint, diffuse) == 64 && offsetof(VisiblePoint, alpha) == 76 &&
+                  offsetof(VisiblePoint, specular) == 80 && offsetof(VisiblePoint, ior) == 92,
               "VisiblePoint layout");
-static_assert(sizeof(SppmPixel) == 64 && offsetof(SppmPixel, photons) == 48 && offsetof(SppmPixel, radius2) == 52,
+static_assert(sizeof(SppmPixel) == 64 && offsetof(SppmPixel, photons) == 48 && offsetof(SppmPixel, radius2) == 52 &&
+                  offsetof(SppmPixel, footprint2) == 56 && offsetof(SppmPixel, sum_r2) == 60,
               "SppmPixel layout");

@@ -78,8 +78,8 @@ constexpr size_t kWaveSamples = size_t(1) << 22;
 // against 1.78e-3 on scenes/caustics.json, 1.56e-3 against 2.26e-3 on
 // scenes/showcase_path.json (3 seeds each; /tmp script in the issue note).
 constexpr uint32_t kRouletteDepth = 5;
-// Paths in flight: 204 bytes each (two path records, a hit, a shadow
-// record), 51 MiB. On the 2-core PoCL CPU, 2^16 to 2^19 slots render the
+// Paths in flight: 224 bytes each (two path records, a hit, a shadow
+// record), 56 MiB. On the 2-core PoCL CPU, 2^16 to 2^19 slots render the
 // Cornell box at 128^2 and 512^2 within the machine's noise of each other.
 constexpr size_t kPathSlots = size_t(1) << 18;
 

@@ -11,6 +11,11 @@ const RecordLayout& path_record_layout() {
   return layout;
 }
 
+const RecordLayout& photon_record_layout() {
+  static const RecordLayout layout{"photon", {PHOTON_RECORD_FIELDS(CAUSTICA_RECORD_FIELD, _)}};
+  return layout;
+}
+
 const RecordLayout& shadow_record_layout() {
   static const RecordLayout layout{"shadow", {SHADOW_RECORD_FIELDS(CAUSTICA_RECORD_FIELD, _)}};
   return layout;

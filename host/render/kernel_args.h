@@ -2,7 +2,7 @@
 // binding of kernel arguments.
 //
 // Rules: a queue's buffers come from the same field list as the kernels'
-// parameter lists (PATH_RECORD_FIELDS...), so allocation cannot miss a
+// parameter lists (PATH_RECORD_FIELDS, PHOTON_RECORD_FIELDS, ...), so allocation cannot miss a
 // field. Arguments are bound in declaration order under the kernel's own
 // parameter names ("in_count", "in_origin", ...); KernelArgs::finish checks
 // the count always and every name wherever the device reports argument
@@ -31,6 +31,7 @@ struct RecordLayout {
 };
 
 const RecordLayout& path_record_layout();
+const RecordLayout& photon_record_layout();
 const RecordLayout& shadow_record_layout();
 
 // A structure-of-arrays queue: one buffer per field, one atomic counter.

@@ -124,7 +124,7 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
       grid_(launcher.runtime(), program) {
   auto& ctx = launcher.runtime().context();
   const size_t n = photons_per_pass_;
-  for (DeviceQueue& q : queues_) q = DeviceQueue(ctx, path_record_layout(), n);
+  for (DeviceQueue& q : queues_) q = DeviceQueue(ctx, photon_record_layout(), n);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(Hit));
   loop_ = std::make_unique<WaveLoop>(launcher, std::vector<int>{1});  // extra counter 0: photon rays traced
   candidates_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(Photon));
@@ -195,7 +195,7 @@ PhotonPassParams PhotonPass::params(uint32_t map_index) const {
   // With --caustic-radius every pixel starts there; otherwise at its
   // footprint; never above one cell of this pass's grid.
   p.radius_cap = fixed_radius_ ? std::min(first_cell_size_, cell_size_) : cell_size_;
-  p.camera = cs_float4{0.0f, 0.0f, 0.0f, fixed_radius_ ? 0.0f : 1.0f};
+  p.footprint_radius = fixed_radius_ ? 0u : 1u;
   return p;
 }
 
@@ -357,7 +357,7 @@ void PhotonPass::add_variance_to(ImageF& variance, int passes) const {
     // maps' estimates (passes without a visible point add L = 0 and r = 0),
     // and the pixel's estimate, a mean over n maps at its current radius r,
     // c / (n r^2).
-    const double r2_sum = px[i].sum_l.w;
+    const double r2_sum = px[i].sum_r2;
     const float sum[3] = {px[i].sum_l.x, px[i].sum_l.y, px[i].sum_l.z};
     const float sum2[3] = {px[i].sum_l2.x, px[i].sum_l2.y, px[i].sum_l2.z};
     const float tau[3] = {px[i].tau.x, px[i].tau.y, px[i].tau.z};

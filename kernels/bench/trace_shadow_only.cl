@@ -3,7 +3,7 @@
  * its film update, so that shadow-ray throughput measures traversal rather
  * than atomics, and the answer per ray can be checked against the host
  * trace. Same ray view as intersect_closest (host/bench/ray_batch.h), with
- * tmax in origin.w as in the shadow queue; writes 1 for an occluded segment,
+ * tmax in origin.w (the bench's RayBatch, not a queue record); writes 1 for an occluded segment,
  * 0 for a clear one. */
 
 #include "lib/bvh_traverse.h"

@@ -1,8 +1,8 @@
 #line 2 "kernels/integrator/intersect_shadow.cl"
 /* Stage: any-hit occlusion test for every shadow slot; empty slots are
  * skipped, an unoccluded ray adds its precomputed contribution to its pixel.
- * The segment ends just short of the light (tmax in origin.w, set by the
- * shade stage). The rays actually traced are counted per work-group and
+ * The segment ends just short of the light (its tmax, set by the shade
+ * stage). The rays actually traced are counted per work-group and
  * added to *traced with one atomic, for the host's statistics: a global
  * atomic per ray would contend on one cache line. No early return, so that
  * every work-item reaches the barriers. */
@@ -20,7 +20,7 @@ __kernel void intersect_shadow(SCENE_GEOMETRY_PARAMS, SHADOW_QUEUE_PARAMS(shadow
   if (i < *shadow_count && shadow_pixel[i] != SHADOW_SLOT_EMPTY) {
     const ShadowRecord ray = shadow_load(SHADOW_QUEUE_ARGS(shadow), i);
     atomic_inc(&group_traced);
-    if (!trace_any(SCENE_GEOMETRY_ARGS, ray.origin.xyz, ray.dir.xyz, 0.0f, ray.origin.w))
+    if (!trace_any(SCENE_GEOMETRY_ARGS, ray.origin.xyz, ray.dir.xyz, 0.0f, ray.tmax))
       film_add(FILM_ARGS, ray.pixel, ray.contribution.xyz);
   }
   barrier(CLK_LOCAL_MEM_FENCE);

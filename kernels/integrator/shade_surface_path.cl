@@ -22,8 +22,8 @@
  * (lib/caustics.h).
  *
  * Ray cones (Amanatides 1984; Akenine-Moller et al. 2019): a path carries
- * its footprint's width at its origin (origin.w) and its spread angle
- * (dir.w); at a hit the width is origin.w + dir.w t. A delta lobe keeps the
+ * its footprint's width at its origin (cone_width) and its spread angle
+ * (cone_spread); at a hit the width is cone_width + cone_spread t. A delta lobe keeps the
  * spread, plus the focusing of a curved surface (a sphere of radius R
  * changes it by 2 w / R on reflection, |1 - 1/eta| w / R on refraction,
  * counted as widening: a cone that narrows widens again past its focus); a
@@ -112,7 +112,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   }
   const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, ray.origin.xyz, d);
   __global const Material* mat = &materials[sp.material];
-  const float cone_width = ray.origin.w + ray.dir.w * hit.t; /* the footprint here */
+  const float cone_width = ray.cone_width + ray.cone_spread * hit.t; /* the footprint here */
 
   /* Emission seen by this path: from the front side (sp.normal is the
    * outward / counter-clockwise normal), or either side of a two-sided one. */
@@ -161,14 +161,18 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   const bool caster = photon_map_on && bsdf_casts_caustics(bsdf);
   if (!caster && photon_map_on && record_visible_points && !(ray.flags & PATH_PAST_RECEIVER)) {
     VisiblePoint vp;
-    vp.position = (float4)(sp.position, 1.0f);
-    vp.normal = (float4)(n, (float)ray.depth);
-    vp.wo = (float4)(-d, cone_width);
-    vp.beta = (float4)(throughput, 0.0f);
-    vp.diffuse = (float4)(bsdf.diffuse, bsdf.alpha);
-    vp.specular = (float4)(bsdf.specular, bsdf.ior);
+    vp.position = pack3(sp.position);
+    vp.recorded = 1u;
+    vp.normal = pack3(n);
+    vp.depth = ray.depth;
+    vp.wo = pack3(-d);
+    vp.footprint = cone_width;
+    vp.beta = pack3(throughput);
     vp.kind = bsdf.kind;
-    vp.pad0 = vp.pad1 = vp.pad2 = 0u;
+    vp.diffuse = pack3(bsdf.diffuse);
+    vp.alpha = bsdf.alpha;
+    vp.specular = pack3(bsdf.specular);
+    vp.ior = bsdf.ior;
     visible_points[ray.pixel] = vp;
   }
   if (!caster && photon_map_on && (ray.flags & PATH_PAST_RECEIVER) && grid.photon_count > 0u) { /* a later receiver gathers inline */
@@ -215,10 +219,11 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
           const float3 origin = spawn_ray_to(sp.position, sp.p_error, sp.normal, ls.point, ls.p_error, ls.normal,
                                                     &dir, &tmax);
           ShadowRecord s;
-          s.origin = (float4)(origin, tmax);
+          s.origin = (float4)(origin, 0.0f);
           s.dir = (float4)(dir, 0.0f);
           s.contribution = (float4)(contribution, 0.0f);
           s.pixel = ray.pixel;
+          s.tmax = tmax;
           shadow_store(SHADOW_QUEUE_ARGS(shadow), i, s);
         }
       }
@@ -243,7 +248,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   }
   if (!(max3_of(continued_throughput) > 0.0f)) return false;
   /* The cone past this vertex (the rules above); only the photon pass reads it. */
-  float spread = ray.dir.w;
+  float spread = ray.cone_spread;
 #if HAS_CAUSTICS
   if (flags & BSDF_SAMPLED_SPECULAR) {
     if (prim_ref_type(hit.prim) == PRIM_SPHERE) {
@@ -256,14 +261,16 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   }
 #endif
   PathRecord child;
-  child.origin = (float4)(spawn_ray_origin(sp.position, sp.p_error, sp.normal, wi), cone_width);
-  child.dir = (float4)(wi, spread);
+  child.origin = (float4)(spawn_ray_origin(sp.position, sp.p_error, sp.normal, wi), 0.0f);
+  child.dir = (float4)(wi, 0.0f);
   child.throughput = (float4)(continued_throughput, 0.0f);
   child.pixel = ray.pixel;
   child.depth = ray.depth + 1u;
   child.sample = ray.sample;
   child.bsdf_pdf = (flags & BSDF_SAMPLED_SPECULAR) ? 0.0f : pdf;
   child.flags = (flags & BSDF_SAMPLED_SPECULAR) ? PATH_SPECULAR : 0u;
+  child.cone_width = cone_width;
+  child.cone_spread = spread;
 #if HAS_CAUSTICS
   const uint caustic_flags = PATH_PAST_RECEIVER | PATH_AFTER_RECEIVER | PATH_CASTER_SINCE_RECEIVER;
   if (!caster) /* leaving a receiver starts a new chain */

@@ -57,10 +57,11 @@ inline void shade_point_light(__global const Light* light, __global const Materi
   ShadowRecord ray;
   /* A point light is no surface (no error, no normal); the relative margin
    * still keeps a surface through the light from shadowing it. */
-  ray.origin = (float4)(origin, shadow_ray_tmax(dist, l, (float3)(0.0f), (float3)(0.0f)));
+  ray.origin = (float4)(origin, 0.0f);
   ray.dir = (float4)(l, 0.0f);
   ray.contribution = (float4)(contribution, 0.0f);
   ray.pixel = pixel;
+  ray.tmax = shadow_ray_tmax(dist, l, (float3)(0.0f), (float3)(0.0f));
   shadow_store(SHADOW_QUEUE_ARGS(shadow), slot, ray);
 }
 #endif
@@ -78,6 +79,8 @@ inline void push_specular(PATH_QUEUE_PARAMS(next), uint capacity, float min_weig
   child.sample = parent.sample;
   child.bsdf_pdf = 0.0f;
   child.flags = PATH_SPECULAR;
+  child.cone_width = 0.0f; /* Whitted rays keep no cone */
+  child.cone_spread = 0.0f;
   path_push(PATH_QUEUE_ARGS(next), capacity, child);
 }
 

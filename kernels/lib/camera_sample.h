@@ -11,8 +11,8 @@
  * from the pixel's Sobol-Burley sequence (dimension pairs 0 and 1), so the
  * samples of a pixel stratify its area and its lens. A ray through the lens
  * aims at the point where the pinhole ray meets the focus plane (focus
- * distance along forward). The ray's cone starts here: origin.w its width
- * (0), dir.w the angle one pixel subtends (up is scaled by tan(fov / 2)). */
+ * distance along forward). The ray's cone starts here: cone_width 0,
+ * cone_spread the angle one pixel subtends (up is scaled by tan(fov / 2)). */
 #ifndef CAUSTICA_LIB_CAMERA_SAMPLE_H
 #define CAUSTICA_LIB_CAMERA_SAMPLE_H
 
@@ -38,7 +38,7 @@ inline PathRecord camera_sample_path(const CameraGPU* camera, const PathParams* 
     dir = normalize(focus - origin);
   }
   PathRecord ray = camera_path(origin, dir, pixel, sample);
-  ray.dir.w = 2.0f * length(camera->up.xyz) / (float)camera->height;
+  ray.cone_spread = 2.0f * length(camera->up.xyz) / (float)camera->height;
   return ray;
 }
 

@@ -24,13 +24,9 @@
 #include "lib/material.h"
 #include "shared/photon.h"
 
-/* Path flags (PathRecord.flags) of camera paths past a receiver. */
-#define PATH_PAST_RECEIVER 2u          /* D1 is behind: its visible point is recorded */
-#define PATH_AFTER_RECEIVER 4u         /* left a receiver, and met only casters since */
-#define PATH_CASTER_SINCE_RECEIVER 8u  /* ... at least one of them */
-
-/* Photon path flags (the photon pass reuses PathRecord). */
-#define PHOTON_AFTER_CASTER 2u
+/* The flags this needs are declared with their records (shared/records.h):
+ * PATH_PAST_RECEIVER, PATH_AFTER_RECEIVER, PATH_CASTER_SINCE_RECEIVER of
+ * camera paths, PHOTON_AFTER_CASTER of photon paths. */
 
 /* The weight bsdf_sample returned, as photons carry it: flux is not
  * rescaled by eta^2 when it crosses into another medium the way radiance is
@@ -43,10 +39,10 @@ inline float3 photon_weight(Bsdf b, float3 wo, float3 weight, uint sampled_flags
 
 inline Bsdf bsdf_of_visible_point(VisiblePoint v) {
   Bsdf b;
-  b.diffuse = v.diffuse.xyz;
-  b.specular = v.specular.xyz;
-  b.alpha = v.diffuse.w;
-  b.ior = v.specular.w;
+  b.diffuse = unpack3(v.diffuse);
+  b.specular = unpack3(v.specular);
+  b.alpha = v.alpha;
+  b.ior = v.ior;
   b.kind = v.kind;
   return b;
 }
@@ -119,11 +115,12 @@ inline float3 gather_photon_flux(PHOTON_GRID_PARAMS, Bsdf bsdf, float3 t, float3
         for (uint slot = start + offset; slot < end; slot += stride) {
           ++read;
           const Photon photon = grid_photons[slot];
-          if (photon_distance2(photon.position.xyz, p) > radius2) continue;
+          const float3 position = unpack3(photon.position);
+          if (photon_distance2(position, p) > radius2) continue;
           /* another cell's photon in a shared bucket: counted with its own cell */
-          if (any(photon_grid_cell(grid, photon.position.xyz) != cell)) continue;
-          if (photon.position.w > bounces_left) continue;
-          sum += bsdf_eval(bsdf, wo, frame_to_local(photon.wi.xyz, t, b, n)) * photon.power.xyz;
+          if (any(photon_grid_cell(grid, position) != cell)) continue;
+          if (photon.bounces > bounces_left) continue;
+          sum += bsdf_eval(bsdf, wo, frame_to_local(unpack3(photon.wi), t, b, n)) * photon.power.xyz;
           ++counted;
         }
       }
@@ -153,8 +150,8 @@ inline float3 phong_caustic_irradiance(PHOTON_GRID_PARAMS, float3 p, float3 n, f
   PhotonQuery query = photon_query_begin(PHOTON_GRID_ARGS, p, radius);
   for (int slot; (slot = photon_query_next(&query, PHOTON_GRID_ARGS)) >= 0;) {
     const Photon photon = grid_photons[slot];
-    if (dot(photon.wi.xyz, n) <= 0.0f) continue; /* arrived on the other side */
-    sum += photon.power.xyz * (photon.wi.w * photon.wi.w);
+    if (dot(unpack3(photon.wi), n) <= 0.0f) continue; /* arrived on the other side */
+    sum += photon.power.xyz * (photon.path_length * photon.path_length);
   }
   return sum / (M_PI_F * radius * radius);
 }

@@ -96,7 +96,7 @@ inline int photon_query_next(PhotonQuery* query, PHOTON_GRID_PARAMS) {
   for (;;) {
     while (query->slot < query->end) {
       const uint slot = query->slot++;
-      const float3 position = grid_photons[slot].position.xyz;
+      const float3 position = unpack3(grid_photons[slot].position);
       if (photon_distance2(position, query->center) > query->radius2) continue;
       /* A photon of another cell hashed to this bucket: handed out when its
        * own cell is visited (if that cell is in range at all), never twice. */

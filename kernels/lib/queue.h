@@ -11,7 +11,8 @@
  *
  * Everything below is generated from the field lists; a stage names a queue
  * by its prefix: PATH_QUEUE_PARAMS(next) declares next_count, next_origin,
- * ..., and path_push(PATH_QUEUE_ARGS(next), capacity, record) pushes. */
+ * ..., and path_push(PATH_QUEUE_ARGS(next), capacity, record) pushes
+ * (PHOTON_QUEUE_PARAMS / photon_push and SHADOW_QUEUE_PARAMS likewise). */
 #ifndef CAUSTICA_LIB_QUEUE_H
 #define CAUSTICA_LIB_QUEUE_H
 
@@ -24,6 +25,8 @@
 
 #define PATH_QUEUE_PARAMS(q) volatile __global uint* q##_count PATH_RECORD_FIELDS(QUEUE_FIELD_PARAM, q)
 #define PATH_QUEUE_ARGS(q) q##_count PATH_RECORD_FIELDS(QUEUE_FIELD_ARG, q)
+#define PHOTON_QUEUE_PARAMS(q) volatile __global uint* q##_count PHOTON_RECORD_FIELDS(QUEUE_FIELD_PARAM, q)
+#define PHOTON_QUEUE_ARGS(q) q##_count PHOTON_RECORD_FIELDS(QUEUE_FIELD_ARG, q)
 #define SHADOW_QUEUE_PARAMS(q) volatile __global uint* q##_count SHADOW_RECORD_FIELDS(QUEUE_FIELD_PARAM, q)
 #define SHADOW_QUEUE_ARGS(q) q##_count SHADOW_RECORD_FIELDS(QUEUE_FIELD_ARG, q)
 
@@ -40,7 +43,8 @@ inline uint queue_reserve(volatile __global uint* counter, uint capacity) {
 
 /* A path as the camera starts it: full throughput, no scattering yet,
  * counted as arriving by a delta lobe (emission seen directly is not
- * MIS-weighted). */
+ * MIS-weighted), a cone of width 0 and no spread (the path tracer's camera
+ * sets the spread, lib/camera_sample.h). */
 inline PathRecord camera_path(float3 origin, float3 dir, uint pixel, uint sample) {
   PathRecord ray;
   ray.origin = (float4)(origin, 0.0f);
@@ -51,24 +55,58 @@ inline PathRecord camera_path(float3 origin, float3 dir, uint pixel, uint sample
   ray.bsdf_pdf = 0.0f;
   ray.flags = PATH_SPECULAR;
   ray.sample = sample;
+  ray.cone_width = 0.0f;
+  ray.cone_spread = 0.0f;
   return ray;
 }
 
+/* The ray cone is read only with the photon pass (HAS_CAUSTICS, a
+ * -D of the whole program): every other program (path tracing without it,
+ * Whitted, binary) moves only the ray's own fields, so the cone costs them
+ * no memory traffic, and its loads read 0. */
+#if HAS_CAUSTICS
+#define PATH_MOVED_FIELDS PATH_RECORD_FIELDS
+#define PATH_UNMOVED_ZERO(record)
+#else
+#define PATH_MOVED_FIELDS PATH_RAY_FIELDS
+#define QUEUE_FIELD_ZERO(q, type, name) record.name = 0;
+#define PATH_UNMOVED_ZERO(record) PATH_CONE_FIELDS(QUEUE_FIELD_ZERO, _)
+#endif
+
 inline PathRecord path_load(PATH_QUEUE_PARAMS(q), uint slot) {
   PathRecord record;
-  PATH_RECORD_FIELDS(QUEUE_FIELD_LOAD, q)
+  PATH_MOVED_FIELDS(QUEUE_FIELD_LOAD, q)
+  PATH_UNMOVED_ZERO(record)
   return record;
 }
 
 inline void path_store(PATH_QUEUE_PARAMS(q), uint slot, PathRecord record) {
-  PATH_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
+  PATH_MOVED_FIELDS(QUEUE_FIELD_STORE, q)
 }
 
 /* False when the queue is full (the host sees the overflow in the count). */
 inline bool path_push(PATH_QUEUE_PARAMS(q), uint capacity, PathRecord record) {
   const uint slot = queue_reserve(q_count, capacity);
   if (slot == 0xFFFFFFFFu) return false;
-  PATH_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
+  PATH_MOVED_FIELDS(QUEUE_FIELD_STORE, q)
+  return true;
+}
+
+inline PhotonRecord photon_load(PHOTON_QUEUE_PARAMS(q), uint slot) {
+  PhotonRecord record;
+  PHOTON_RECORD_FIELDS(QUEUE_FIELD_LOAD, q)
+  return record;
+}
+
+inline void photon_store(PHOTON_QUEUE_PARAMS(q), uint slot, PhotonRecord record) {
+  PHOTON_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
+}
+
+/* False when the queue is full (the host sees the overflow in the count). */
+inline bool photon_push(PHOTON_QUEUE_PARAMS(q), uint capacity, PhotonRecord record) {
+  const uint slot = queue_reserve(q_count, capacity);
+  if (slot == 0xFFFFFFFFu) return false;
+  PHOTON_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
   return true;
 }
 

@@ -18,8 +18,8 @@
 #include "lib/surface.h"
 #include "lib/texture.h"
 
-__kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PATH_QUEUE_PARAMS(in),
-                             __global const Hit* restrict hits, PATH_QUEUE_PARAMS(next), uint ray_capacity,
+__kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PHOTON_QUEUE_PARAMS(in),
+                             __global const Hit* restrict hits, PHOTON_QUEUE_PARAMS(next), uint ray_capacity,
                              volatile __global uint* restrict cleared_count, volatile __global uint* restrict rays_traced,
                              __global Photon* restrict candidates, __global uint* restrict stored) {
   const uint i = get_global_id(0);
@@ -31,7 +31,7 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PATH
   if (i >= count) return;
   const Hit hit = hits[i];
   if (hit.prim == PRIM_NONE) return;
-  const PathRecord photon = path_load(PATH_QUEUE_ARGS(in), i);
+  const PhotonRecord photon = photon_load(PHOTON_QUEUE_ARGS(in), i);
   const float3 d = photon.dir.xyz;
   const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, photon.origin.xyz, d);
   __global const Material* mat = &materials[sp.material];
@@ -43,11 +43,13 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PATH
   if (!bsdf_casts_caustics(bsdf)) {
     if (photon.flags & PHOTON_AFTER_CASTER) {
       Photon p;
-      p.position = (float4)(sp.position, (float)photon.depth);
-      p.wi = (float4)(-d, photon.bsdf_pdf + hit.t);
-      p.power = photon.throughput;
-      candidates[photon.pixel] = p;
-      stored[photon.pixel] = 1u;
+      p.position = pack3(sp.position);
+      p.bounces = (float)photon.depth;
+      p.wi = pack3(-d);
+      p.path_length = photon.path_length + hit.t;
+      p.power = photon.power;
+      candidates[photon.index] = p;
+      stored[photon.index] = 1u;
     }
     return;
   }
@@ -58,7 +60,7 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PATH
   const ShadingFrame frame = shading_frame(bsdf, sp.shading_normal, sp.normal, d);
   const float3 t = frame.t, b = frame.b, n = frame.n, ng = frame.ng;
   const float3 wo = frame_to_local(-d, t, b, n);
-  const uint key = hash3(photon.pixel, params.pass_index, params.seed), dim = 8u + 4u * photon.depth;
+  const uint key = hash3(photon.index, params.pass_index, params.seed), dim = 8u + 4u * photon.depth;
   const float3 u = (float3)(random_float(key, dim), random_float(key, dim + 1u), random_float(key, dim + 2u));
   float3 wi_local, weight;
   float pdf;
@@ -66,15 +68,14 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PATH
   if (!bsdf_sample(bsdf, wo, u, &wi_local, &weight, &pdf, &flags)) return;
   const float3 wi = frame_to_world(wi_local, t, b, n);
   if (opaque && dot(wi, ng) <= 0.0f) return;
-  const float3 flux = photon.throughput.xyz * photon_weight(bsdf, wo, weight, flags);
+  const float3 flux = photon.power.xyz * photon_weight(bsdf, wo, weight, flags);
   if (!(fmax(flux.x, fmax(flux.y, flux.z)) > 0.0f)) return;
-  PathRecord child = photon;
+  PhotonRecord child = photon;
   child.origin = (float4)(spawn_ray_origin(sp.position, sp.p_error, sp.normal, wi), 0.0f);
   child.dir = (float4)(wi, 0.0f);
-  child.throughput = (float4)(flux, 0.0f);
+  child.power = (float4)(flux, 0.0f);
   child.depth = photon.depth + 1u;
-  child.sample = photon.sample;
-  child.bsdf_pdf = photon.bsdf_pdf + hit.t; /* length travelled (phong's gather, lib/caustics.h) */
+  child.path_length = photon.path_length + hit.t; /* phong's gather, lib/caustics.h */
   child.flags = PHOTON_AFTER_CASTER;
-  path_push(PATH_QUEUE_ARGS(next), ray_capacity, child);
+  photon_push(PHOTON_QUEUE_ARGS(next), ray_capacity, child);
 }

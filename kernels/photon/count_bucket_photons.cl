@@ -13,6 +13,6 @@ __kernel void count_bucket_photons(PhotonGridParams grid, __global const Photon*
                                    __global uint* restrict photon_rank) {
   const uint i = get_global_id(0);
   if (i >= grid.photon_count) return;
-  const uint bucket = photon_grid_bucket(grid, photon_grid_cell(grid, photons[i].position.xyz));
+  const uint bucket = photon_grid_bucket(grid, photon_grid_cell(grid, unpack3(photons[i].position)));
   photon_rank[i] = atomic_inc(&bucket_start[bucket]);
 }

@@ -10,7 +10,7 @@
  * divided by p_pick and by the pass's photon count so that a pass's photons sum to the
  * lights' power. Random numbers come from the photon's index, the pass and
  * the seed (a counter-based hash), so every photon is the same on any
- * device; its index rides in the record's pixel field.
+ * device; its index rides in the record (PhotonRecord.index).
  *
  * Guided emission (issue 19): only photons that meet a caster before any
  * receiver are ever stored, and on scenes where small glass and metal
@@ -87,7 +87,7 @@ inline float3 sample_toward_casters(__global const float4* restrict casters, uin
 }
 
 __kernel void emit_photons(__global const Light* restrict lights, PhotonPassParams params,
-                           __global const float4* restrict casters, uint caster_count, PATH_QUEUE_PARAMS(out),
+                           __global const float4* restrict casters, uint caster_count, PHOTON_QUEUE_PARAMS(out),
                            __global uint* restrict next_count) {
   const uint i = get_global_id(0);
   if (i == 0) { /* the wave loop's counts (host/render/wave_loop.h): the host writes none */
@@ -109,14 +109,13 @@ __kernel void emit_photons(__global const Light* restrict lights, PhotonPassPara
   } else {
     flux = light_emit(l, point, p_error, n, u_dir, photon_random(i, params, 5u), &origin, &dir);
   }
-  PathRecord photon;
+  PhotonRecord photon;
   photon.origin = (float4)(origin, 0.0f);
   photon.dir = (float4)(dir, 0.0f);
-  photon.throughput = (float4)(flux / (l->select_probability * (float)params.photon_count), 0.0f);
-  photon.pixel = i;
+  photon.power = (float4)(flux / (l->select_probability * (float)params.photon_count), 0.0f);
+  photon.index = i;
   photon.depth = 0u;
-  photon.sample = 0u;
-  photon.bsdf_pdf = 0.0f;
+  photon.path_length = 0.0f;
   photon.flags = 0u;
-  path_store(PATH_QUEUE_ARGS(out), i, photon);
+  photon_store(PHOTON_QUEUE_ARGS(out), i, photon);
 }

@@ -4,7 +4,7 @@
  * 2009), then forgets the visible point.
  *
  * Rules: a pixel's radius starts at its camera path's footprint at its
- * first visible point (the ray cone's width, vp.wo.w; --caustic-radius:
+ * first visible point (the ray cone's width, vp.footprint; --caustic-radius:
  * that radius) and never exceeds the pass's cap, one grid cell: a larger
  * one is reduced to the cap with tau and N scaled by the ratio of the
  * areas (SPPM's own assumption of a density constant within the disk), so
@@ -22,7 +22,7 @@
  * r^2 (k + alpha) / (k + 1) in pass k (from 1) instead: nothing within the
  * larger radius means nothing within the smaller, so its zero estimate
  * stays valid, and later queries stay cheap. Every pixel also adds this
- * pass's own estimate L = beta sum / (pi r^2) to sum_l, r^2 to sum_l.w and
+ * pass's own estimate L = beta sum / (pi r^2) to sum_l, r^2 to sum_r2 and
  * L^2 r^2 to sum_l2 (the error estimate's variance, photon_pass.h), and its radius to the histogram the
  * next pass's cells follow; the visits go to the gather counters
  * (shared/photon.h). */
@@ -39,8 +39,8 @@ __kernel void gather_photons(PhotonPassParams params, PHOTON_GRID_PARAMS,
   if (i >= params.pixel_count) return;
   SppmPixel px = pixels[i];
   const VisiblePoint vp = visible_points[i];
-  visible_points[i].position.w = 0.0f;
-  if (!(vp.position.w > 0.0f)) {
+  visible_points[i].recorded = 0u;
+  if (!vp.recorded) {
     if (px.photons == 0.0f && px.radius2 > 0.0f) { /* no point this pass: shrink as below */
       const float k = (float)params.pass_index + 1.0f;
       px.radius2 *= (k + params.alpha) / (k + 1.0f);
@@ -54,8 +54,8 @@ __kernel void gather_photons(PhotonPassParams params, PHOTON_GRID_PARAMS,
      * so the estimate starts blurred by no more than a pixel (through
      * mirrors and glass the cone is an estimate, which is all an initial
      * radius needs). */
-    const float footprint = PHOTON_RADIUS_FOOTPRINTS * vp.wo.w;
-    const float r = params.camera.w > 0.0f && footprint > 0.0f ? fmin(params.radius_cap, footprint)
+    const float footprint = PHOTON_RADIUS_FOOTPRINTS * vp.footprint;
+    const float r = params.footprint_radius && footprint > 0.0f ? fmin(params.radius_cap, footprint)
                                                                 : params.radius_cap;
     px.radius2 = r * r;
     px.footprint2 = px.radius2;
@@ -70,22 +70,24 @@ __kernel void gather_photons(PhotonPassParams params, PHOTON_GRID_PARAMS,
   uint visits = 0u;
   if (grid.photon_count > 0u) {
     const Bsdf bsdf = bsdf_of_visible_point(vp);
-    const float3 n = vp.normal.xyz;
+    const float3 n = unpack3(vp.normal);
     float3 t, b;
     frame_from_normal(n, &t, &b);
-    const float3 wo = frame_to_local(vp.wo.xyz, t, b, n);
-    const float bounces_left = (float)params.max_depth - 1.0f - vp.normal.w;
-    sum = gather_photon_flux(PHOTON_GRID_ARGS, bsdf, t, b, n, wo, vp.position.xyz, sqrt(px.radius2),
+    const float3 wo = frame_to_local(unpack3(vp.wo), t, b, n);
+    const float bounces_left = (float)params.max_depth - 1.0f - (float)vp.depth;
+    sum = gather_photon_flux(PHOTON_GRID_ARGS, bsdf, t, b, n, wo, unpack3(vp.position), sqrt(px.radius2),
                              bounces_left, PHOTON_GATHER_MAX_VISITS,
                              random_float(hash3(i, params.pass_index, params.seed), 0x5eedu), &found, &visits);
   }
-  const float3 pass_estimate = vp.beta.xyz * sum / (M_PI_F * px.radius2);
-  px.sum_l += (float4)(pass_estimate, px.radius2);
+  const float3 beta = unpack3(vp.beta);
+  const float3 pass_estimate = beta * sum / (M_PI_F * px.radius2);
+  px.sum_l += (float4)(pass_estimate, 0.0f);
+  px.sum_r2 += px.radius2;
   px.sum_l2 += (float4)(pass_estimate * pass_estimate * px.radius2, 0.0f);
   if (found > 0.0f) {
     const float n_next = px.photons + params.alpha * found;
     const float shrink = n_next / (px.photons + found);
-    px.tau = (float4)((px.tau.xyz + vp.beta.xyz * sum) * shrink, 0.0f);
+    px.tau = (float4)((px.tau.xyz + beta * sum) * shrink, 0.0f);
     px.photons = n_next;
     px.radius2 *= shrink;
   } else if (px.photons == 0.0f) {

@@ -11,6 +11,6 @@ __kernel void scatter_photon_indices(PhotonGridParams grid, __global const Photo
                                      __global uint* restrict photon_index) {
   const uint i = get_global_id(0);
   if (i >= grid.photon_count) return;
-  const uint bucket = photon_grid_bucket(grid, photon_grid_cell(grid, photons[i].position.xyz));
+  const uint bucket = photon_grid_bucket(grid, photon_grid_cell(grid, unpack3(photons[i].position)));
   photon_index[bucket_start[bucket] + photon_rank[i]] = i;
 }

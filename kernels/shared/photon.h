@@ -4,7 +4,9 @@
  *
  * Rules: as types.h (plain C, 16-byte multiples, explicit padding, layout
  * static_asserted in host/cl/layout_check.cpp and compared with the device
- * in tests/test_render_core.cpp). The emit/trace stages write Photon records
+ * in tests/test_render_core.cpp), and every field one meaning: a scalar is
+ * its own field, never a vector's spare lane (a point or direction that
+ * shares 16 bytes with a scalar is a cs_packed3). The emit/trace stages write Photon records
  * plus an atomic count; the grid (kernels/photon/, host/render/photon_grid.h)
  * sorts them into hash buckets; the gather queries it (lib/photon_grid.h). */
 #ifndef CAUSTICA_SHARED_PHOTON_H
@@ -16,11 +18,28 @@
 #include "kernels/shared/types.h"
 #endif
 
+/* Three floats, 12 bytes, 4-byte aligned: a point or direction that shares
+ * 16 bytes with a scalar field (a float3 would take all 16). */
+typedef struct {
+  float x, y, z;
+} cs_packed3;
+
+inline float3 unpack3(cs_packed3 v) { return make_float3(v.x, v.y, v.z); }
+inline cs_packed3 pack3(float3 v) {
+  cs_packed3 p;
+  p.x = v.x;
+  p.y = v.y;
+  p.z = v.z;
+  return p;
+}
+
 /* A photon stored on a diffuse surface. */
 typedef struct {
-  cs_float4 position; /* xyz; w: the specular bounces it took (the gather keeps paths within nbounces) */
-  cs_float4 wi;       /* xyz unit direction toward where the photon came from; w: length travelled from the light */
-  cs_float4 power;    /* rgb flux; w unused */
+  cs_packed3 position;
+  float bounces;     /* the specular bounces its light path took (the gather keeps paths within nbounces) */
+  cs_packed3 wi;     /* unit direction toward where the photon came from */
+  float path_length; /* length travelled from the light (phong's gather, lib/caustics.h) */
+  cs_float4 power;   /* rgb flux; w unused */
 } Photon; /* 48 bytes */
 
 /* The grid: cell (i, j, k) = floor((p - origin) * inv_cell_size) per axis,
@@ -98,7 +117,6 @@ typedef struct {
 /* One pass of photons (kernels/photon/emit_photons.cl, bounce_photons.cl,
  * gather_photons.cl). */
 typedef struct {
-  cs_float4 camera;     /* gather: xyz unused; w 1: start at the footprint, 0: at radius_cap (--caustic-radius) */
   cs_uint photon_count; /* photon paths emitted this pass */
   cs_uint light_count;
   cs_uint pass_index;   /* decorrelates the passes' random numbers */
@@ -107,6 +125,8 @@ typedef struct {
   cs_uint pixel_count;  /* gather: visible points */
   float alpha;          /* SPPM's radius reduction (2/3) */
   float radius_cap;     /* gather: the largest radius (one grid cell) */
+  cs_uint footprint_radius; /* gather: 1: a pixel's radius starts at its footprint, 0: at radius_cap (--caustic-radius) */
+  cs_uint pad0, pad1, pad2;
 } PhotonPassParams; /* 48 bytes */
 
 /* Where a camera path first reached a receiving surface in this pass (one
@@ -114,15 +134,19 @@ typedef struct {
  * gather): the point, the frame and outgoing direction, the camera path's
  * throughput up to it, and the BSDF there (lib/bsdf.h's Bsdf, flattened). */
 typedef struct {
-  cs_float4 position; /* xyz; w: 1 when recorded this pass, else 0 */
-  cs_float4 normal;   /* the shading frame's z (turned toward wo for opaque surfaces); w: camera depth */
-  cs_float4 wo;       /* xyz unit, toward the camera along the path; w: the path's footprint width there */
-  cs_float4 beta;     /* rgb throughput of the camera path */
-  cs_float4 diffuse;  /* Bsdf.diffuse; w: Bsdf.alpha */
-  cs_float4 specular; /* Bsdf.specular; w: Bsdf.ior */
-  cs_uint kind;       /* Bsdf.kind */
-  cs_uint pad0, pad1, pad2;
-} VisiblePoint; /* 112 bytes */
+  cs_packed3 position;
+  cs_uint recorded;    /* 1 when recorded this pass, else 0 */
+  cs_packed3 normal;   /* the shading frame's z (turned toward wo for opaque surfaces) */
+  cs_uint depth;       /* the camera path's scattering events before it */
+  cs_packed3 wo;       /* unit, toward the camera along the path */
+  float footprint;     /* the camera path's footprint width there (its ray cone) */
+  cs_packed3 beta;     /* rgb throughput of the camera path */
+  cs_uint kind;        /* Bsdf.kind */
+  cs_packed3 diffuse;  /* Bsdf.diffuse */
+  float alpha;         /* Bsdf.alpha */
+  cs_packed3 specular; /* Bsdf.specular */
+  float ior;           /* Bsdf.ior */
+} VisiblePoint; /* 96 bytes */
 
 /* A pixel's SPPM statistics (Hachisuka & Jensen 2009): accumulated flux tau,
  * photon count N and squared radius (0 until its first visible point sets
@@ -135,12 +159,12 @@ typedef struct {
  * (host/render/photon_pass.cpp, add_variance_to). */
 typedef struct {
   cs_float4 tau;     /* rgb; w unused */
-  cs_float4 sum_l;   /* rgb sum of L_k; w sum of r_k^2 */
+  cs_float4 sum_l;   /* rgb sum of L_k; w unused */
   cs_float4 sum_l2;  /* rgb sum of L_k^2 r_k^2; w unused */
   float photons;     /* N */
   float radius2;
   float footprint2;  /* the squared initial radius (one footprint): scales the bias estimate */
-  cs_uint pad0;
+  float sum_r2;      /* sum of r_k^2 */
 } SppmPixel; /* 64 bytes */
 
 #endif /* CAUSTICA_SHARED_PHOTON_H */

@@ -12,7 +12,13 @@
  * Adding a field is one line here. Types are the shared ones of types.h
  * (cs_float4, cs_uint, float): 16-byte vectors first keeps the record
  * structs free of hidden padding. `q` is the queue's name, the prefix of its
- * kernel parameters (q_origin, q_dir, ..., q_count). */
+ * kernel parameters (q_origin, q_dir, ..., q_count). Every field has one
+ * meaning in every stage that reads or writes it: a record that carries
+ * something else gets its own list (photon paths are PhotonRecords, not
+ * PathRecords), and nothing rides in a vector's spare lane (a float4's w is
+ * "unused" or a declared part of the field). Each record's flag bits are
+ * one list next to it, F(name, bit), and layout_check.cpp asserts that no
+ * two of them share a bit. */
 #ifndef CAUSTICA_SHARED_RECORDS_H
 #define CAUSTICA_SHARED_RECORDS_H
 
@@ -22,36 +28,72 @@
 #include "kernels/shared/types.h"
 #endif
 
-/* A ray on its way: camera rays and every ray a shade stage spawns. */
-#define PATH_RECORD_FIELDS(F, q)                                   \
-  F(q, cs_float4, origin)     /* xyz; w unused */                  \
-  F(q, cs_float4, dir)        /* xyz unit direction; w unused */   \
-  F(q, cs_float4, throughput) /* rgb share of the pixel; w unused */ \
-  F(q, cs_uint, pixel)        /* film pixel it contributes to */   \
-  F(q, cs_uint, depth)        /* scattering events so far */       \
-  F(q, float, bsdf_pdf)       /* path: density of the sampled direction (MIS); 0 after a delta lobe; \
-                                 photons: length travelled from the light */                     \
-  F(q, cs_uint, flags)        /* path: PATH_* bits */                                         \
-  F(q, cs_uint, sample)       /* path: index into the pixel's sample sequence (its pass) */
+/* A ray on its way: camera rays and every ray a shade stage spawns (path
+ * tracer, Whitted and binary modes alike), with its ray cone (Amanatides
+ * 1984: shade_surface_path), which only the path tracer's photon pass reads:
+ * programs without it neither store nor load those two fields (queue.h). */
+#define PATH_RECORD_FIELDS(F, q) PATH_RAY_FIELDS(F, q) PATH_CONE_FIELDS(F, q)
+#define PATH_RAY_FIELDS(F, q)                                                \
+  F(q, cs_float4, origin)     /* xyz; w unused */                            \
+  F(q, cs_float4, dir)        /* xyz unit direction; w unused */             \
+  F(q, cs_float4, throughput) /* rgb share of the pixel; w unused */         \
+  F(q, cs_uint, pixel)        /* film pixel it contributes to */             \
+  F(q, cs_uint, depth)        /* scattering events so far */                 \
+  F(q, float, bsdf_pdf)       /* density of the sampled direction (MIS); 0 after a delta lobe or from the camera */ \
+  F(q, cs_uint, flags)        /* PATH_* bits (PATH_FLAGS) */                 \
+  F(q, cs_uint, sample)       /* index into the pixel's sample sequence (its pass) */
+#define PATH_CONE_FIELDS(F, q)                                               \
+  F(q, float, cone_width)     /* the ray cone's footprint width at origin */ \
+  F(q, float, cone_spread)    /* the ray cone's spread angle (radians) */
+
+/* PathRecord.flags: F(name, bit), each a distinct bit (layout_check.cpp). */
+#define PATH_FLAGS(F)                                                                                \
+  F(PATH_SPECULAR, 0)              /* arrived by a delta lobe or from the camera: emission hit counts fully */ \
+  F(PATH_PAST_RECEIVER, 1)         /* caustics: D1 is behind, its visible point recorded (lib/caustics.h) */ \
+  F(PATH_AFTER_RECEIVER, 2)        /* caustics: left a receiver, and met only casters since */ \
+  F(PATH_CASTER_SINCE_RECEIVER, 3) /* caustics: ... at least one of them */
+
+/* A photon path on its way from a light (the photon pass, kernels/photon/):
+ * the same queue machinery as paths, its own fields. */
+#define PHOTON_RECORD_FIELDS(F, q)                                          \
+  F(q, cs_float4, origin)   /* xyz; w unused */                              \
+  F(q, cs_float4, dir)      /* xyz unit direction; w unused */               \
+  F(q, cs_float4, power)    /* rgb flux; w unused */                         \
+  F(q, cs_uint, index)      /* the photon path's index in its pass: its random numbers and its candidate slot */ \
+  F(q, cs_uint, depth)      /* scattering events so far */                   \
+  F(q, float, path_length)  /* length travelled from the light to origin */  \
+  F(q, cs_uint, flags)      /* PHOTON_* bits (PHOTON_FLAGS) */
+
+/* PhotonRecord.flags: F(name, bit), each a distinct bit (layout_check.cpp). */
+#define PHOTON_FLAGS(F) \
+  F(PHOTON_AFTER_CASTER, 0) /* scattered at a caster at least once: stored at the next receiver */
 
 /* A segment toward a light, with what it adds to the film when unoccluded. */
-#define SHADOW_RECORD_FIELDS(F, q)                                   \
-  F(q, cs_float4, origin)       /* xyz; w = tmax (ends short of the light) */ \
-  F(q, cs_float4, dir)          /* xyz unit direction; w unused */   \
-  F(q, cs_float4, contribution) /* rgb; w unused */                  \
-  F(q, cs_uint, pixel)
+#define SHADOW_RECORD_FIELDS(F, q)                                         \
+  F(q, cs_float4, origin)       /* xyz; w unused */                        \
+  F(q, cs_float4, dir)          /* xyz unit direction; w unused */         \
+  F(q, cs_float4, contribution) /* rgb; w unused */                        \
+  F(q, cs_uint, pixel)          /* film pixel, or SHADOW_SLOT_EMPTY (lib/queue.h) */ \
+  F(q, float, tmax)             /* where the segment ends (short of the light) */
+
+/* The flag constants, from the lists above. */
+#define RECORD_FLAG_CONSTANT(name, bit) name = 1u << (bit),
+enum { PATH_FLAGS(RECORD_FLAG_CONSTANT) };
+enum { PHOTON_FLAGS(RECORD_FLAG_CONSTANT) };
 
 /* The record structs: what one slot holds, and what the layout test checks. */
 #define RECORD_STRUCT_MEMBER(q, type, name) type name;
 typedef struct {
   PATH_RECORD_FIELDS(RECORD_STRUCT_MEMBER, _)
-} PathRecord; /* 68 bytes of fields (what a queue slot stores: queues are SoA), 80 with the struct's float4 alignment */
+} PathRecord; /* 76 bytes of fields (what a queue slot holds: queues are SoA; 68 moved without the photon pass), 80 with the struct's float4 alignment */
 
-/* PathRecord.flags */
-#define PATH_SPECULAR 1u /* arrived by a delta lobe or from the camera: emission hit counts fully */
+typedef struct {
+  PHOTON_RECORD_FIELDS(RECORD_STRUCT_MEMBER, _)
+} PhotonRecord; /* 64 bytes */
+
 typedef struct {
   SHADOW_RECORD_FIELDS(RECORD_STRUCT_MEMBER, _)
-  cs_uint pad0, pad1, pad2;
-} ShadowRecord; /* 64 bytes */
+  cs_uint pad0, pad1;
+} ShadowRecord; /* 56 bytes of fields, 64 with the padding */
 
 #endif /* CAUSTICA_SHARED_RECORDS_H */
