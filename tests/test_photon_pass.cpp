@@ -29,11 +29,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-std::string write_scene(const std::string& name, const std::string& text) {
-  const std::string path = test::temp_dir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
+using test::write_scene;
 
 std::unique_ptr<Session> caustics_session(const std::string& scene, size_t local = 64) {
   SessionOptions o;

@@ -34,64 +34,18 @@ namespace {
 
 // ------------------------------------------------------------------ layout
 
-// Every size and offset the two sides must agree on, written once: the host
-// evaluates the list here, and the same text, stringified, is the body of a
-// kernel that evaluates it on the device.
-#define LAYOUT_EXPRESSIONS(X)                                                                              \
-  X(sizeof(Hit)) X(__builtin_offsetof(Hit, u)) X(__builtin_offsetof(Hit, prim))                            \
-  X(sizeof(PathRecord)) X(__builtin_offsetof(PathRecord, dir)) X(__builtin_offsetof(PathRecord, throughput)) \
-  X(__builtin_offsetof(PathRecord, pixel)) X(__builtin_offsetof(PathRecord, depth))                        \
-  X(__builtin_offsetof(PathRecord, bsdf_pdf)) X(__builtin_offsetof(PathRecord, sample))                     \
-  X(sizeof(Light)) X(__builtin_offsetof(Light, emitted)) X(__builtin_offsetof(Light, select_cdf)) \
-  X(sizeof(ShadowRecord)) X(__builtin_offsetof(ShadowRecord, dir))                                          \
-  X(__builtin_offsetof(ShadowRecord, contribution)) X(__builtin_offsetof(ShadowRecord, pixel))              \
-  X(sizeof(FilmParams)) X(__builtin_offsetof(FilmParams, max_contribution))                                 \
-  X(sizeof(FilmAccumulate)) X(__builtin_offsetof(FilmAccumulate, pass_index))                               \
-  X(__builtin_offsetof(FilmAccumulate, inv_scale)) X(__builtin_offsetof(FilmAccumulate, pass_count))      \
-  X(__builtin_offsetof(PathRecord, flags))                                                                  \
-  X(sizeof(ShadeParams)) X(__builtin_offsetof(ShadeParams, light_count))                                    \
-  X(__builtin_offsetof(ShadeParams, min_weight))                                                            \
-  X(sizeof(CameraGPU)) X(__builtin_offsetof(CameraGPU, lens)) X(__builtin_offsetof(CameraGPU, width))        \
-  X(__builtin_offsetof(CameraGPU, pixel_count)) X(__builtin_offsetof(Material, roughness))                    \
-  X(__builtin_offsetof(Material, metallic))                                                                   \
-  X(sizeof(Material)) X(__builtin_offsetof(Material, specular_exponent))                                   \
-  X(__builtin_offsetof(Material, texture)) X(sizeof(Sphere)) X(sizeof(Cylinder))    \
-  X(sizeof(Triangle)) X(sizeof(TriangleShading)) X(__builtin_offsetof(TriangleShading, u2))               \
-  X(sizeof(Texture)) X(__builtin_offsetof(Texture, scale)) X(sizeof(BvhNode8))                             \
-  X(__builtin_offsetof(BvhNode8, child)) X(__builtin_offsetof(BvhNode8, height)) X(sizeof(TriangleBlock4)) \
-  X(__builtin_offsetof(TriangleBlock4, ref)) X(sizeof(Photon)) X(__builtin_offsetof(Photon, wi))               \
-  X(__builtin_offsetof(Photon, power)) X(sizeof(PhotonGridParams))                                           \
-  X(__builtin_offsetof(PhotonGridParams, cell_size)) X(__builtin_offsetof(PhotonGridParams, table_size))     \
-  X(__builtin_offsetof(PhotonGridParams, photon_count)) X(sizeof(PhotonPassParams))                            \
-  X(__builtin_offsetof(PhotonPassParams, alpha)) X(__builtin_offsetof(PhotonPassParams, footprint_radius))        \
-  X(sizeof(VisiblePoint)) X(__builtin_offsetof(VisiblePoint, recorded)) X(__builtin_offsetof(VisiblePoint, depth))  \
-  X(__builtin_offsetof(VisiblePoint, footprint)) X(__builtin_offsetof(VisiblePoint, beta))                         \
-  X(__builtin_offsetof(VisiblePoint, kind)) X(__builtin_offsetof(VisiblePoint, alpha))                             \
-  X(__builtin_offsetof(VisiblePoint, specular)) X(__builtin_offsetof(VisiblePoint, ior))                           \
-  X(sizeof(SppmPixel)) X(__builtin_offsetof(SppmPixel, radius2)) X(__builtin_offsetof(SppmPixel, sum_r2))          \
-  X(sizeof(cs_packed3)) X(__builtin_offsetof(Photon, bounces)) X(__builtin_offsetof(Photon, path_length))           \
-  X(__builtin_offsetof(PathRecord, cone_width)) X(__builtin_offsetof(PathRecord, cone_spread))                      \
-  X(sizeof(PhotonRecord)) X(__builtin_offsetof(PhotonRecord, power)) X(__builtin_offsetof(PhotonRecord, index))      \
-  X(__builtin_offsetof(PhotonRecord, depth)) X(__builtin_offsetof(PhotonRecord, path_length))                       \
-  X(__builtin_offsetof(PhotonRecord, flags)) X(__builtin_offsetof(ShadowRecord, tmax))                              \
-  X(sizeof(PathParams)) X(__builtin_offsetof(PathParams, light_count)) X(__builtin_offsetof(PathParams, max_depth)) \
-  X(__builtin_offsetof(PathParams, ray_capacity)) X(__builtin_offsetof(PathParams, first_pass))                     \
-  X(__builtin_offsetof(PathParams, seed)) X(__builtin_offsetof(PathParams, strategy))                               \
-  X(__builtin_offsetof(PathParams, rr_depth)) X(__builtin_offsetof(PathParams, sampler))                            \
-  X(__builtin_offsetof(PathParams, wave_pixels)) X(__builtin_offsetof(PathParams, wave_samples))
+// Every size and offset the two sides must agree on, written once
+// (tests/kernels/record_layout.h): the host evaluates the list here, and
+// tests/kernels/record_layout.cl evaluates it on the device.
+#include "tests/kernels/record_layout.h"
 
 #define CAUSTICA_STR(...) #__VA_ARGS__
-#define CAUSTICA_XSTR(...) CAUSTICA_STR(__VA_ARGS__)
 #define HOST_VALUE(e) uint32_t(e),
-#define DEVICE_VALUE(e) out[n++] = (uint)(e);
 
 TEST(RecordLayout, DeviceAgreesWithHost) {
   const std::vector<uint32_t> host = {LAYOUT_EXPRESSIONS(HOST_VALUE)};
-  const std::string source = std::string("#include \"shared/records.h\"\n#include \"shared/photon.h\"\n") +
-                             "__kernel void layout(__global uint* out) { uint n = 0; " +
-                             CAUSTICA_XSTR(LAYOUT_EXPRESSIONS(DEVICE_VALUE)) + " }\n";
   Runtime& rt = test::runtime();
-  const BuiltProgram built = rt.build_source("layout.cl", source, "");
+  const BuiltProgram built = test::build_test_kernel("record_layout.cl", "");
   cl::Kernel kernel(built.program, "layout");
   cl::Buffer out(rt.context(), CL_MEM_WRITE_ONLY, host.size() * sizeof(cl_uint));
   kernel.setArg(0, out);
@@ -474,11 +428,7 @@ TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
 
 // ------------------------------------------------------------------ render-level
 
-std::string write_scene(const std::string& name, const std::string& text) {
-  const std::string path = test::temp_dir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
+using test::write_scene;
 
 // The file's rendermode is the default, --mode wins; each mode runs its own
 // integrator.

@@ -90,17 +90,11 @@ TEST(ProgramBuild, MissingIncludeIsNamed) {
 // inside a true #if is not compiled twice; #line markers still name the
 // original lines.
 TEST(ProgramBuild, IncludesInsideIfAreDecidedByThePreprocessor) {
-  const std::string body =
-      "__kernel void k(__global float* out) {\n"
-      "  float cos_t;\n"
-      "  out[0] = fresnel_dielectric(1.0f, 1.0f / 1.5f, &cos_t);\n"
-      "}\n";
   for (const char* condition : {"0", "1", "HAS_CAUSTICS"}) {
-    const std::string src = std::string("#if ") + condition + "\n#include \"lib/optics.h\"\n#endif\n" +
-                            "#include \"lib/optics.h\"\n" + body;
-    const std::string expanded = expand_kernel_source("conditional.cl", src);
+    const std::string expanded =
+        expand_kernel_source("runtime_if_include.cl", test::test_kernel_source("runtime_if_include.cl"));
     EXPECT_NE(expanded.find("#ifndef CS_INCLUDED_lib_2Foptics_2Eh"), std::string::npos) << expanded;
-    const BuiltProgram built = test::runtime().build_source("conditional.cl", src, "");
+    const BuiltProgram built = test::build_test_kernel("runtime_if_include.cl", std::string("-DCONDITION=") + condition);
     cl::Kernel k(built.program, "k");
     cl::Buffer out(test::runtime().context(), CL_MEM_WRITE_ONLY, sizeof(float));
     k.setArg(0, out);
@@ -112,9 +106,7 @@ TEST(ProgramBuild, IncludesInsideIfAreDecidedByThePreprocessor) {
   // The C++ side of a shared header is known dead: its includes are dropped
   // (they need not be kernel files), and the OpenCL side counts as
   // unconditional.
-  const std::string shared = "#ifdef __OPENCL_C_VERSION__\n#include \"lib/optics.h\"\n#else\n"
-                             "#include \"host/not_a_kernel.h\"\n#endif\n" + body;
-  EXPECT_NO_THROW(test::runtime().build_source("shared.cl", shared, ""));
+  EXPECT_NO_THROW(test::build_test_kernel("runtime_shared_header.cl", ""));
   // The integrators' programs inline every file once (no copies of headers
   // that shared headers include for OpenCL only).
   for (const char* program : {"integrator_binary.cl", "integrator_phong.cl", "integrator_path.cl"}) {
@@ -131,60 +123,60 @@ TEST(ProgramBuild, IncludesInsideIfAreDecidedByThePreprocessor) {
     EXPECT_EQ(copies, int(guards.size())) << program << ": a file inlined more than once";
   }
   // The build log still points at the root file's own line.
-  const std::string broken = "#if 0\n#include \"lib/optics.h\"\n#endif\n#include \"lib/optics.h\"\n"
-                             "__kernel void k(__global float* x) {\n  x[0] = undefined_name;\n}\n";
-  const std::string msg = error_of([&] { test::runtime().build_source("broken_if.cl", broken, ""); });
-  EXPECT_NE(msg.find("broken_if.cl:6"), std::string::npos) << msg;
-  const std::string source = expand_kernel_source("broken_if.cl", broken);
+  const std::string msg = error_of([&] { test::build_test_kernel("runtime_broken_if.cl", ""); });
+  EXPECT_NE(msg.find("tests/kernels/runtime_broken_if.cl:11"), std::string::npos) << msg;
+  const std::string source =
+      expand_kernel_source("tests/kernels/runtime_broken_if.cl", test::test_kernel_source("runtime_broken_if.cl"));
   std::istringstream in(source);
   int physical = 0, target = 0;
   for (std::string line; std::getline(in, line);)
     if (++physical && line == "  x[0] = undefined_name;") target = physical;
-  EXPECT_EQ(map_build_log_lines("<kernel>:" + std::to_string(target) + ":3: e", source), "broken_if.cl:6:3: e");
+  EXPECT_EQ(map_build_log_lines("<kernel>:" + std::to_string(target) + ":3: e", source),
+            "tests/kernels/runtime_broken_if.cl:11:3: e");
 }
 
 // Options that name the same feature flags in another order or spelling
 // share one cache entry (complete_feature_flags normalises them).
-TEST(ProgramBuild, SameFlagsInAnotherOrderShareTheCacheEntry) {
-  const std::string dir = test::temp_dir() + "/cache_flags";
+// Three builds of one test kernel in a fresh cache directory: the first
+// with options a, then b, then c; the first kernel of b's program is run
+// on one int.
+struct CacheRun {
+  BuiltProgram a, b, c;
+  int b_result = 0;
+};
+CacheRun build_in_fresh_cache(const std::string& cache, const std::string& file, const std::string& a,
+                              const std::string& b, const std::string& c) {
+  const std::string dir = test::temp_dir() + "/" + cache;
   setenv("CAUSTICA_CACHE_DIR", dir.c_str(), 1);
   Runtime rt(select_device(test::device_spec()));
-  const std::string src = "__kernel void k(__global int* x) { x[0] = HAS_SPHERES + 2 * HAS_TRIANGLES + 4 * HAS_DIELECTRIC; }\n";
-  const auto cold = rt.build_source("flags.cl", src, "-DHAS_SPHERES -DHAS_TRIANGLES");
-  const auto warm = rt.build_source("flags.cl", src, "-DHAS_TRIANGLES=1 -DHAS_DIELECTRIC=1 -D HAS_SPHERES=1");
-  const auto other = rt.build_source("flags.cl", src, "-DHAS_TRIANGLES");
+  CacheRun run;
+  run.a = test::build_test_kernel(file, a, rt);
+  run.b = test::build_test_kernel(file, b, rt);
+  run.c = test::build_test_kernel(file, c, rt);
   unsetenv("CAUSTICA_CACHE_DIR");
-  EXPECT_FALSE(cold.from_cache);
-  EXPECT_TRUE(warm.from_cache) << "the same flags must give the same cache key";
-  EXPECT_FALSE(other.from_cache);
-  cl::Kernel k(warm.program, "k");
+  cl::Kernel k(run.b.program, "k");
   cl::Buffer buf(rt.context(), CL_MEM_READ_WRITE, sizeof(int));
   k.setArg(0, buf);
   rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(1), cl::NullRange);
-  int out = 0;
-  rt.queue().enqueueReadBuffer(buf, CL_TRUE, 0, sizeof out, &out);
-  EXPECT_EQ(out, 7) << "every flag has a value, the unnamed ones their defaults";
+  rt.queue().enqueueReadBuffer(buf, CL_TRUE, 0, sizeof run.b_result, &run.b_result);
+  return run;
+}
+
+TEST(ProgramBuild, SameFlagsInAnotherOrderShareTheCacheEntry) {
+  const CacheRun run = build_in_fresh_cache("cache_flags", "runtime_flags.cl", "-DHAS_SPHERES -DHAS_TRIANGLES",
+                                            "-DHAS_TRIANGLES=1 -DHAS_DIELECTRIC=1 -D HAS_SPHERES=1", "-DHAS_TRIANGLES");
+  EXPECT_FALSE(run.a.from_cache);
+  EXPECT_TRUE(run.b.from_cache) << "the same flags must give the same cache key";
+  EXPECT_FALSE(run.c.from_cache);
+  EXPECT_EQ(run.b_result, 7) << "every flag has a value, the unnamed ones their defaults";
 }
 
 TEST(ProgramBuild, SecondBuildComesFromTheCache) {
-  const std::string dir = test::temp_dir() + "/cache";
-  setenv("CAUSTICA_CACHE_DIR", dir.c_str(), 1);
-  Runtime rt(select_device(test::device_spec()));
-  const auto cold = test::build_test_kernel("runtime_cached.cl", "-DVARIANT=1", rt);
-  const auto warm = test::build_test_kernel("runtime_cached.cl", "-DVARIANT=1", rt);
-  const auto other = test::build_test_kernel("runtime_cached.cl", "-DVARIANT=2", rt);
-  unsetenv("CAUSTICA_CACHE_DIR");
-  EXPECT_FALSE(cold.from_cache);
-  EXPECT_TRUE(warm.from_cache);
-  EXPECT_FALSE(other.from_cache) << "different options must not share a cache entry";
-  // The cached program must actually work.
-  cl::Kernel k(warm.program, "k");
-  cl::Buffer buf(rt.context(), CL_MEM_READ_WRITE, 4 * sizeof(int));
-  k.setArg(0, buf);
-  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(4), cl::NullRange);
-  std::array<int, 4> out{};
-  rt.queue().enqueueReadBuffer(buf, CL_TRUE, 0, sizeof out, out.data());
-  EXPECT_EQ(out, (std::array<int, 4>{7, 7, 7, 7}));
+  const CacheRun run = build_in_fresh_cache("cache", "runtime_cached.cl", "-DVARIANT=1", "-DVARIANT=1", "-DVARIANT=2");
+  EXPECT_FALSE(run.a.from_cache);
+  EXPECT_TRUE(run.b.from_cache);
+  EXPECT_FALSE(run.c.from_cache) << "different options must not share a cache entry";
+  EXPECT_EQ(run.b_result, 7) << "the cached program must actually work";
 }
 
 using CommandResult = test::CliResult;

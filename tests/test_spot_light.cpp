@@ -32,11 +32,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-std::string write_scene(const std::string& name, const std::string& text) {
-  const std::string path = test::temp_dir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
+using test::write_scene;
 
 std::string floor_scene(const std::string& light, const std::string& extra_shapes = "", int nbounces = 1) {
   return R"({"nbounces": )" + std::to_string(nbounces) + R"(, "rendermode": "phong",

@@ -193,6 +193,7 @@ std::string inline_guard(const std::string& path) {
 }
 
 struct ExpandState {
+  const KernelFiles* extra = nullptr;   // files beyond the embedded ones
   std::set<std::string> unconditional;  // inlined at a site no #if encloses: compiled by the time it is passed
   std::vector<std::string> stack;       // files being inlined (their guards are defined already)
 };
@@ -248,7 +249,12 @@ void expand_into(const std::string& name, const std::string& text, int site_dept
         if (inc.rfind("kernels/", 0) == 0) inc = inc.substr(8);
         const auto& index = embedded_index();
         auto it = index.find(inc);
-        if (it == index.end() && !dead)
+        const std::string* included_text = it != index.end() ? it->second : nullptr;
+        if (!included_text && state.extra) {
+          auto e = state.extra->find(inc);
+          if (e != state.extra->end()) included_text = &e->second;
+        }
+        if (!included_text && !dead)
           throw Error(name + ":" + std::to_string(line_no) + ": kernel include \"" + inc +
                       "\" is not an embedded kernel file (kernels/" + inc + ")");
         const bool on_stack = std::find(state.stack.begin(), state.stack.end(), inc) != state.stack.end();
@@ -258,7 +264,7 @@ void expand_into(const std::string& name, const std::string& text, int site_dept
           // The first marker names the guard's lines (as the include's
           // first lines); the second restarts the file at line 1.
           out << "#line 1 \"" << inc << "\"\n#ifndef " << g << "\n#define " << g << "\n";
-          expand_into(inc, *it->second, depth, state, out);
+          expand_into(inc, *included_text, depth, state, out);
           out << "#endif /* " << g << " */\n";
         }
         out << "#line " << (line_no + 1) << " \"" << name << "\"\n";
@@ -294,8 +300,9 @@ std::string cl_error_name(cl_int code) {
   }
 }
 
-std::string expand_kernel_source(const std::string& root_name, const std::string& root_text) {
+std::string expand_kernel_source(const std::string& root_name, const std::string& root_text, const KernelFiles* extra) {
   ExpandState state;
+  state.extra = extra;
   state.unconditional.insert(root_name);
   std::ostringstream out;
   expand_into(root_name, root_text, 0, state, out);
@@ -535,8 +542,9 @@ BuiltProgram Runtime::build_file(const std::string& path, const std::string& opt
   return build_source(path, *it->second, options);
 }
 
-BuiltProgram Runtime::build_source(const std::string& name, const std::string& text, const std::string& raw_options) {
-  const std::string source = expand_kernel_source(name, text);
+BuiltProgram Runtime::build_source(const std::string& name, const std::string& text, const std::string& raw_options,
+                                   const KernelFiles* extra_files) {
+  const std::string source = expand_kernel_source(name, text, extra_files);
   // CPU devices share one address space for all OpenCL memory, which lets
   // the traversal issue real prefetches (kernels/lib/bvh_traverse.h).
   // Oclgrind (a checking simulator, --device oclgrind) builds with

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <CL/opencl.hpp>
+#include <map>
 
 #include <string>
 #include <vector>
@@ -46,8 +47,11 @@ struct BuiltProgram {
 // (paths relative to kernels/), with #line markers so build logs point at the
 // original file and line. Each inlined file carries a generated guard, so
 // the preprocessor's #if decides which includes count (runtime.cpp,
-// expand_into).
-std::string expand_kernel_source(const std::string& root_name, const std::string& root_text);
+// expand_into). `extra` adds files beyond the embedded ones, by the path
+// their includes name (the tests' kernels: "tests/kernels/...").
+using KernelFiles = std::map<std::string, std::string>;
+std::string expand_kernel_source(const std::string& root_name, const std::string& root_text,
+                                 const KernelFiles* extra = nullptr);
 
 // A program's options with every feature flag of kernels/shared/
 // feature_flags.h given a value: the flags named (-DHAS_X, -DHAS_X=0|1,
@@ -79,8 +83,10 @@ class Runtime {
   // Builds an embedded kernel file (e.g. "integrator_phong.cl") with the given -D
   // options. Throws caustica::Error with the build log on failure.
   BuiltProgram build_file(const std::string& path, const std::string& options);
-  // Builds source text that may #include embedded files (used by tests).
-  BuiltProgram build_source(const std::string& name, const std::string& text, const std::string& options);
+  // Builds source text that may #include embedded files, and `extra` ones
+  // (used by tests).
+  BuiltProgram build_source(const std::string& name, const std::string& text, const std::string& options,
+                            const KernelFiles* extra = nullptr);
 
   // clEnqueueFillBuffer: `size` bytes of `buffer` from `offset` get `pattern`
   // repeated. On Oclgrind a kernel writes them instead: Oclgrind 21.10 marks

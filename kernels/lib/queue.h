@@ -73,60 +73,39 @@ inline PathRecord camera_path(float3 origin, float3 dir, uint pixel, uint sample
 #define PATH_UNMOVED_ZERO(record) PATH_CONE_FIELDS(QUEUE_FIELD_ZERO, _)
 #endif
 
-inline PathRecord path_load(PATH_QUEUE_PARAMS(q), uint slot) {
-  PathRecord record;
-  PATH_MOVED_FIELDS(QUEUE_FIELD_LOAD, q)
-  PATH_UNMOVED_ZERO(record)
-  return record;
-}
+#define QUEUE_NOTHING_TO_ZERO(record)
 
-inline void path_store(PATH_QUEUE_PARAMS(q), uint slot, PathRecord record) {
-  PATH_MOVED_FIELDS(QUEUE_FIELD_STORE, q)
-}
+/* A record type's load, store and push over the fields its queue moves;
+ * push is false when the queue is full (the host sees the overflow in the
+ * count). */
+#define QUEUE_ACCESS(prefix, Record, QUEUE_PARAMS, MOVED_FIELDS, ZERO_UNMOVED) \
+  inline Record prefix##_load(QUEUE_PARAMS(q), uint slot) {                   \
+    Record record;                                                            \
+    MOVED_FIELDS(QUEUE_FIELD_LOAD, q)                                         \
+    ZERO_UNMOVED(record)                                                      \
+    return record;                                                            \
+  }                                                                           \
+  inline void prefix##_store(QUEUE_PARAMS(q), uint slot, Record record) {     \
+    MOVED_FIELDS(QUEUE_FIELD_STORE, q)                                        \
+  }                                                                           \
+  inline bool prefix##_push(QUEUE_PARAMS(q), uint capacity, Record record) {  \
+    const uint slot = queue_reserve(q_count, capacity);                       \
+    if (slot == 0xFFFFFFFFu) return false;                                    \
+    MOVED_FIELDS(QUEUE_FIELD_STORE, q)                                        \
+    return true;                                                              \
+  }
 
-/* False when the queue is full (the host sees the overflow in the count). */
-inline bool path_push(PATH_QUEUE_PARAMS(q), uint capacity, PathRecord record) {
-  const uint slot = queue_reserve(q_count, capacity);
-  if (slot == 0xFFFFFFFFu) return false;
-  PATH_MOVED_FIELDS(QUEUE_FIELD_STORE, q)
-  return true;
-}
-
-inline PhotonRecord photon_load(PHOTON_QUEUE_PARAMS(q), uint slot) {
-  PhotonRecord record;
-  PHOTON_RECORD_FIELDS(QUEUE_FIELD_LOAD, q)
-  return record;
-}
-
-inline void photon_store(PHOTON_QUEUE_PARAMS(q), uint slot, PhotonRecord record) {
-  PHOTON_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
-}
-
-/* False when the queue is full (the host sees the overflow in the count). */
-inline bool photon_push(PHOTON_QUEUE_PARAMS(q), uint capacity, PhotonRecord record) {
-  const uint slot = queue_reserve(q_count, capacity);
-  if (slot == 0xFFFFFFFFu) return false;
-  PHOTON_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
-  return true;
-}
+QUEUE_ACCESS(path, PathRecord, PATH_QUEUE_PARAMS, PATH_MOVED_FIELDS, PATH_UNMOVED_ZERO)
+QUEUE_ACCESS(photon, PhotonRecord, PHOTON_QUEUE_PARAMS, PHOTON_RECORD_FIELDS, QUEUE_NOTHING_TO_ZERO)
+QUEUE_ACCESS(shadow, ShadowRecord, SHADOW_QUEUE_PARAMS, SHADOW_RECORD_FIELDS, QUEUE_NOTHING_TO_ZERO)
 
 /* Shadow queues are addressed rather than pushed: the shade stage owns the
  * slots of its ray (for Whitted, slot = ray * light_count + light) and
  * writes a record or marks the slot empty, so no counter is contended and
- * the host knows the count without reading it back. */
+ * the host knows the count without reading it back (shadow_push, generated
+ * above with the others, goes unused). */
 #define SHADOW_SLOT_EMPTY 0xFFFFFFFFu
 
-inline void shadow_store(SHADOW_QUEUE_PARAMS(q), uint slot, ShadowRecord record) {
-  SHADOW_RECORD_FIELDS(QUEUE_FIELD_STORE, q)
-}
-
 inline void shadow_mark_empty(SHADOW_QUEUE_PARAMS(q), uint slot) { q_pixel[slot] = SHADOW_SLOT_EMPTY; }
-
-inline ShadowRecord shadow_load(SHADOW_QUEUE_PARAMS(q), uint slot) {
-  ShadowRecord record;
-  SHADOW_RECORD_FIELDS(QUEUE_FIELD_LOAD, q)
-  return record;
-}
-
 
 #endif

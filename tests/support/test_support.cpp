@@ -66,44 +66,44 @@ TempDirCleaner& temp_dir_cleaner() {
 
 const char* const kTestKernelDir = "tests/kernels/";
 
-// Appends tests/kernels/<relative_path> to `out`, its test-kernel includes
-// expanded in place (see test_kernel_source).
-void expand_test_kernel(const std::string& relative_path, std::set<std::string>& included, std::ostringstream& out) {
-  const std::string name = kTestKernelDir + relative_path;
+std::string read_test_kernel(const std::string& name) {
   const std::string path = std::string(CAUSTICA_SOURCE_DIR) + "/" + name;
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("test kernel " + path + " cannot be read (tests/kernels/ of the source tree)");
-  int line_no = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++line_no;
-    const size_t start = line.find_first_not_of(" \t");
-    const std::string directive = std::string("#include \"") + kTestKernelDir;
-    if (start != std::string::npos && line.compare(start, directive.size(), directive) == 0) {
-      const size_t end = line.find('"', start + directive.size());
-      if (end == std::string::npos) throw Error(name + ":" + std::to_string(line_no) + ": unterminated #include");
-      const std::string inc = line.substr(start + directive.size(), end - start - directive.size());
-      if (included.insert(inc).second) {
-        out << "#line 1 \"" << kTestKernelDir << inc << "\"\n";
-        expand_test_kernel(inc, included, out);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Every file of tests/kernels/, by the path an #include names it with.
+const KernelFiles& test_kernel_files() {
+  static const KernelFiles files = [] {
+    KernelFiles f;
+    const std::filesystem::path root = std::filesystem::path(CAUSTICA_SOURCE_DIR) / kTestKernelDir;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(root))
+      if (entry.is_regular_file()) {
+        const std::string name = kTestKernelDir + std::filesystem::relative(entry.path(), root).generic_string();
+        f[name] = read_test_kernel(name);
       }
-      out << "#line " << (line_no + 1) << " \"" << name << "\"\n";
-      continue;
-    }
-    out << line << '\n';
-  }
+    return f;
+  }();
+  return files;
 }
 
 }  // namespace
 
-std::string test_kernel_source(const std::string& relative_path) {
-  std::set<std::string> included{relative_path};
-  std::ostringstream out;
-  expand_test_kernel(relative_path, included, out);
-  return out.str();
+std::string write_scene(const std::string& name, const std::string& text) {
+  const std::string path = temp_dir() + "/" + name;
+  std::ofstream(path) << text;
+  if (!std::ofstream(path, std::ios::app)) throw Error("cannot write " + path);
+  return path;
 }
 
+std::string test_kernel_source(const std::string& relative_path) { return read_test_kernel(kTestKernelDir + relative_path); }
+
 BuiltProgram build_test_kernel(const std::string& relative_path, const std::string& options, Runtime& rt) {
-  return rt.build_source(kTestKernelDir + relative_path, test_kernel_source(relative_path), options);
+  return rt.build_source(kTestKernelDir + relative_path, test_kernel_source(relative_path), options,
+                         &test_kernel_files());
 }
 
 std::string device_spec() {

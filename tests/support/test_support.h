@@ -35,14 +35,14 @@ std::string source_dir();
 
 // The test kernels live in tests/kernels/ (read from the source tree when a
 // test runs, not embedded): test_kernel_source("stiff/grazing.cl") is the
-// text of tests/kernels/stiff/grazing.cl with its `#include
-// "tests/kernels/..."` lines replaced by those files (each file once, with
-// #line markers); other includes ("lib/bvh_traverse.h") are left to the
-// runtime, which resolves them against the embedded kernels/ files. Throws
-// caustica::Error naming the path of a file that cannot be read.
+// text of tests/kernels/stiff/grazing.cl. Throws caustica::Error naming the
+// path of a file that cannot be read.
 std::string test_kernel_source(const std::string& relative_path);
 // Builds test_kernel_source(relative_path) on `rt` with `options`; the
 // program (and its build log) is named "tests/kernels/<relative_path>".
+// The runtime's expander resolves its includes, among the embedded kernel
+// files ("lib/bvh_traverse.h") and the files of tests/kernels/
+// ("tests/kernels/stiff/random.h").
 BuiltProgram build_test_kernel(const std::string& relative_path, const std::string& options, Runtime& rt = runtime());
 // "<repo>/../shared" or $CAUSTICA_SHARED_DIR; empty when it does not exist.
 std::string shared_dir();
@@ -70,6 +70,8 @@ CliResult run_cli(const std::string& args);
 // test (no current test), the directory is <tmp>/caustica_test_<pid>_caustica
 // and is removed when the program ends. Tests write files only under it.
 std::string temp_dir();
+// Writes `text` to temp_dir()/name; returns the path.
+std::string write_scene(const std::string& name, const std::string& text);
 
 // Every image the shared render helpers return (stiff::render,
 // render_path) passes through here: no NaN or Inf pixel, and no non-finite
