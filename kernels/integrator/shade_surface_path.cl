@@ -187,8 +187,6 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   }
   /* Light reaching a caster that leads back to a receiver is the photon map's. */
   const bool nee_is_photon_maps = caster && (ray.flags & PATH_AFTER_RECEIVER);
-#else
-  const bool nee_is_photon_maps = false;
 #endif
   const uint pixel_seed = hash3(ray.pixel, 0u, params->seed);
   const uint pair = 2u + 3u * ray.depth;
@@ -200,7 +198,11 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
 
   /* Next-event estimation toward one light. */
   const bool delta_only = bsdf_is_smooth(bsdf) && bsdf.kind != BSDF_PLASTIC;
-  if (params->light_count > 0u && params->strategy != PATH_STRATEGY_BSDF && !delta_only && !nee_is_photon_maps) {
+  bool take_nee = params->light_count > 0u && params->strategy != PATH_STRATEGY_BSDF && !delta_only;
+#if HAS_CAUSTICS
+  take_nee = take_nee && !nee_is_photon_maps;
+#endif
+  if (take_nee) {
     const uint li = pick_light(lights, params->light_count, picks.x);
     __global const Light* light = &lights[li];
     LightSample ls;
