@@ -258,7 +258,11 @@ TEST(SpotLight, PhongFloorMatchesTheClosedForm) {
 TEST(SpotLight, PathFloorMatchesTheClosedForm) {
   std::string scene = floor_scene(kSpot);
   scene.replace(scene.find("\"phong\""), 7, "\"pathtracer\"");
-  const Rendered r = render(scene, RenderMode::Path, int(test::sized(64, 4)));
+  // 4 spp on a simulator: the pixel mean of a 4-point pattern misses the
+  // falloff's curvature by up to ~7% (Oclgrind measured), 64 by under 3%.
+  const int spp = int(test::sized(64, 4));
+  const double tolerance = spp >= 64 ? 0.03 : 0.1;
+  const Rendered r = render(scene, RenderMode::Path, spp);
   int checked = 0;
   for (int py = 0; py < r.image.height; ++py)
     for (int px = 0; px < r.image.width; ++px) {
@@ -284,7 +288,7 @@ TEST(SpotLight, PathFloorMatchesTheClosedForm) {
       if (!any_lit) continue;  // at the cone's edge, lit in a sliver the grid missed
       // Only the pixel position is random (the light is a delta): a few %
       // where the falloff varies across a pixel, far less elsewhere.
-      EXPECT_NEAR(got, expected, 0.03 * expected + 2e-4) << "pixel " << px << ", " << py;
+      EXPECT_NEAR(got, expected, tolerance * expected + 2e-4) << "pixel " << px << ", " << py;
       ++checked;
     }
   EXPECT_GT(checked, 200);
