@@ -5,11 +5,6 @@
 
 namespace caustica {
 
-LightType cylinder_light_type() {
-  LightType t;
-  t.kind = LIGHT_CYLINDER;
-  t.power = area_light_power;
-  return t;
-}
+LightType cylinder_light_type() { return shape_light_type(LIGHT_CYLINDER); }
 
 }  // namespace caustica

@@ -59,6 +59,13 @@ float area_light_power(const Light& l) {
   return ((l.flags & LIGHT_TWO_SIDED) ? 2.0f : 1.0f) * kPi * l.emitted.w * luminance(to_vec3(l.emitted));
 }
 
+LightType shape_light_type(uint32_t kind) {
+  LightType t;
+  t.kind = kind;
+  t.power = area_light_power;
+  return t;
+}
+
 Light delta_light_at(const glm::vec3& p, const glm::vec3& intensity) {
   Light l{};
   l.kind = LIGHT_POINT;

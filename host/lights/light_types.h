@@ -57,6 +57,9 @@ float luminance(const glm::vec3& c);
 // An area light's flux: pi * area * luminance(radiance), twice for a
 // two-sided one.
 float area_light_power(const Light& l);
+// A type made only from emissive shapes: no file form, no stand-in, no
+// geometry of its own; the area light's power.
+LightType shape_light_type(uint32_t kind);
 // A point light at p with intensity i.
 Light delta_light_at(const glm::vec3& p, const glm::vec3& intensity);
 // An emissive material that reflects nothing, appended to the scene.

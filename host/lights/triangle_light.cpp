@@ -5,11 +5,6 @@
 
 namespace caustica {
 
-LightType triangle_light_type() {
-  LightType t;
-  t.kind = LIGHT_TRIANGLE;
-  t.power = area_light_power;
-  return t;
-}
+LightType triangle_light_type() { return shape_light_type(LIGHT_TRIANGLE); }
 
 }  // namespace caustica
