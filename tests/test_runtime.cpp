@@ -90,10 +90,10 @@ TEST(ProgramBuild, MissingIncludeIsNamed) {
 // inside a true #if is not compiled twice; #line markers still name the
 // original lines.
 TEST(ProgramBuild, IncludesInsideIfAreDecidedByThePreprocessor) {
+  const std::string expanded =
+      expand_kernel_source("runtime_if_include.cl", test::test_kernel_source("runtime_if_include.cl"));
+  EXPECT_NE(expanded.find("#ifndef CS_INCLUDED_lib_2Foptics_2Eh"), std::string::npos) << expanded;
   for (const char* condition : {"0", "1", "HAS_CAUSTICS"}) {
-    const std::string expanded =
-        expand_kernel_source("runtime_if_include.cl", test::test_kernel_source("runtime_if_include.cl"));
-    EXPECT_NE(expanded.find("#ifndef CS_INCLUDED_lib_2Foptics_2Eh"), std::string::npos) << expanded;
     const BuiltProgram built = test::build_test_kernel("runtime_if_include.cl", std::string("-DCONDITION=") + condition);
     cl::Kernel k(built.program, "k");
     cl::Buffer out(test::runtime().context(), CL_MEM_WRITE_ONLY, sizeof(float));

@@ -126,7 +126,8 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   resolve_image_size(scene.camera, options.width, options.height, &session->settings.width,
                      &session->settings.height);
   if (options.spp < 0) throw Error("--spp must be positive");
-  const uint64_t whitted_light_count = whitted_lights(scene).size();
+  // Every file light has a phong stand-in (LightTypes.HostRegistryMirrorsTheDevices).
+  const uint64_t whitted_light_count = scene.lights.size();
   if (session->mode == RenderMode::Phong && whitted_light_count > limits::kMaxPhongLights)
     throw Error(scene.source_path + ": /scene/lightsources: phong mode traces a shadow ray to each of the " +
                 std::to_string(whitted_light_count) + " lights from every shading point; its limit is " +

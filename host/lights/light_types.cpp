@@ -13,9 +13,17 @@ HOST_LIGHT_TYPES(DECLARE_LIGHT_TYPE)
 #undef DECLARE_LIGHT_TYPE
 
 const std::vector<LightType>& light_types() {
+  static const std::vector<LightType> types = [] {
 #define LIST_LIGHT_TYPE(type) type##_light_type(),
-  static const std::vector<LightType> types = {HOST_LIGHT_TYPES(LIST_LIGHT_TYPE)};
+    std::vector<LightType> t = {HOST_LIGHT_TYPES(LIST_LIGHT_TYPE)};
 #undef LIST_LIGHT_TYPE
+    // Whether a kind is a delta light is the device registry's to say.
+#define LIGHT_KIND_IS_AREA(kind, type, area) area,
+    const bool is_area[] = {LIGHT_TYPES(LIGHT_KIND_IS_AREA)};
+#undef LIGHT_KIND_IS_AREA
+    for (LightType& type : t) type.delta = type.kind < LIGHT_KIND_COUNT && !is_area[type.kind];
+    return t;
+  }();
   return types;
 }
 

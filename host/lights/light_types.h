@@ -27,7 +27,9 @@ class Reader;
 struct LightType {
   uint32_t kind = 0;             // the device registry's row (LIGHT_POINT, ...)
   const char* file_type = nullptr;  // "type" in a scene file's lightsources; nullptr: made from shapes only
-  bool delta = false;            // no surface: reached by next-event estimation and photons only
+  // No surface: reached by next-event estimation and photons only. Set by
+  // the registry from the device's LIGHT_TYPES row (its area column).
+  bool delta = false;
   // Appends the light written at `path` (an object whose "type" is file_type) to scene.lights.
   void (*read)(const scene_detail::Reader& r, const nlohmann::json& light, const std::string& path,
                Scene& scene) = nullptr;

@@ -24,7 +24,6 @@ LightType point_light_type() {
   LightType t;
   t.kind = LIGHT_POINT;
   t.file_type = "pointlight";
-  t.delta = true;
   t.read = read_point_light;
   t.power = point_light_power;
   t.whitted_stand_in = itself;

@@ -58,7 +58,6 @@ LightType spot_light_type() {
   LightType t;
   t.kind = LIGHT_SPOT;
   t.file_type = "spotlight";
-  t.delta = true;
   t.read = read_spot_light;
   t.power = spot_light_power;
   t.whitted_stand_in = itself;

@@ -94,8 +94,9 @@ const KernelFiles& test_kernel_files() {
 
 std::string write_scene(const std::string& name, const std::string& text) {
   const std::string path = temp_dir() + "/" + name;
-  std::ofstream(path) << text;
-  if (!std::ofstream(path, std::ios::app)) throw Error("cannot write " + path);
+  std::ofstream out(path);
+  out << text;
+  if (!out) throw Error("cannot write " + path);
   return path;
 }
 
