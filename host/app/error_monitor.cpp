@@ -59,7 +59,7 @@ void ErrorMonitor::measure(const Film& film, double seconds) {
   ImageF mean = film.mean();
   if (film.has_half_buffer() && passes >= 2) {
     const ImageF separate = film.separate_variance();
-    estimate_ = estimated_rel_mse(mean, film.half_mean(), passes, film.half_passes(), &separate);
+    estimate_ = estimated_rel_mse(mean, film.half_mean(), film.pixel_spp(), film.half_counts(), &separate);
     row.est_relmse = estimate_;
   }
   if (options_.reference) {

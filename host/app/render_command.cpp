@@ -113,9 +113,10 @@ std::vector<std::pair<std::string, std::string>> report_header(const Session& se
   char buf[128];
   std::vector<std::pair<std::string, std::string>> h;
   h.emplace_back("scene", session.scene.source_path);
-  std::snprintf(buf, sizeof buf, "%s %dx%d %s seed %u", render_mode_name(session.mode), session.settings.width,
+  std::snprintf(buf, sizeof buf, "%s %dx%d %s seed %u%s", render_mode_name(session.mode), session.settings.width,
                 session.settings.height,
-                session.settings.sampler == SAMPLER_INDEPENDENT ? "independent" : "sobol", session.settings.seed);
+                session.settings.sampler == SAMPLER_INDEPENDENT ? "independent" : "sobol", session.settings.seed,
+                session.mode != RenderMode::Path ? "" : session.settings.adaptive ? " adaptive" : " uniform");
   h.emplace_back("mode", buf);
   h.emplace_back("device", session.runtime->device_info().name + " (" +
                                session.runtime->device_info().platform_name + ")");
@@ -216,7 +217,10 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
                        "path: count NaN/Inf and negative samples and the BSDF weights of every bounce (energy gain), "
                        "and report them");
   render_cmd->add_flag("--no-error-estimate", a.no_error_estimate,
-                       "path: leave out the film's half buffer (no self-estimated error)");
+                       "path: leave out the film's half buffer (no self-estimated error, so no adaptive sampling)");
+  render_cmd->add_flag("--adaptive,!--no-adaptive", a.session.adaptive,
+                       "path: adaptive sampling, the default: after 16 spp, each wave's samples go where the "
+                       "estimated error is (--no-adaptive: every pixel alike)");
   return render_cmd;
 }
 
@@ -257,6 +261,7 @@ int run_render(RenderArgs& a) {
     }
   }
   a.session.error_estimate = !a.no_error_estimate;
+  if (a.no_error_estimate) a.session.adaptive = false;  // it allocates by that estimate
   a.session.open_ended = a.target_error > 0.0;
   const auto session = prepare_session(a.session);
   if (reference && (reference->width != session->settings.width || reference->height != session->settings.height))

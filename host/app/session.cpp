@@ -139,7 +139,8 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   const bool path = session->mode == RenderMode::Path;
   session->features.check_numerics = path && options.check_numerics;
   session->settings.check_numerics = session->features.check_numerics;
-  session->settings.half_buffer = path && options.error_estimate;
+  session->settings.adaptive = path && options.adaptive;
+  session->settings.half_buffer = path && (options.error_estimate || options.adaptive);
   session->settings.caustics = session->features.caustics;
   session->settings.caustics_auto = options.caustics == CausticsMode::Auto;
   if (options.photons > 0) session->settings.photons_per_pass = options.photons;

@@ -40,6 +40,7 @@ struct SessionOptions {
   uint32_t seed = 0;            // path: sample sequence seed
   bool independent_samples = false;  // path: independent uniforms instead of Sobol-Burley (comparisons)
   bool error_estimate = true;   // path: the film keeps the half buffer, passes [P, N) (self-estimated error)
+  bool adaptive = true;         // path: adaptive sampling (--no-adaptive: uniform)
   CausticsMode caustics = CausticsMode::Auto;  // path: the photon pass
   bool check_numerics = false;  // path: count BSDF weights per bounce (--check-numerics)
   uint32_t photons = 0;         // path: photons per pass; 0: RenderSettings' default

@@ -5,23 +5,54 @@
 
 namespace caustica {
 
+namespace {
+void check_sizes(const ImageF& mean, const ImageF& half_mean, size_t spp, size_t half_counts) {
+  if (mean.width != half_mean.width || mean.height != half_mean.height || mean.rgb.size() != half_mean.rgb.size())
+    throw Error("error estimate: the half buffer's size differs from the film's");
+  if (spp != mean.pixel_count() || half_counts != mean.pixel_count())
+    throw Error("error estimate: " + std::to_string(spp) + " and " + std::to_string(half_counts) +
+                " pixel counts for an image of " + std::to_string(mean.pixel_count()) + " pixels");
+}
+}  // namespace
+
+std::vector<double> pixel_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
+                                  const std::vector<uint32_t>& half_counts) {
+  check_sizes(mean, half_mean, spp.size(), half_counts.size());
+  std::vector<double> error(spp.size(), 0.0);
+  for (size_t p = 0; p < spp.size(); ++p) {
+    if (half_counts[p] == 0 || half_counts[p] >= spp[p]) continue;
+    const double weight = double(half_counts[p]) / double(spp[p] - half_counts[p]);
+    double sum = 0.0;
+    for (size_t i = 3 * p; i < 3 * p + 3; ++i) {
+      const double m = mean.rgb[i], d = m - half_mean.rgb[i];
+      sum += d * d / (m * m + kRelMseEpsilon);
+    }
+    error[p] = sum * weight;
+  }
+  return error;
+}
+
+double estimated_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
+                         const std::vector<uint32_t>& half_counts, const ImageF* separate_variance) {
+  if (separate_variance && separate_variance->rgb.size() != mean.rgb.size())
+    throw Error("error estimate: the separate variance's size differs from the film's");
+  double sum = 0.0;
+  for (double e : pixel_rel_mse(mean, half_mean, spp, half_counts)) sum += e;
+  if (separate_variance)
+    for (size_t i = 0; i < mean.rgb.size(); ++i) {
+      const double m = mean.rgb[i];
+      sum += separate_variance->rgb[i] / (m * m + kRelMseEpsilon);
+    }
+  return mean.rgb.empty() ? 0.0 : sum / double(mean.rgb.size());
+}
+
 double estimated_rel_mse(const ImageF& mean, const ImageF& half_mean, int passes, int half_passes,
                          const ImageF* separate_variance) {
   if (!(half_passes > 0 && half_passes < passes))
     throw Error("error estimate: needs a half of 1 to passes - 1 passes, got " + std::to_string(half_passes) + " of " +
                 std::to_string(passes));
-  if (mean.width != half_mean.width || mean.height != half_mean.height || mean.rgb.size() != half_mean.rgb.size())
-    throw Error("error estimate: the half buffer's size differs from the film's");
-  if (separate_variance && separate_variance->rgb.size() != mean.rgb.size())
-    throw Error("error estimate: the separate variance's size differs from the film's");
-  const double in_half = half_passes, others = passes - half_passes;
-  double sum = 0.0, separate = 0.0;
-  for (size_t i = 0; i < mean.rgb.size(); ++i) {
-    const double m = mean.rgb[i], d = m - half_mean.rgb[i];
-    sum += d * d / (m * m + kRelMseEpsilon);
-    if (separate_variance) separate += separate_variance->rgb[i] / (m * m + kRelMseEpsilon);
-  }
-  return mean.rgb.empty() ? 0.0 : (sum * (in_half / others) + separate) / double(mean.rgb.size());
+  return estimated_rel_mse(mean, half_mean, std::vector<uint32_t>(mean.pixel_count(), uint32_t(passes)),
+                           std::vector<uint32_t>(mean.pixel_count(), uint32_t(half_passes)), separate_variance);
 }
 
 }  // namespace caustica

@@ -25,7 +25,15 @@
 //  - The denominator uses M, not the unknown converged value: while M is
 //    noisy (a few spp) a firefly inflates M^2 and the estimate runs low, so
 //    tests judge it from 8 spp on.
+//
+// With adaptive sampling every pixel has its own count n and half count
+// n_B (Film::half_counts): the same estimate, pixel by pixel, each
+// weighted by its own n_B / n_A; a pixel without a half (n_B = 0 or n)
+// adds nothing.
 #pragma once
+
+#include <cstdint>
+#include <vector>
 
 #include "host/image/image.h"
 
@@ -40,5 +48,13 @@ namespace caustica {
 // variance / (M^2 + eps) per pixel and channel.
 double estimated_rel_mse(const ImageF& mean, const ImageF& half_mean, int passes, int half_passes,
                          const ImageF* separate_variance = nullptr);
+// The same with each pixel's own counts (`spp` and `half_counts`, one per
+// pixel).
+double estimated_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
+                         const std::vector<uint32_t>& half_counts, const ImageF* separate_variance = nullptr);
+// Each pixel's share of it before the mean over pixels: its three channels'
+// (M - B)^2 n_B / n_A / (M^2 + eps), summed (no separate variance).
+std::vector<double> pixel_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
+                                  const std::vector<uint32_t>& half_counts);
 
 }  // namespace caustica

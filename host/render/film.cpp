@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <numeric>
 #include <string>
 
 #include "host/cl/runtime.h"
 #include "host/error.h"
 #include "host/render/integrator.h"
 #include "host/render/kernel_args.h"
+#include "lib/wave_samples.h"
 
 namespace caustica {
 
@@ -35,6 +37,9 @@ Film::Film(Runtime& runtime, const cl::Program& program, const FilmOptions& opti
   accumulated_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, float_passes * values * sizeof(float));
   counters_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, FILM_COUNTERS * sizeof(cl_uint));
   accumulate_ = std::make_unique<StageKernel>(program, "accumulate_film_pass");
+  // Until the first uneven wave the stages read none of these.
+  pixel_spp_ = wave_spp_buffer_ = entry_pixel_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
+  entry_offset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint));
   clear();
 }
 
@@ -49,6 +54,81 @@ void Film::clear() {
   runtime_.fill(accumulated_, 0.0f, 0, (options_.half_buffer ? 2 : 1) * pixel_count() * 3 * sizeof(float));
   runtime_.fill(counters_, cl_uint(0), 0, FILM_COUNTERS * sizeof(cl_uint));
   passes_ = 0;
+  per_pixel_ = false;
+  spp_.assign(pixel_count(), 0u);
+  half_start_.assign(pixel_count(), 0u);
+  wave_spp_.clear();
+  planned_passes_ = 0;
+  wave_entries_ = 0;
+}
+
+void Film::plan_wave(int pass_count, std::vector<uint32_t> samples) {
+  if (pass_count < 1 || pass_count > kMostWavePasses)
+    throw Error("film: a wave of " + std::to_string(pass_count) + " passes (1 to " + std::to_string(kMostWavePasses) +
+                ")");
+  planned_passes_ = pass_count;
+  wave_spp_.clear();
+  if (samples.empty() && !per_pixel_) return;
+  const size_t pixels = pixel_count();
+  if (samples.empty()) samples.assign(pixels, uint32_t(pass_count));
+  if (samples.size() != pixels)
+    throw Error("film: a wave allocation of " + std::to_string(samples.size()) + " pixels for " +
+                std::to_string(pixels));
+  uint64_t total = 0;
+  for (uint32_t k : samples) {
+    if (k > uint32_t(kMostWavePasses))
+      throw Error("film: a pixel given " + std::to_string(k) + " samples in one wave (at most " +
+                  std::to_string(kMostWavePasses) + ")");
+    total += k;
+  }
+  if (total != uint64_t(pass_count) * pixels || total > 0xFFFFFFFFull)
+    throw Error("film: a wave allocation of " + std::to_string(total) + " samples, not " +
+                std::to_string(pass_count) + " passes of " + std::to_string(pixels) + " pixels");
+  auto& ctx = runtime_.context();
+  if (!per_pixel_) {
+    pixel_spp_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_uint));
+    wave_spp_buffer_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_uint));
+    entry_pixel_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_uint));
+    entry_offset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, (pixels + 1) * sizeof(cl_uint));
+    per_pixel_ = true;
+  }
+  std::vector<uint32_t> entry_pixel, entry_offset;
+  entry_pixel.reserve(pixels);
+  entry_offset.reserve(pixels + 1);
+  uint32_t offset = 0;
+  for (size_t p = 0; p < pixels; ++p) {
+    if (samples[p] == 0) continue;
+    entry_pixel.push_back(uint32_t(p));
+    entry_offset.push_back(offset);
+    offset += samples[p];
+  }
+  entry_offset.push_back(offset);
+  wave_entries_ = uint32_t(entry_pixel.size());
+  auto& q = runtime_.queue();
+  q.enqueueWriteBuffer(pixel_spp_, CL_TRUE, 0, pixels * sizeof(cl_uint), spp_.data());
+  q.enqueueWriteBuffer(wave_spp_buffer_, CL_TRUE, 0, pixels * sizeof(cl_uint), samples.data());
+  if (wave_entries_ > 0) {
+    q.enqueueWriteBuffer(entry_pixel_, CL_TRUE, 0, entry_pixel.size() * sizeof(cl_uint), entry_pixel.data());
+    q.enqueueWriteBuffer(entry_offset_, CL_TRUE, 0, entry_offset.size() * sizeof(cl_uint), entry_offset.data());
+  }
+  wave_spp_ = std::move(samples);
+}
+
+KernelArgs& Film::bind_wave_allocation(KernelArgs& args) const {
+  return args.arg("wave_entry_pixel", entry_pixel_).arg("wave_entry_offset", entry_offset_).arg("wave_pixel_spp",
+                                                                                                 pixel_spp_);
+}
+
+std::vector<uint32_t> Film::half_counts() const {
+  std::vector<uint32_t> h(spp_.size(), 0u);
+  for (size_t p = 0; p < h.size(); ++p) h[p] = half_start_[p] > 0 ? spp_[p] - half_start_[p] : 0u;
+  return h;
+}
+
+std::vector<uint32_t> Film::spp_after_wave() const {
+  std::vector<uint32_t> after = spp_;
+  for (size_t p = 0; p < after.size(); ++p) after[p] += wave_spp_.empty() ? uint32_t(planned_passes_) : wave_spp_[p];
+  return after;
 }
 
 void Film::clear_pass_range(size_t first_pixel, size_t count) {
@@ -66,13 +146,17 @@ int next_half_restart(int passes) {
 }  // namespace
 
 void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats, int pass_count) {
+  if (planned_passes_ == 0 && !per_pixel_) planned_passes_ = pass_count;  // an even wave needs no plan
+  if (planned_passes_ != pass_count)
+    throw Error("film: a wave of " + std::to_string(pass_count) + " passes accumulated, " +
+                std::to_string(planned_passes_) + " planned");
   if (pass_count < 1 || pass_count > kMostWavePasses)
     throw Error("film: a wave of " + std::to_string(pass_count) + " passes (1 to " + std::to_string(kMostWavePasses) +
                 ")");
-  // The half buffer restarts at each power of two: a wave may start there
-  // but not cross one.
+  // While every pixel is alike the half buffer restarts at each power of
+  // two: a wave may start there but not cross one.
   const int next_restart = next_half_restart(passes_);
-  if (passes_ + pass_count > next_restart)
+  if (!per_pixel_ && passes_ + pass_count > next_restart)
     throw Error("film: a wave of passes [" + std::to_string(passes_) + ", " + std::to_string(passes_ + pass_count) +
                 ") crosses the half buffer's restart at " + std::to_string(next_restart));
   FilmAccumulate a{};
@@ -81,9 +165,23 @@ void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats, int pass
   a.pass_index = cl_uint(passes_);
   a.inv_scale = 1.0f / params_.scale;
   a.pass_count = cl_uint(pass_count);
-  KernelArgs(*accumulate_).arg("film", pass_).arg("passes", accumulated_).arg("params", a).finish();
-  passes_ += pass_count;
+  a.per_pixel = per_pixel_ ? 1u : 0u;
+  KernelArgs(*accumulate_)
+      .arg("film", pass_)
+      .arg("passes", accumulated_)
+      .arg("params", a)
+      .arg("pixel_spp", pixel_spp_)
+      .arg("wave_spp", wave_spp_buffer_)
+      .finish();
   launcher.launch(*accumulate_, a.value_count, stats);
+  for (size_t p = 0; p < spp_.size(); ++p) {
+    const uint32_t n = spp_[p], k = per_pixel_ ? wave_spp_[p] : uint32_t(pass_count);
+    if (film_half_restarts(n, k)) half_start_[p] = n;
+    spp_[p] = n + k;
+  }
+  passes_ += pass_count;
+  planned_passes_ = 0;
+  wave_spp_.clear();
 }
 
 int Film::most_passes_from(int passes, int wanted) {
@@ -91,23 +189,30 @@ int Film::most_passes_from(int passes, int wanted) {
   return std::max(1, std::min({wanted, kMostWavePasses, next_restart - passes}));
 }
 
-ImageF Film::read_pass(size_t offset, int passes) const {
+ImageF Film::read_sums(size_t offset) const {
   ImageF image;
   image.width = options_.width;
   image.height = options_.height;
   image.rgb.resize(pixel_count() * 3);
   runtime_.queue().enqueueReadBuffer(accumulated_, CL_TRUE, offset * sizeof(float), image.rgb.size() * sizeof(float),
                                      image.rgb.data());
-  if (passes > 1) {
-    const float inv = 1.0f / float(passes);
-    for (float& v : image.rgb) v *= inv;
-  }
   return image;
 }
 
+// Sums to means, as value * (1 / count) (the same bits for every pixel
+// alike as for one count); a pixel with no samples stays 0.
+void Film::divide_by(ImageF& image, const std::vector<uint32_t>& counts) const {
+  for (size_t p = 0; p < counts.size(); ++p) {
+    if (counts[p] <= 1) continue;
+    const float inv = 1.0f / float(counts[p]);
+    for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] *= inv;
+  }
+}
+
 ImageF Film::mean() const {
-  ImageF image = read_pass(0, passes_);
-  if (separate_ && passes_ > 0) separate_->add_to(image, passes_);
+  ImageF image = read_sums(0);
+  divide_by(image, spp_);
+  if (separate_ && passes_ > 0) separate_->add_to(image, spp_);
   return image;
 }
 
@@ -121,14 +226,23 @@ int Film::half_passes() const {
 ImageF Film::half_mean() const {
   if (!options_.half_buffer) throw Error("film: no half buffer was asked for");
   if (passes_ < 2) throw Error("film: the half buffer needs at least two passes");
-  ImageF image = read_pass(half_offset_, half_passes());
-  if (separate_) separate_->add_to(image, passes_);
+  ImageF image = read_sums(half_offset_);
+  const std::vector<uint32_t> h = half_counts();
+  divide_by(image, h);
+  // A pixel with no half yet: its mean (no difference, no estimate).
+  const bool any_empty = std::find(h.begin(), h.end(), 0u) != h.end();
+  const ImageF sums = any_empty ? read_sums(0) : ImageF();
+  for (size_t p = 0; any_empty && p < h.size(); ++p)
+    if (h[p] == 0)
+      for (int c = 0; c < 3; ++c)
+        image.rgb[3 * p + c] = spp_[p] > 1 ? sums.rgb[3 * p + c] * (1.0f / float(spp_[p])) : sums.rgb[3 * p + c];
+  if (separate_) separate_->add_to(image, spp_);
   return image;
 }
 
 ImageF Film::separate_variance() const {
   ImageF variance(options_.width, options_.height);
-  if (separate_ && passes_ > 0) separate_->add_variance_to(variance, passes_);
+  if (separate_ && passes_ > 0) separate_->add_variance_to(variance, spp_);
   return variance;
 }
 

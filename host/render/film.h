@@ -7,7 +7,12 @@
 // floats, to the accumulated passes on the device (accumulate_film_pass.cl):
 // the combined sum, and, when asked for, the sum of the passes since the
 // latest power of two (the half an error estimate compares against; see
-// accumulate_film_pass.cl). Every step is
+// accumulate_film_pass.cl). Every pixel counts its own samples: a wave adds
+// the same count to every pixel unless it was planned with an allocation
+// (adaptive sampling, host/render/adaptive_sampling.h), which the film also
+// lists for the generate and shade stages (WAVE_ALLOCATION_PARAMS,
+// kernels/lib/camera_sample.h); the mean of every pixel's counts stays a
+// whole number of passes. Every step is
 // deterministic. Nothing is cleared unless asked: a chunk that is traced
 // again after a queue overflow clears only its range of the pass in
 // progress, never a finished pass. NaN/Inf, negative and clamped
@@ -18,6 +23,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "host/image/image.h"
 #include "kernels/shared/types.h"
@@ -50,10 +56,11 @@ struct FilmCounts {
 class SeparateEstimate {
  public:
   virtual ~SeparateEstimate() = default;
-  virtual void add_to(ImageF& image, int passes) const = 0;
+  // `spp`: each pixel's samples in the film's passes.
+  virtual void add_to(ImageF& image, const std::vector<uint32_t>& spp) const = 0;
   // Adds the estimate's own per-pixel expected squared error (variance and
   // squared bias, for the error estimate); nothing if it has none to add.
-  virtual void add_variance_to(ImageF& /*variance*/, int /*passes*/) const {}
+  virtual void add_variance_to(ImageF& /*variance*/, const std::vector<uint32_t>& /*spp*/) const {}
 };
 
 class Film {
@@ -65,17 +72,40 @@ class Film {
   int height() const { return options_.height; }
   size_t pixel_count() const { return size_t(options_.width) * size_t(options_.height); }
   const FilmParams& params() const { return params_; }
-  int passes() const { return passes_; }  // accumulated so far: the sample index of the next pass
+  // Accumulated so far, in mean samples per pixel: while every pixel has
+  // the same count (uniform()), the sample index of every pixel's next pass.
+  int passes() const { return passes_; }
   bool has_half_buffer() const { return options_.half_buffer; }
+  // Every pixel has passes() samples (no allocation was planned yet).
+  bool uniform() const { return !per_pixel_; }
+  // Each pixel's samples so far (row-major).
+  const std::vector<uint32_t>& pixel_spp() const { return spp_; }
+  // Each pixel's samples in its half (0 where it has none yet).
+  std::vector<uint32_t> half_counts() const;
+  // Each pixel's samples once the planned wave is accumulated.
+  std::vector<uint32_t> spp_after_wave() const;
 
   // FILM_PARAMS of kernels/lib/film.h: the pass in progress, for stages.
   KernelArgs& bind(KernelArgs& args) const;
 
+  // Before a wave of `pass_count` passes: `samples` (one count per pixel,
+  // each at most kMostWavePasses, summing to pass_count x pixels) spreads
+  // them unevenly; empty: pass_count for every pixel. From the first uneven
+  // wave on, the film lists every wave's pixels for the stages
+  // (bind_wave_allocation, wave_entries) and keeps per-pixel counts on the
+  // device.
+  void plan_wave(int pass_count, std::vector<uint32_t> samples = {});
+  // WAVE_ALLOCATION_PARAMS: the planned wave's pixels (those with samples,
+  // in pixel order), their first wave sample (an exclusive prefix sum, one
+  // more entry than pixels) and every pixel's samples before the wave.
+  KernelArgs& bind_wave_allocation(KernelArgs& args) const;
+  uint32_t wave_entries() const { return per_pixel_ ? wave_entries_ : 0u; }  // 0: every pixel alike
+
   void clear();  // everything: accumulated passes, the pass in progress, counters
   void clear_pass_range(size_t first_pixel, size_t pixel_count);  // of the pass in progress only
-  // Adds the pass in progress, which holds pass_count passes (a wave), to
-  // the accumulated passes and clears it. A wave may not cross the half
-  // buffer's restart at a power of two (most_passes_from).
+  // Adds the pass in progress, which holds pass_count passes (a wave, as
+  // planned), to the accumulated passes and clears it. An even wave may not
+  // cross the half buffer's restart at a power of two (most_passes_from).
   void accumulate_pass(StageLauncher& launcher, RenderStats* stats = nullptr, int pass_count = 1);
   // At most this many passes in one pass in progress: each pass's sum is at
   // most pass_bound, which the scale fits in 2^56, so 2^7 of them fit 2^63.
@@ -87,8 +117,9 @@ class Film {
   // Adds `estimate` to every image read from now on (nullptr: none).
   void set_separate_estimate(const SeparateEstimate* estimate) { separate_ = estimate; }
   ImageF mean() const;       // combined sum / passes
-  // The passes in the half buffer: [P, N) for N = passes() >= 2, P the
-  // largest power of two below N; their mean (needs half_buffer).
+  // The passes in the half buffer while uniform(): [P, N) for N = passes()
+  // >= 2, P the largest power of two below N. half_mean: each pixel's half's
+  // mean (needs half_buffer; a pixel with an empty half gets its mean).
   int half_passes() const;
   ImageF half_mean() const;
   // The separate estimate's per-pixel variance (zero without one).
@@ -96,12 +127,19 @@ class Film {
   FilmCounts counts() const;
 
  private:
-  ImageF read_pass(size_t offset, int passes) const;
+  ImageF read_sums(size_t offset) const;
+  void divide_by(ImageF& image, const std::vector<uint32_t>& counts) const;
 
   Runtime& runtime_;
   FilmOptions options_;
   FilmParams params_{};
   int passes_ = 0;
+  bool per_pixel_ = false;
+  std::vector<uint32_t> spp_, half_start_;  // per pixel: samples, and where the half starts
+  std::vector<uint32_t> wave_spp_;          // the planned wave's (empty: pass_count each)
+  int planned_passes_ = 0;                   // the planned wave's pass count (0: none planned)
+  uint32_t wave_entries_ = 0;
+  cl::Buffer pixel_spp_, wave_spp_buffer_, entry_pixel_, entry_offset_;
   cl::Buffer pass_, accumulated_, counters_;
   std::unique_ptr<StageKernel> accumulate_;
   size_t half_offset_ = FILM_PASS_ABSENT;

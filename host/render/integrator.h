@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "host/render/adaptive_sampling.h"
 #include "host/render/film.h"
 #include "host/render/photon_stats.h"
 #include "host/scene/scene.h"
@@ -43,6 +44,10 @@ struct RenderSettings {
   int passes = 1;            // samples per pixel (one pass each)
   double time_limit_s = 0.0;  // stop after the pass that reaches this wall time; 0: none
   bool half_buffer = false;  // film keeps the half buffer: passes [P, N), P the last power of two
+  // Path: adaptive sampling (host/render/adaptive_sampling.h; the film then
+  // keeps its half buffer whatever half_buffer says).
+  bool adaptive = false;
+  AdaptiveOptions adaptive_options;
   uint32_t seed = 0;         // path: the sample sequences' seed (same seed, same image)
   uint32_t path_strategy = PATH_STRATEGY_MIS;  // path: MIS, or one technique alone (tests)
   uint32_t sampler = SAMPLER_SOBOL_BURLEY;     // path: low-discrepancy or independent samples
@@ -137,6 +142,10 @@ class Integrator {
   // wave's.
   virtual void begin_pass(Film& /*film*/, RenderStats* /*stats*/) {}
   virtual void end_pass(Film& /*film*/, int /*passes*/, RenderStats* /*stats*/) {}
+  // Adaptive sampling (host/render/adaptive_sampling.h): may the next wave
+  // give pixels different sample counts? Only path mode's waves may, and
+  // not those that trace a photon map.
+  virtual bool wave_may_be_uneven(const Film& /*film*/) const { return false; }
   // What kind of pass comes next, for the driver's time prediction (passes
   // of one kind take about as long): path mode's passes that trace a photon
   // map are 1, the others 0.

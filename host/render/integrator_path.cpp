@@ -26,6 +26,7 @@
 #include <string>
 
 #include "host/cl/runtime.h"
+#include "host/error.h"
 #include "host/image/metrics.h"
 #include "host/render/device_scene.h"
 #include "host/render/error_estimate.h"
@@ -143,13 +144,15 @@ class PathIntegrator final : public Integrator {
     photon_pass_now_ = passes_since_photons_ == 0;
     if (photon_pass_now_) photons_->trace(stats);
   }
+  // A wave that traces a photon map records every pixel's visible point:
+  // one sample each.
+  bool wave_may_be_uneven(const Film& film) const override { return next_pass_kind(film) == 0; }
   int next_pass_kind(const Film& film) const override {
     if (!photons_ || (film.passes() > 0 && !photons_->on())) return 0;
     return film.passes() == 0 || passes_since_photons_ == 0 ? 1 : 0;
   }
   void end_pass(Film& film, int passes, RenderStats* stats) override {
     if (!photons_ || !photons_->on()) return;
-    photons_->count_camera_passes(uint32_t(passes));  // these passes left the caustic paths to the map
     passes_counted_ += uint32_t(passes);
     if (photon_pass_now_) {
       photons_->gather(stats);  // reads the counters of the passes since the last map
@@ -222,15 +225,20 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
   params.sampler = settings_.sampler;
   params.wave_pixels = cl_uint(pixel_count);
   params.wave_samples = cl_uint(samples);
+  // An uneven wave (adaptive sampling) covers the whole image: the film
+  // lists its pixels.
+  params.wave_entries = film.wave_entries();
+  if (params.wave_entries > 0 && (first_pixel != 0 || pixel_count != film.pixel_count()))
+    throw Error("path: an adaptive wave must cover the whole image");
   const CameraGPU camera = chunk_camera(first_pixel, pixel_count);
 
-  KernelArgs(generate_)
-      .arg("camera", camera)
+  KernelArgs generate(generate_);
+  generate.arg("camera", camera)
       .arg("params", params)
       .queue("out", rays_[0], loop_->traced_count(0))
       .arg("next_count", loop_->pushed_count(0))
-      .arg("wave_progress", loop_->extra(kWaveProgress))
-      .finish();
+      .arg("wave_progress", loop_->extra(kWaveProgress));
+  film.bind_wave_allocation(generate).finish();
   const size_t started = std::min(samples, slots_);
   launcher_.launch(generate_, started, stats);
   if (stats) stats->camera_rays += samples;
@@ -258,6 +266,7 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
         .queue("shadow", shadow_, loop_->traced_count(j))
         .arg("camera", camera)
         .arg("wave_progress", loop_->extra(kWaveProgress));
+    film.bind_wave_allocation(shade);
     if (photons_)
       photons_->bind_photon_map(photons_->bind_visible_points(shade).arg("record_visible_points",
                                                                           cl_uint(photon_pass_now_ ? 1 : 0)));
@@ -325,7 +334,7 @@ void PathIntegrator::decide_photon_pass(const Film& film) {
     const double room = (s * camera_work - (1.0 - s) * inline_work) / (1.0 - s);
     const double m = room > 0.0 ? std::ceil(map_work / room) : INFINITY;
     if (!(m <= kLongestInterval)) {
-      photons_->turn_off();
+      photons_->turn_off(film.spp_after_wave());
       std::snprintf(line, sizeof line,
                     "caustics auto: off after pass %d: a photon map costs %.3g ray-equivalents and the inline "
                     "gathers %.3g a pass, against %.3g for the camera paths: no map interval up to %d passes keeps "
@@ -350,10 +359,10 @@ void PathIntegrator::decide_photon_pass(const Film& film) {
     const ImageF image = film.mean();
     double total = 0.0;
     for (float v : image.rgb) total += v;
-    const double caustic = photons_->caustic_total(film.passes());
+    const double caustic = photons_->caustic_total(film.spp_after_wave());
     const double light_share = total > 0.0 ? caustic / total : 0.0;
     if (light_share < kLeastCausticShare) {
-      photons_->turn_off();
+      photons_->turn_off(film.spp_after_wave());
       std::snprintf(line, sizeof line,
                     "caustics auto: off after pass %d: the photon map carries %.2g of the image's light (below %.2g)",
                     done, light_share, kLeastCausticShare);
@@ -374,7 +383,7 @@ void PathIntegrator::decide_photon_pass(const Film& film) {
   // kLongestInterval.
   balanced_ = true;
   const ImageF mean = film.mean(), half = film.half_mean(), map_error = film.separate_variance();
-  const double passes_error = estimated_rel_mse(mean, half, film.passes(), film.half_passes());
+  const double passes_error = estimated_rel_mse(mean, half, film.pixel_spp(), film.half_counts());
   double map_sum = 0.0;
   for (size_t i = 0; i < mean.rgb.size(); ++i)
     map_sum += map_error.rgb[i] / (double(mean.rgb[i]) * mean.rgb[i] + kRelMseEpsilon);

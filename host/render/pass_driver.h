@@ -9,7 +9,10 @@
 // the pass count only, so a seed and spp give the same bits anywhere. A chunk whose queues
 // overflowed is cleared from the pass in progress, and only from it, then
 // traced again in halves, so a finished pass is never lost or counted twice.
-// After each wave the film accumulates it; progress is reported after every
+// With adaptive sampling a wave keeps its pass count (pixels x passes
+// samples) but spreads them by the film's error estimate, so the film's
+// passes() is the mean count and the milestones stay those of a uniform
+// render. After each wave the film accumulates it; progress is reported after every
 // chunk; the driver stops after the requested passes, at the time limit, or
 // when the pass-done callback says so (a target error), whichever first.
 //
@@ -24,6 +27,9 @@
 
 #include <functional>
 
+#include <optional>
+
+#include "host/render/adaptive_sampling.h"
 #include "host/render/film.h"
 #include "host/render/integrator.h"
 
@@ -56,6 +62,11 @@ class PassDriver {
  public:
   PassDriver(Integrator& integrator, Film& film, StageLauncher& launcher)
       : integrator_(integrator), film_(film), launcher_(launcher) {}
+  // Adaptive sampling (host/render/adaptive_sampling.h): once every pixel
+  // has options.min_spp samples, each wave the integrator lets be uneven
+  // (Integrator::wave_may_be_uneven) is spread by the film's error
+  // estimate; the film needs its half buffer.
+  void set_adaptive(const AdaptiveOptions& options) { adaptive_ = options; }
   // Adds passes to the film (it is not cleared here).
   void run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress = {},
            const PassDoneCallback& pass_done = {});
@@ -66,6 +77,7 @@ class PassDriver {
   Integrator& integrator_;
   Film& film_;
   StageLauncher& launcher_;
+  std::optional<AdaptiveOptions> adaptive_;
 };
 
 }  // namespace caustica

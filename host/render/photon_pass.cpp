@@ -153,7 +153,8 @@ PhotonPass::~PhotonPass() = default;
 void PhotonPass::clear() {
   cell_size_ = first_cell_size_;
   on_ = true;
-  maps_ = gathered_ = camera_passes_on_ = 0;
+  maps_ = gathered_ = 0;
+  spp_while_on_.clear();
   last_gathers_ = {};
   last_photon_rays_ = last_stored_ = 0;
   stats_ = {};
@@ -324,8 +325,10 @@ void PhotonPass::read_counters(RenderStats* stats) {
   stats_.gathers.add(g);
 }
 
-double PhotonPass::film_share(int passes) const {
-  return passes > 0 ? std::min(1.0, double(camera_passes_on_) / double(passes)) : 0.0;
+double PhotonPass::film_share(size_t p, const std::vector<uint32_t>& spp) const {
+  if (p >= spp.size() || spp[p] == 0) return 0.0;
+  if (on_ || spp_while_on_.empty()) return 1.0;
+  return std::min(1.0, double(spp_while_on_[p]) / double(spp[p]));
 }
 
 std::vector<SppmPixel> PhotonPass::read_pixels() const {
@@ -334,25 +337,28 @@ std::vector<SppmPixel> PhotonPass::read_pixels() const {
   return px;
 }
 
-double PhotonPass::caustic_total(int passes) const {
+double PhotonPass::caustic_total(const std::vector<uint32_t>& spp) const {
   if (gather_mode_ != PhotonGather::PerPixel || gathered_ == 0) return 0.0;
-  const double share = film_share(passes);
   double total = 0.0;
-  for (const SppmPixel& p : read_pixels())
-    if (p.radius2 > 0.0f) total += (double(p.tau.x) + p.tau.y + p.tau.z) / (double(gathered_) * M_PI * p.radius2);
-  return total * share;
+  const std::vector<SppmPixel> px = read_pixels();
+  for (size_t i = 0; i < px.size(); ++i)
+    if (px[i].radius2 > 0.0f)
+      total += film_share(i, spp) * (double(px[i].tau.x) + px[i].tau.y + px[i].tau.z) /
+               (double(gathered_) * M_PI * px[i].radius2);
+  return total;
 }
 
-void PhotonPass::add_variance_to(ImageF& variance, int passes) const {
+void PhotonPass::add_variance_to(ImageF& variance, const std::vector<uint32_t>& spp) const {
   if (gather_mode_ != PhotonGather::PerPixel || gathered_ < 2) return;
   const std::vector<SppmPixel> px = read_pixels();
-  const double n = gathered_, share = film_share(passes);
+  const double n = gathered_;
   const int width = variance.width, height = variance.height;
   if (size_t(width) * size_t(height) != pixel_count_) return;
   // The variance of each pixel's caustic radiance (its noise).
   std::vector<double> noise(3 * pixel_count_, 0.0), radiance(3 * pixel_count_, 0.0);
   for (size_t i = 0; i < pixel_count_; ++i) {
     if (!(px[i].radius2 > 0.0f)) continue;
+    const double share = film_share(i, spp);
     // A map's estimate L_k has variance c / r_k^2; c from the spread of the
     // maps' estimates (passes without a visible point add L = 0 and r = 0),
     // and the pixel's estimate, a mean over n maps at its current radius r,
@@ -394,13 +400,13 @@ void PhotonPass::add_variance_to(ImageF& variance, int passes) const {
   for (size_t i = 0; i < 3 * pixel_count_; ++i) variance.rgb[i] += float(noise[i]);
 }
 
-void PhotonPass::add_to(ImageF& image, int passes) const {
+void PhotonPass::add_to(ImageF& image, const std::vector<uint32_t>& spp) const {
   if (gather_mode_ != PhotonGather::PerPixel) return;  // phong's caustics are in the film's passes
   if (gathered_ == 0) return;
-  const double share = film_share(passes);
   const std::vector<SppmPixel> px = read_pixels();
   for (size_t i = 0; i < pixel_count_ && i < image.pixel_count(); ++i) {
-    const double scale = px[i].radius2 > 0.0f ? share / (double(gathered_) * M_PI * px[i].radius2) : 0.0;
+    const double scale =
+        px[i].radius2 > 0.0f ? film_share(i, spp) / (double(gathered_) * M_PI * px[i].radius2) : 0.0;
     const float tau[3] = {px[i].tau.x, px[i].tau.y, px[i].tau.z};
     for (int c = 0; c < 3; ++c) image.rgb[3 * i + c] += float(tau[c] * scale);
   }

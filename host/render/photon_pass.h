@@ -92,9 +92,6 @@ class PhotonPass final : public SeparateEstimate {
   void trace(RenderStats* stats);
   // After that pass's chunks: every pixel gathers the map (PerPixel).
   void gather(RenderStats* stats);
-  // Every camera pass while the photon pass is on (those passes leave the
-  // caustic paths to it).
-  void count_camera_passes(uint32_t passes) { camera_passes_on_ += passes; }
   uint32_t photon_passes() const { return maps_; }
   // SharedRadius: photon pass k's radius, r0^2 prod_{i=1..k} (i + alpha) /
   // (i + 1) squared (Knaus & Zwicker 2011), and the latest photon map with
@@ -109,8 +106,13 @@ class PhotonPass final : public SeparateEstimate {
   // does it after every map; the integrator once more at the end).
   void read_counters(RenderStats* stats);
   // `auto` (issue 19): the photon pass turned off for the rest of a render
-  // (what it gathered stays in the image).
-  void turn_off() { on_ = false; }
+  // (what it gathered stays in the image); `spp_while_on`: each pixel's
+  // samples so far, the current wave's included (those left the caustic
+  // paths to the map).
+  void turn_off(std::vector<uint32_t> spp_while_on) {
+    on_ = false;
+    spp_while_on_ = std::move(spp_while_on);
+  }
   bool on() const { return on_; }
   uint32_t photons_per_pass() const { return photons_per_pass_; }
   const PhotonGatherStats& last_pass_gathers() const { return last_gathers_; }
@@ -118,7 +120,7 @@ class PhotonPass final : public SeparateEstimate {
   uint64_t last_pass_stored() const { return last_stored_; }
   // The caustic radiance image's sum over pixels and channels (add_to's
   // terms), reading the pixels back.
-  double caustic_total(int passes) const;
+  double caustic_total(const std::vector<uint32_t>& spp) const;
   // Adds each pixel's expected squared error of the caustic radiance to
   // `variance`. Noise: a map's own estimate L_k = beta sum_k / (pi r_k^2)
   // has variance about c / r_k^2 (its photons go as r_k^2); c = (sum L_k^2
@@ -130,20 +132,21 @@ class PhotonPass final : public SeparateEstimate {
   // squared. On scenes/caustics.json this keeps the caustic region's
   // estimate within 0.8-1.6x of the true relMSE from 16 to 256 passes
   // (tests/test_caustics_error.cpp); without it, 0.1-0.2x.
-  void add_variance_to(ImageF& variance, int passes) const override;
+  void add_variance_to(ImageF& variance, const std::vector<uint32_t>& spp) const override;
   // What shade_surface_path writes: "visible_points".
   KernelArgs& bind_visible_points(KernelArgs& args) const { return args.arg("visible_points", visible_points_); }
   // Adds the caustic radiance to the film's image: tau / (maps pi r^2), the
-  // mean over the photon maps, times the share of the film's passes that
+  // mean over the photon maps, times the share of the pixel's samples that
   // left the caustic paths to it (all of them unless `auto` turned it off).
-  void add_to(ImageF& image, int passes) const override;
+  void add_to(ImageF& image, const std::vector<uint32_t>& spp) const override;
 
   const PhotonPassStats& stats() const { return stats_; }
   const PhotonGrid& grid() const { return grid_; }  // this pass's photon map
 
  private:
   PhotonPassParams params(uint32_t map_index) const;
-  double film_share(int passes) const;  // add_to's factor: passes that left the caustic to the map
+  // add_to's factor for pixel p: its samples that left the caustic to the map
+  double film_share(size_t p, const std::vector<uint32_t>& spp) const;
 
   std::vector<SppmPixel> read_pixels() const;
 
@@ -158,7 +161,8 @@ class PhotonPass final : public SeparateEstimate {
   float cell_size_;
   bool fixed_radius_;  // --caustic-radius: every pixel starts at it
   bool on_ = true;
-  uint32_t maps_ = 0, gathered_ = 0, camera_passes_on_ = 0;
+  uint32_t maps_ = 0, gathered_ = 0;
+  std::vector<uint32_t> spp_while_on_;  // after turn_off: each pixel's samples while on
   std::array<uint64_t, PHOTON_RADIUS_BINS> radii_{};  // the latest gather's radius histogram
   PhotonGatherStats last_gathers_;
   uint64_t last_photon_rays_ = 0, last_stored_ = 0;

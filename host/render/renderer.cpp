@@ -17,7 +17,7 @@ Renderer::Renderer(Runtime& runtime, const DeviceScene& scene, RenderMode mode, 
     FilmOptions film;
     film.width = settings.width;
     film.height = settings.height;
-    film.half_buffer = settings.half_buffer;
+    film.half_buffer = settings.half_buffer || settings.adaptive;
     film.pass_bound = integrator_->pass_bound();
     film_ = std::make_unique<Film>(runtime, program, film);
   } catch (const cl::Error& e) {
@@ -33,7 +33,9 @@ ImageF Renderer::render(RenderStats* stats, const ProgressCallback& progress, co
     StopConditions stop;
     stop.passes = settings_.passes;
     stop.seconds = settings_.time_limit_s;
-    PassDriver(*integrator_, *film_, launcher_).run(stop, stats, progress, pass_done);
+    PassDriver driver(*integrator_, *film_, launcher_);
+    if (settings_.adaptive) driver.set_adaptive(settings_.adaptive_options);
+    driver.run(stop, stats, progress, pass_done);
     ImageF image = film_->mean();
     launcher_.collect(stats);
     integrator_->collect(stats);

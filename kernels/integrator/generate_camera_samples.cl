@@ -9,7 +9,8 @@
 #include "lib/camera_sample.h"
 
 __kernel void generate_camera_samples(CameraGPU camera, PathParams params, PATH_QUEUE_PARAMS(out),
-                                      __global uint* restrict next_count, __global uint* restrict wave_progress) {
+                                      __global uint* restrict next_count, __global uint* restrict wave_progress,
+                                      WAVE_ALLOCATION_PARAMS) {
   const uint i = get_global_id(0);
   const uint started = min(params.wave_samples, params.ray_capacity);
   if (i == 0) {
@@ -18,5 +19,5 @@ __kernel void generate_camera_samples(CameraGPU camera, PathParams params, PATH_
     wave_progress[WAVE_SAMPLES_STARTED] = started;
   }
   if (i >= started) return;
-  path_store(PATH_QUEUE_ARGS(out), i, camera_sample_path(&camera, &params, i));
+  path_store(PATH_QUEUE_ARGS(out), i, camera_sample_path(&camera, &params, i, WAVE_ALLOCATION_ARGS));
 }

@@ -296,7 +296,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const Light* res
                                  PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits, FILM_PARAMS,
                                  PATH_QUEUE_PARAMS(next), volatile __global uint* restrict cleared_count,
                                  SHADOW_QUEUE_PARAMS(shadow), CameraGPU camera,
-                                 volatile __global uint* restrict wave_progress PATH_CAUSTIC_PARAMS
+                                 volatile __global uint* restrict wave_progress, WAVE_ALLOCATION_PARAMS PATH_CAUSTIC_PARAMS
                                      PATH_NUMERICS_PARAMS) {
   __local uint group_starts, group_first_sample, group_pushes, group_first_slot;
   const uint i = get_global_id(0);
@@ -319,7 +319,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const Light* res
     group_first_sample = atomic_add(&wave_progress[WAVE_SAMPLES_STARTED], group_starts);
   barrier(CLK_LOCAL_MEM_FENCE);
   if (starts && group_first_sample + start_rank < params.wave_samples) {
-    child = camera_sample_path(&camera, &params, group_first_sample + start_rank);
+    child = camera_sample_path(&camera, &params, group_first_sample + start_rank, WAVE_ALLOCATION_ARGS);
     goes_on = true;
   }
   const uint push_rank = goes_on ? atomic_inc(&group_pushes) : 0u;

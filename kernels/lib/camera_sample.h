@@ -4,9 +4,9 @@
  * the wave's next sample in the slot of a path that ended (path
  * regeneration), call this one function.
  *
- * Rules: wave sample s is pixel camera.pixel_offset + s % wave_pixels in
- * pass first_pass + s / wave_pixels, so a pixel's sample sequence index is
- * its pass whatever slot or order traces it. The pixel position is spread
+ * Rules: wave sample s is a pixel and an index into that pixel's sample
+ * sequence (lib/wave_samples.h: alike for every pixel, or from the film's
+ * list of an adaptive wave), whatever slot or order traces it. The pixel position is spread
  * over the pixel (box filter) and the origin over the thin lens' disk, both
  * from the pixel's Sobol-Burley sequence (dimension pairs 0 and 1), so the
  * samples of a pixel stratify its area and its lens. A ray through the lens
@@ -19,11 +19,13 @@
 #include "lib/queue.h"
 #include "lib/rng.h"
 #include "lib/sampling.h"
+#include "lib/wave_samples.h"
 #include "shared/camera.h"
 
-inline PathRecord camera_sample_path(const CameraGPU* camera, const PathParams* params, uint wave_sample) {
-  const uint pixel = camera->pixel_offset + wave_sample % params->wave_pixels;
-  const uint sample = params->first_pass + wave_sample / params->wave_pixels;
+inline PathRecord camera_sample_path(const CameraGPU* camera, const PathParams* params, uint wave_sample,
+                                     WAVE_ALLOCATION_PARAMS) {
+  uint pixel;
+  const uint sample = wave_sample_index(params, camera->pixel_offset, wave_sample, WAVE_ALLOCATION_ARGS, &pixel);
   const uint pixel_seed = hash3(pixel, 0u, params->seed);
   const float2 jitter = pixel_sample_2d(params->sampler, sample, 0u, pixel_seed);
   float plane[3];

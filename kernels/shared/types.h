@@ -242,11 +242,15 @@ typedef struct {
   cs_uint strategy;     /* PATH_STRATEGY_* */
   cs_uint rr_depth;     /* Russian roulette from this many scattering events on */
   cs_uint sampler;      /* SAMPLER_* */
-  /* The wave's samples: sample s is pixel camera.pixel_offset + s % wave_pixels
-   * in pass first_pass + s / wave_pixels (kernels/lib/camera_sample.h). */
+  /* The wave's samples (kernels/lib/camera_sample.h). With wave_entries 0
+   * every pixel has the same count: sample s is pixel camera.pixel_offset +
+   * s % wave_pixels in pass first_pass + s / wave_pixels. Otherwise the film
+   * lists the wave's pixels (WAVE_ALLOCATION_PARAMS: wave_entries of them,
+   * each with its own count; adaptive sampling). */
   cs_uint wave_pixels;
   cs_uint wave_samples;
-  cs_uint pad0, pad1;
+  cs_uint wave_entries;
+  cs_uint pad0;
 } PathParams; /* 64 bytes */
 
 /* The path tracer's wave counters (host/render/integrator_path.cpp), each in
@@ -305,7 +309,11 @@ typedef struct {
   cs_uint pass_index;  /* 0-based index of the first pass being added */
   float inv_scale;     /* 1 / FilmParams.scale */
   cs_uint pass_count;  /* passes the pass in progress holds (a wave's) */
-  cs_uint pad0, pad1, pad2;
+  /* 1: pixels have counts of their own (adaptive sampling): pixel p had
+   * pixel_spp[p] samples and the wave adds wave_spp[p] (pass_index and
+   * pass_count unused); 0: every pixel has pass_index and adds pass_count. */
+  cs_uint per_pixel;
+  cs_uint pad0, pad1;
 } FilmAccumulate; /* 32 bytes */
 
 #endif /* CAUSTICA_SHARED_TYPES_H */

@@ -1,0 +1,145 @@
+#include "host/render/adaptive_sampling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "host/error.h"
+#include "host/render/error_estimate.h"
+#include "host/render/film.h"
+
+namespace caustica {
+namespace {
+
+// Separable box mean (edge pixels average over the neighbours they have),
+// then separable maximum.
+std::vector<double> filter_and_dilate(const std::vector<double>& v, int width, int height, int box, int dilate) {
+  std::vector<double> row(v.size()), out(v.size());
+  auto pass = [&](const std::vector<double>& in, std::vector<double>& to, bool horizontal, int r, bool maximum) {
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        double acc = 0.0;  // (the values are >= 0)
+        int n = 0;
+        for (int d = -r; d <= r; ++d) {
+          const int xx = horizontal ? x + d : x, yy = horizontal ? y : y + d;
+          if (xx < 0 || yy < 0 || xx >= width || yy >= height) continue;
+          const double value = in[size_t(yy) * size_t(width) + size_t(xx)];
+          acc = maximum ? std::max(acc, value) : acc + value;
+          ++n;
+        }
+        to[size_t(y) * size_t(width) + size_t(x)] = maximum ? acc : acc / n;
+      }
+  };
+  pass(v, row, true, box, false);
+  pass(row, out, false, box, false);
+  pass(out, row, true, dilate, true);
+  pass(row, out, false, dilate, true);
+  return out;
+}
+
+// Real counts to whole ones adding up to `budget`: each rounded down, the
+// remainder to the largest fractions (ties: the lower pixel index).
+std::vector<uint32_t> round_to_budget(const std::vector<double>& k, uint64_t budget) {
+  std::vector<uint32_t> whole(k.size());
+  uint64_t sum = 0;
+  for (size_t p = 0; p < k.size(); ++p) {
+    whole[p] = uint32_t(std::floor(k[p]));
+    sum += whole[p];
+  }
+  if (sum >= budget) return whole;  // (never above it: see the caller)
+  std::vector<uint32_t> order(k.size());
+  std::iota(order.begin(), order.end(), 0u);
+  const size_t remainder = size_t(budget - sum);
+  std::partial_sort(order.begin(), order.begin() + std::min(remainder, order.size()), order.end(),
+                    [&](uint32_t a, uint32_t b) {
+                      const double fa = k[a] - std::floor(k[a]), fb = k[b] - std::floor(k[b]);
+                      return fa != fb ? fa > fb : a < b;
+                    });
+  for (size_t i = 0; i < remainder && i < order.size(); ++i) ++whole[order[i]];
+  return whole;
+}
+
+// The smallest x in [lo, hi] with total(x) >= target (total non-decreasing
+// and continuous), by bisection to the doubles' resolution.
+template <typename Total>
+double solve_increasing(Total total, double lo, double hi, double target) {
+  for (int i = 0; i < 200 && lo < hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (total(mid) >= target ? hi : lo) = mid;
+  }
+  return hi;
+}
+
+}  // namespace
+
+std::vector<uint32_t> allocate_wave_samples(const AdaptiveInputs& in, int pass_count, uint32_t most_per_pixel,
+                                            const AdaptiveOptions& options) {
+  const size_t pixels = size_t(in.width) * size_t(in.height);
+  if (in.width <= 0 || in.height <= 0 || in.pixel_error.size() != pixels || in.spp.size() != pixels)
+    throw Error("adaptive sampling: " + std::to_string(in.pixel_error.size()) + " errors and " +
+                std::to_string(in.spp.size()) + " counts for " + std::to_string(in.width) + "x" +
+                std::to_string(in.height) + " pixels");
+  if (pass_count < 1 || uint32_t(pass_count) > most_per_pixel)
+    throw Error("adaptive sampling: a wave of " + std::to_string(pass_count) + " passes (1 to " +
+                std::to_string(most_per_pixel) + ")");
+  const uint64_t budget = uint64_t(pass_count) * pixels;
+  const double cap = most_per_pixel;
+  // Per-sample relative variance, filtered and dilated; its square root is
+  // Neyman's weight. A small share of the largest keeps every weight
+  // positive, so that samples the noisy pixels cannot take (their cap) go
+  // to the others rather than nowhere.
+  std::vector<double> v(pixels);
+  uint64_t total = 0;
+  for (size_t p = 0; p < pixels; ++p) {
+    const double e = std::isfinite(in.pixel_error[p]) ? std::max(0.0, in.pixel_error[p]) : 0.0;
+    v[p] = e * double(in.spp[p]);
+    total += in.spp[p];
+  }
+  std::vector<double> weight = filter_and_dilate(v, in.width, in.height, options.filter_radius, options.dilate_radius);
+  double largest = 0.0;
+  for (double& w : weight) largest = std::max(largest, w = std::sqrt(w));
+  const double least = largest > 0.0 ? 1e-9 * largest : 1.0;
+  for (double& w : weight) w += least;
+  // The floor: every pixel's total after the wave.
+  const double mean_after = double(total + budget) / double(pixels);
+  const double floor_total = std::max(double(options.min_spp), std::ceil(options.uniform_share * mean_after));
+  std::vector<double> k(pixels);
+  auto place = [&](double lambda, double floor_at) {
+    double sum = 0.0;
+    for (size_t p = 0; p < pixels; ++p) {
+      const double target = std::max(floor_at, lambda * weight[p]);
+      k[p] = std::clamp(target - double(in.spp[p]), 0.0, cap);
+      sum += k[p];
+    }
+    return sum;
+  };
+  const double wanted = double(budget);
+  if (place(0.0, floor_total) >= wanted) {
+    // The floor alone takes the wave: lower it (pixels behind come first).
+    place(0.0, solve_increasing([&](double f) { return place(0.0, f); }, 0.0, floor_total, wanted));
+  } else {
+    double hi = 1.0;
+    while (place(hi, floor_total) < wanted && hi < 1e300) hi *= 2.0;
+    place(solve_increasing([&](double lambda) { return place(lambda, floor_total); }, 0.0, hi, wanted), floor_total);
+  }
+  std::vector<uint32_t> out = round_to_budget(k, budget);
+  // Rounding down never leaves more than `budget`; a sum short of it (the
+  // bisection's last ulp) was topped up by the largest fractions.
+  uint64_t sum = 0;
+  for (uint32_t c : out) sum += c;
+  if (sum != budget) throw Error("adaptive sampling: placed " + std::to_string(sum) + " of " + std::to_string(budget) + " samples");
+  return out;
+}
+
+std::vector<uint32_t> allocate_wave_samples(const Film& film, int pass_count, const AdaptiveOptions& options) {
+  AdaptiveInputs in;
+  in.width = film.width();
+  in.height = film.height();
+  in.spp = film.pixel_spp();
+  in.pixel_error = pixel_rel_mse(film.mean(), film.half_mean(), in.spp, film.half_counts());
+  return allocate_wave_samples(in, pass_count, uint32_t(Film::kMostWavePasses), options);
+}
+
+}  // namespace caustica

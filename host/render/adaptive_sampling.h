@@ -1,0 +1,70 @@
+// Adaptive sampling (issue 22): the next wave's samples go where the film's
+// own error estimate says they lower the image's relMSE most.
+//
+// Rules. The estimate is the half buffer's (host/render/error_estimate.h):
+// per pixel, e = sum over channels of (M - B)^2 n_B / n_A / (M^2 + eps),
+// the pixel's expected relMSE at its n samples. Its per-sample relative
+// variance v = e n is what the allocation weighs. Minimising sum v / n
+// subject to a fixed total is Neyman's allocation, n proportional to
+// sqrt(v) (the Lagrange condition v / n^2 equal everywhere); a wave
+// water-fills towards it: every pixel's total after the wave is
+// max(floor, lambda sqrt(v)), lambda chosen so that the wave's samples add
+// up exactly. Cycles' noise-threshold sampling (Dammertz et al. 2009's
+// criterion on the same half-buffer difference) switches pixels off at a
+// threshold instead; here there is no threshold to choose: the wave's size
+// is the pass driver's, only its spread is adaptive.
+//
+// Guards against a pixel that looks converged because it has not found a
+// rare path yet (a caustic seen through a few samples):
+//  - no adaptive wave before min_spp samples a pixel (a power of two: the
+//    Sobol-Burley prefix is a stratified net and the half a fair one);
+//  - v is filtered over (2 filter_radius + 1)^2 pixels (one pixel's
+//    estimate is a chi-square of 3 channels: far too noisy to allocate by)
+//    and then dilated (a 3x3 maximum, dilate_radius 1), so the rim of a
+//    noisy region is sampled like its inside;
+//  - a floor: after the wave every pixel has at least uniform_share times
+//    the image's mean count (and min_spp), so that share of the samples
+//    stays uniform and no pixel is ever left behind for good.
+// Everything is a function of the film's bits and the counts, so the same
+// seed gives the same allocation, and so the same image, on any machine.
+//
+// Bias: a pixel's count depends on its own samples (and its neighbours'),
+// and a mean over a data-dependent count is not exactly unbiased (Kirk &
+// Arvo 1991). The floor, the filter and the minimum keep that dependence
+// weak; tests/test_adaptive_sampling.cpp measures the mean over seeds
+// against a reference within its standard error.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "host/image/image.h"
+
+namespace caustica {
+
+class Film;
+
+struct AdaptiveOptions {
+  uint32_t min_spp = 16;        // uniform until every pixel has these (a power of two >= 2)
+  double uniform_share = 0.25;  // the floor's share of the mean count
+  int filter_radius = 2;        // the per-sample variance's box filter: (2r + 1)^2 pixels
+  int dilate_radius = 1;        // then its maximum over (2r + 1)^2 pixels
+};
+
+// The film's inputs to an allocation, each row-major per pixel.
+struct AdaptiveInputs {
+  int width = 0, height = 0;
+  std::vector<double> pixel_error;  // e: the pixel's estimated relMSE (pixel_rel_mse)
+  std::vector<uint32_t> spp;        // n: its samples so far
+};
+
+// Samples per pixel for a wave of `pass_count` passes: the counts add up to
+// pass_count x pixels, each at most `most_per_pixel`. Throws caustica::Error
+// on inconsistent sizes.
+std::vector<uint32_t> allocate_wave_samples(const AdaptiveInputs& in, int pass_count, uint32_t most_per_pixel,
+                                            const AdaptiveOptions& options);
+
+// The same from a film with a half buffer (reads its mean and half).
+std::vector<uint32_t> allocate_wave_samples(const Film& film, int pass_count, const AdaptiveOptions& options);
+
+}  // namespace caustica
