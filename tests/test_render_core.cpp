@@ -191,6 +191,64 @@ TEST(Film, WavesOfPassesAccumulateLikeTheirPasses) {
   EXPECT_THROW(crossing.film.accumulate_pass(crossing.launcher, nullptr, 0), Error);
 }
 
+// Uneven waves (adaptive sampling): each pixel counts its own samples. A
+// pixel's half restarts at n, the wave's first sample, whenever the wave's
+// samples [n, n + k) hold a power of two (at it, for waves that start
+// there). Sample i of pixel p adds i + 1 + 100 p, so means and halves are
+// known exactly; plans that do not add up, exceed the cap or disagree with
+// the accumulated wave are refused.
+TEST(Film, UnevenWavesKeepEveryPixelsOwnCountAndHalf) {
+  FilmRig rig(film_options(3, 1, 4096.0f, true));
+  const std::vector<std::vector<uint32_t>> waves = {{1, 1, 1}, {1, 1, 1}, {2, 2, 2}, {1, 5, 0},
+                                                    {3, 0, 3}, {0, 6, 0}, {2, 2, 2}, {9, 0, 0}};
+  std::vector<uint32_t> n(3, 0), half_start(3, 0);
+  for (const auto& k : waves) {
+    const int passes = int((k[0] + k[1] + k[2]) / 3);
+    if (k[0] == k[1] && k[1] == k[2])
+      rig.film.plan_wave(passes);
+    else
+      rig.film.plan_wave(passes, k);
+    std::vector<cs_float4> values;
+    std::vector<uint32_t> pixels;
+    for (uint32_t p = 0; p < 3; ++p) {
+      float wave_sum = 0.0f;
+      bool restarts = false;
+      for (uint32_t i = n[p]; i < n[p] + k[p]; ++i) {
+        wave_sum += float(i + 1 + 100 * p);
+        restarts = restarts || (n[p] > 0 && (i & (i - 1)) == 0);  // sample i is a power of two
+      }
+      if (restarts) half_start[p] = n[p];
+      n[p] += k[p];
+      if (k[p] > 0) {
+        values.push_back({{wave_sum, 0.0f, 0.0f, 0.0f}});
+        pixels.push_back(p);
+      }
+    }
+    rig.add_pass(values, pixels);
+    rig.film.accumulate_pass(rig.launcher, nullptr, passes);
+    ASSERT_EQ(rig.film.pixel_spp(), n);
+    const ImageF mean = rig.film.mean();
+    const std::vector<uint32_t> h = rig.film.half_counts();
+    for (uint32_t p = 0; p < 3; ++p) {
+      EXPECT_FLOAT_EQ(mean.rgb[3 * p], float(n[p] + 1) / 2.0f + 100.0f * p) << "pixel " << p;
+      EXPECT_EQ(h[p], half_start[p] > 0 ? n[p] - half_start[p] : 0u) << "pixel " << p;
+      if (n[p] >= 2 && h[p] > 0)  // mean of samples [half_start, n): their indices + 1 average (start + n + 1) / 2
+        EXPECT_FLOAT_EQ(rig.film.half_mean().rgb[3 * p], float(half_start[p] + n[p] + 1) / 2.0f + 100.0f * p)
+            << "pixel " << p;
+    }
+  }
+  EXPECT_EQ(rig.film.passes(), 21);
+  EXPECT_FALSE(rig.film.uniform());
+  EXPECT_TRUE(test::Contains(test::error_of([&] { rig.film.plan_wave(2, {1, 1, 1}); }),
+                             {"a wave allocation of 3 samples, not 2 passes of 3 pixels"}));
+  EXPECT_TRUE(test::Contains(test::error_of([&] { rig.film.plan_wave(1, {1, 1}); }), {"2 pixels for 3"}));
+  EXPECT_TRUE(test::Contains(test::error_of([&] { rig.film.plan_wave(60, {180, 0, 0}); }),
+                             {"a pixel given 180 samples in one wave"}));
+  rig.film.plan_wave(2, {3, 3, 0});
+  EXPECT_TRUE(test::Contains(test::error_of([&] { rig.film.accumulate_pass(rig.launcher, nullptr, 1); }),
+                             {"a wave of 1 passes accumulated, 2 planned"}));
+}
+
 TEST(Film, NonFiniteAndNegativeAreCountedAndDroppedHugeValuesClamped) {
   FilmRig rig(film_options(4, 1));
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();

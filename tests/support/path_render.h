@@ -9,7 +9,10 @@
 #include <fstream>
 #include <string>
 
+#include <vector>
+
 #include "host/app/session.h"
+#include "host/render/error_estimate.h"
 #include "host/render/renderer.h"
 #include "tests/support/test_support.h"
 
@@ -24,6 +27,8 @@ inline std::string write_scene(const std::string& name, const std::string& text)
 struct PathRender {
   ImageF image, half;  // half: the mean of the film's half buffer
   RenderStats stats;
+  std::vector<uint32_t> spp, half_counts;  // per pixel (Film::pixel_spp, half_counts)
+  double estimated_rel_mse = 0.0;           // the film's own estimate (spp >= 2)
 };
 
 struct PathRenderOptions {
@@ -31,6 +36,8 @@ struct PathRenderOptions {
   uint32_t strategy = PATH_STRATEGY_MIS;
   size_t local_size = 64;
   size_t path_slots = 0;  // 0: the integrator's own (RenderSettings::chunk_pixels bounds it)
+  bool adaptive = false;  // adaptive sampling (host/render/adaptive_sampling.h); uniform by default here
+  uint32_t seed = 0;
 };
 
 inline PathRender render_path(const std::string& scene, int spp, const PathRenderOptions& options = {}) {
@@ -49,11 +56,19 @@ inline PathRender render_path(const std::string& scene, int spp, const PathRende
   settings.path_strategy = options.strategy;
   if (options.path_slots) settings.chunk_pixels = options.path_slots;
   settings.half_buffer = spp >= 2;
+  settings.adaptive = options.adaptive;
+  settings.seed = options.seed;
   Renderer r(*s->runtime, *s->device_scene, s->mode, s->program.program, settings);
   PathRender out;
   out.image = r.render(&out.stats);
   expect_finite_render(out.image, out.stats.film, scene);
-  if (spp >= 2) out.half = r.film().half_mean();
+  out.spp = r.film().pixel_spp();
+  out.half_counts = r.film().half_counts();
+  if (spp >= 2) {
+    out.half = r.film().half_mean();
+    const ImageF separate = r.film().separate_variance();
+    out.estimated_rel_mse = caustica::estimated_rel_mse(out.image, out.half, out.spp, out.half_counts, &separate);
+  }
   return out;
 }
 
