@@ -27,12 +27,6 @@ const char* metric_label(ErrorMetric m) {
   return "?";
 }
 
-// Anchors of matplotlib's viridis (perceptually uniform, readable in grey and
-// by the common colour-vision deficiencies); gnuplot interpolates between them.
-constexpr const char* kViridis =
-    "set palette defined (0 '#440154', 1 '#472c7a', 2 '#3b518b', 3 '#2c718e', 4 '#21908d', "
-    "5 '#27ad81', 6 '#5cc863', 7 '#aadc32', 8 '#fde725')\n";
-
 struct LogRange {
   double lo, hi;
 };
@@ -87,46 +81,18 @@ void write_error_heatmap(const ImageF& image, const ImageF& reference, ErrorMetr
   if (errors.empty()) throw Error("cannot draw '" + out_path + "': the images are empty");
   const LogRange range = heatmap_range(errors);
 
-  TempDir dir;
-  const std::string data_path = dir.path() + "/error.f32";
-  {
-    // Clamped into the colour range: a log axis cannot place 0, and infinite
-    // error should read as "worst", not vanish.
-    std::vector<float> clamped(errors.size());
-    for (size_t i = 0; i < errors.size(); ++i)
-      clamped[i] = static_cast<float>(std::clamp(errors[i], range.lo, range.hi));
-    std::ofstream out(data_path, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(clamped.data()), static_cast<std::streamsize>(clamped.size() * 4));
-    if (!out.flush()) throw Error("cannot draw '" + out_path + "': cannot write '" + data_path + "'");
-  }
-
-  // Whole pixels: small images are enlarged by an integer factor to about 400
-  // pixels on their long side, so single pixels stay visible and square.
-  const int w = image.width, h = image.height;
-  const int scale = std::max(1, static_cast<int>(std::ceil(400.0 / std::max(w, h))));
-  const int left = 16, right = 130, bottom = 16, top = title.empty() ? 16 : 40;
-  const int draw_w = w * scale, draw_h = h * scale;
-  const int canvas_w = left + draw_w + right, canvas_h = bottom + draw_h + top;
-  auto x_at = [&](int px) { return std::to_string(double(px) / canvas_w); };
-  auto y_at = [&](int px) { return std::to_string(double(px) / canvas_h); };
-  char cbrange[96];
-  std::snprintf(cbrange, sizeof cbrange, "set cbrange [%.9g:%.9g]\n", range.lo, range.hi);
-
-  std::ostringstream gp;
-  gp << gnuplot_output(out_path, canvas_w, canvas_h);
-  gp << "set lmargin at screen " << x_at(left) << "\nset rmargin at screen " << x_at(left + draw_w)
-     << "\nset bmargin at screen " << y_at(bottom) << "\nset tmargin at screen " << y_at(bottom + draw_h) << "\n";
-  gp << "unset xtics\nunset ytics\nunset key\n";
-  gp << "set xrange [-0.5:" << w - 0.5 << "]\nset yrange [-0.5:" << h - 0.5 << "]\n";
-  gp << "set logscale cb\n" << cbrange << "set format cb '10^{%T}'\n" << kViridis;
-  gp << "set cblabel " << gnuplot_quote(std::string(metric_label(metric)) + " per pixel") << " noenhanced\n";
-  gp << "set colorbox vertical user origin screen " << x_at(left + draw_w + 16) << ", screen " << y_at(bottom)
-     << " size screen " << x_at(18) << ", screen " << y_at(draw_h) << "\n";
-  if (!title.empty()) gp << "set title " << gnuplot_quote(title) << " noenhanced\n";
-  // The file holds rows top first; flipy puts its first row at the top.
-  gp << "plot " << gnuplot_quote(data_path) << " binary array=(" << w << "," << h
-     << ") format='%float32' flipy with image notitle\n";
-  run_gnuplot(gp.str(), out_path);
+  // Clamped into the colour range: a log axis cannot place 0, and infinite
+  // error should read as "worst", not vanish.
+  std::vector<float> clamped(errors.size());
+  for (size_t i = 0; i < errors.size(); ++i)
+    clamped[i] = static_cast<float>(std::clamp(errors[i], range.lo, range.hi));
+  ColourBar bar;
+  bar.lo = range.lo;
+  bar.hi = range.hi;
+  bar.log_scale = true;
+  bar.tic_format = "10^{%T}";
+  bar.label = std::string(metric_label(metric)) + " per pixel";
+  draw_heatmap(clamped, image.width, image.height, bar, title, out_path);
 }
 
 int run_diff(const DiffArgs& args) {

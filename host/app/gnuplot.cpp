@@ -8,11 +8,14 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <vector>
 
 #include "host/error.h"
@@ -33,6 +36,12 @@ std::string lower_extension(const std::string& path) {
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
 }
+
+// Anchors of matplotlib's viridis (perceptually uniform, readable in grey and
+// by the common colour-vision deficiencies); gnuplot interpolates between them.
+constexpr const char* kViridis =
+    "set palette defined (0 '#440154', 1 '#472c7a', 2 '#3b518b', 3 '#2c718e', 4 '#21908d', "
+    "5 '#27ad81', 6 '#5cc863', 7 '#aadc32', 8 '#fde725')\n";
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -93,6 +102,50 @@ std::string gnuplot_output(const std::string& out_path, int width, int height) {
   else if (ext == ".svg") terminal = "set terminal svg enhanced font 'sans,10' background '#ffffff'" + size;
   else throw Error("cannot draw '" + out_path + "': unknown extension '" + ext + "' (supported: .png, .svg)");
   return terminal + "\nset output " + gnuplot_quote(out_path) + "\n";
+}
+
+void draw_heatmap(const std::vector<float>& values, int width, int height, const ColourBar& bar,
+                  const std::string& title, const std::string& out_path) {
+  TempDir dir;
+  const std::string data_path = dir.path() + "/values.f32";
+  {
+    std::ofstream out(data_path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(values.data()), static_cast<std::streamsize>(values.size() * 4));
+    if (!out.flush()) throw Error("cannot draw '" + out_path + "': cannot write '" + data_path + "'");
+  }
+
+  const int w = width, h = height;
+  const int scale = std::max(1, static_cast<int>(std::ceil(400.0 / std::max(w, h))));
+  const int left = 16, right = 130, bottom = 16, top = title.empty() ? 16 : 40;
+  const int draw_w = w * scale, draw_h = h * scale;
+  const int canvas_w = left + draw_w + right, canvas_h = bottom + draw_h + top;
+  auto x_at = [&](int px) { return std::to_string(double(px) / canvas_w); };
+  auto y_at = [&](int px) { return std::to_string(double(px) / canvas_h); };
+  char cb[160];
+
+  std::ostringstream gp;
+  gp << gnuplot_output(out_path, canvas_w, canvas_h);
+  gp << "set lmargin at screen " << x_at(left) << "\nset rmargin at screen " << x_at(left + draw_w)
+     << "\nset bmargin at screen " << y_at(bottom) << "\nset tmargin at screen " << y_at(bottom + draw_h) << "\n";
+  gp << "unset xtics\nunset ytics\nunset key\n";
+  gp << "set xrange [-0.5:" << w - 0.5 << "]\nset yrange [-0.5:" << h - 0.5 << "]\n";
+  if (bar.log_scale) gp << "set logscale cb\n";
+  std::snprintf(cb, sizeof cb, "set cbrange [%.9g:%.9g]\n", bar.lo, bar.hi);
+  gp << cb;
+  if (!bar.tic_format.empty()) gp << "set format cb " << gnuplot_quote(bar.tic_format) << "\n";
+  if (bar.tic_step > 0.0) {
+    std::snprintf(cb, sizeof cb, "set cbtics %.9g\n", bar.tic_step);
+    gp << cb;
+  }
+  gp << kViridis;
+  gp << "set cblabel " << gnuplot_quote(bar.label) << " noenhanced offset " << bar.label_offset << ",0\n";
+  gp << "set colorbox vertical user origin screen " << x_at(left + draw_w + 16) << ", screen " << y_at(bottom)
+     << " size screen " << x_at(18) << ", screen " << y_at(draw_h) << "\n";
+  if (!title.empty()) gp << "set title " << gnuplot_quote(title) << " noenhanced\n";
+  // The file holds rows top first; flipy puts its first row at the top.
+  gp << "plot " << gnuplot_quote(data_path) << " binary array=(" << w << "," << h
+     << ") format='%float32' flipy with image notitle\n";
+  run_gnuplot(gp.str(), out_path);
 }
 
 void run_gnuplot(const std::string& script, const std::string& out_path) {

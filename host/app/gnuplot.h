@@ -9,6 +9,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace caustica {
 
@@ -37,6 +38,27 @@ std::string gnuplot_quote(const std::string& text);
 // .png (pngcairo) or .svg; width and height in pixels. Throws naming the path
 // for any other extension.
 std::string gnuplot_output(const std::string& out_path, int width, int height);
+
+// The colour bar of draw_heatmap: viridis from lo to hi (lo < hi); values
+// outside take the end colours.
+struct ColourBar {
+  double lo = 0.0, hi = 1.0;
+  bool log_scale = false;
+  std::string tic_format;  // `set format cb` (enhanced text); empty: gnuplot's
+  double tic_step = 0.0;   // between ticks; 0: gnuplot's choice
+  std::string label;       // drawn verbatim
+  // Characters right of gnuplot's place for the label, which overlaps ticks
+  // of plain numbers (it leaves room for '10^{%T}' ticks).
+  double label_offset = 0.0;
+};
+
+// `values` (width x height, row-major, top row first) as a false-colour image
+// with `bar` on its right, top row at the top. Whole pixels: small images are
+// enlarged by an integer factor to about 400 pixels on their long side, so
+// single pixels stay visible and square. `title` is drawn above verbatim.
+// The values go to gnuplot through a temporary file.
+void draw_heatmap(const std::vector<float>& values, int width, int height, const ColourBar& bar,
+                  const std::string& title, const std::string& out_path);
 
 // Runs gnuplot on `script`, which writes out_path (see gnuplot_output); files
 // the script reads must already exist. A failed run leaves no out_path behind.

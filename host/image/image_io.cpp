@@ -4,6 +4,7 @@
 #include <stb/stb_image_write.h>
 #include <tinyexr.h>  // Debian's libtinyexr.so carries the implementation
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -132,40 +133,40 @@ void write_pfm(const std::string& path, const ImageF& hdr, float scale) {
   write_all(path, std::move(f), out);
 }
 
+// One float plane of an EXR file: pixel_count values, top row first.
+struct ExrPlane {
+  std::string name;
+  std::vector<float> values;
+};
+
 // Our own SaveEXR: the library's returns early on a write error without
 // freeing its header arrays, so every failed write would leak. Here the
-// header and planes live in vectors.
-void write_exr(const std::string& path, const ImageF& hdr, float scale) {
-  const size_t n = hdr.pixel_count();
-  // Planar channels in B, G, R order, the order EXR viewers expect.
-  std::vector<float> planes[3];
-  for (int c = 0; c < 3; ++c) {
-    planes[c].resize(n);
-    const int src = 2 - c;
-    for (size_t i = 0; i < n; ++i) planes[c][i] = hdr.rgb[3 * i + src] * scale;
-  }
-  unsigned char* plane_ptrs[3];
-  for (int c = 0; c < 3; ++c) plane_ptrs[c] = reinterpret_cast<unsigned char*>(planes[c].data());
+// header and planes live in vectors. Every channel is stored as 32-bit float.
+void write_exr_planes(const std::string& path, int width, int height, std::vector<ExrPlane> planes) {
+  // OpenEXR wants the channel list sorted by name (B, G, R, then lower case).
+  std::sort(planes.begin(), planes.end(), [](const ExrPlane& a, const ExrPlane& b) { return a.name < b.name; });
+  const int count = static_cast<int>(planes.size());
+  std::vector<unsigned char*> plane_ptrs(planes.size());
+  for (int c = 0; c < count; ++c) plane_ptrs[c] = reinterpret_cast<unsigned char*>(planes[c].values.data());
 
   EXRImage image;
   InitEXRImage(&image);
-  image.num_channels = 3;
-  image.images = plane_ptrs;
-  image.width = hdr.width;
-  image.height = hdr.height;
+  image.num_channels = count;
+  image.images = plane_ptrs.data();
+  image.width = width;
+  image.height = height;
 
-  std::vector<EXRChannelInfo> channels(3);
-  const char* names[3] = {"B", "G", "R"};
-  for (int c = 0; c < 3; ++c) {
+  std::vector<EXRChannelInfo> channels(planes.size());
+  for (int c = 0; c < count; ++c) {
     std::memset(&channels[c], 0, sizeof(EXRChannelInfo));
-    std::strncpy(channels[c].name, names[c], sizeof(channels[c].name) - 1);
+    std::strncpy(channels[c].name, planes[c].name.c_str(), sizeof(channels[c].name) - 1);
     channels[c].x_sampling = channels[c].y_sampling = 1;
   }
   // Full float in and out: references keep their precision.
-  std::vector<int> pixel_types(3, TINYEXR_PIXELTYPE_FLOAT), requested(3, TINYEXR_PIXELTYPE_FLOAT);
+  std::vector<int> pixel_types(planes.size(), TINYEXR_PIXELTYPE_FLOAT), requested(planes.size(), TINYEXR_PIXELTYPE_FLOAT);
   EXRHeader header;
   InitEXRHeader(&header);
-  header.num_channels = 3;
+  header.num_channels = count;
   header.channels = channels.data();
   header.pixel_types = pixel_types.data();
   header.requested_pixel_types = requested.data();
@@ -184,6 +185,21 @@ void write_exr(const std::string& path, const ImageF& hdr, float scale) {
   }
   auto f = open_for_write(path);
   write_all(path, std::move(f), std::string(reinterpret_cast<const char*>(memory), size));
+}
+
+// The R, G and B planes of hdr * scale.
+std::vector<ExrPlane> rgb_planes(const ImageF& hdr, float scale) {
+  const size_t n = hdr.pixel_count();
+  std::vector<ExrPlane> planes{{"R", {}}, {"G", {}}, {"B", {}}};
+  for (int c = 0; c < 3; ++c) {
+    planes[c].values.resize(n);
+    for (size_t i = 0; i < n; ++i) planes[c].values[i] = hdr.rgb[3 * i + c] * scale;
+  }
+  return planes;
+}
+
+void write_exr(const std::string& path, const ImageF& hdr, float scale) {
+  write_exr_planes(path, hdr.width, hdr.height, rgb_planes(hdr, scale));
 }
 
 // ASCII PPM: '#' comments may appear between any two tokens.
@@ -351,6 +367,64 @@ ImageF read_exr(const std::string& path) {
   for (size_t i = 0; i < img.pixel_count(); ++i)
     for (int c = 0; c < 3; ++c) img.rgb[3 * i + c] = rgba[4 * i + c];
   return img;
+}
+
+void write_exr_with_spp(const std::string& path, const ImageF& hdr, float exposure_scale,
+                        const std::vector<uint32_t>& spp) {
+  if (lower_extension(path) != ".exr") fail_write(path, "an image with an spp layer must be .exr");
+  check_consistent(path, hdr);
+  DisplaySettings display;
+  display.exposure_scale = exposure_scale;
+  validate(display);
+  if (spp.size() != hdr.pixel_count())
+    fail_write(path, "the spp layer holds " + std::to_string(spp.size()) + " counts for a " +
+                         size_str(hdr.width, hdr.height) + " image of " + std::to_string(hdr.pixel_count()) + " pixels");
+  std::vector<ExrPlane> planes = rgb_planes(hdr, exposure_scale);
+  // Counts are exact as float up to 2^24 samples per pixel.
+  planes.push_back({"spp", std::vector<float>(spp.begin(), spp.end())});
+  write_exr_planes(path, hdr.width, hdr.height, std::move(planes));
+}
+
+std::vector<float> read_exr_channel(const std::string& path, const std::string& channel) {
+  const std::string bytes = read_all(path);
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  EXRVersion version;
+  if (ParseEXRVersionFromMemory(&version, data, bytes.size()) != TINYEXR_SUCCESS) fail_read(path, "not an EXR file");
+  if (version.tiled || version.multipart || version.non_image)
+    fail_read(path, "channel '" + channel + "' can only be read from a single-part scanline EXR");
+  EXRHeader header;
+  InitEXRHeader(&header);
+  std::unique_ptr<EXRHeader, int (*)(EXRHeader*)> header_guard(&header, FreeEXRHeader);
+  const char* err = nullptr;
+  auto fail_tinyexr = [&](int rc) {
+    std::string why = err ? err : ("tinyexr error " + std::to_string(rc));
+    if (err) FreeEXRErrorMessage(err);
+    fail_read(path, why);
+  };
+  if (const int rc = ParseEXRHeaderFromMemory(&header, &version, data, bytes.size(), &err); rc != TINYEXR_SUCCESS)
+    fail_tinyexr(rc);
+  int index = -1;
+  for (int c = 0; c < header.num_channels; ++c)
+    if (channel == header.channels[c].name) index = c;
+  if (index < 0) fail_read(path, "has no channel named '" + channel + "'");
+  const EXRBox2i& window = header.data_window;
+  check_read_size(path, 1LL + window.max_x - window.min_x, 1LL + window.max_y - window.min_y, bytes.size());
+  for (int c = 0; c < header.num_channels; ++c)
+    if (header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF) header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+
+  EXRImage image;
+  InitEXRImage(&image);
+  if (const int rc = LoadEXRImageFromMemory(&image, &header, data, bytes.size(), &err); rc != TINYEXR_SUCCESS)
+    fail_tinyexr(rc);
+  std::unique_ptr<EXRImage, int (*)(EXRImage*)> image_guard(&image, FreeEXRImage);
+  std::vector<float> values(static_cast<size_t>(image.width) * image.height);
+  if (header.requested_pixel_types[index] == TINYEXR_PIXELTYPE_UINT) {
+    const auto* counts = reinterpret_cast<const uint32_t*>(image.images[index]);
+    std::copy(counts, counts + values.size(), values.begin());
+  } else {
+    std::memcpy(values.data(), image.images[index], values.size() * sizeof(float));
+  }
+  return values;
 }
 
 ImageF read_hdr_image(const std::string& path) {

@@ -3,6 +3,8 @@
 //   .png  8-bit RGB via stb_image_write (tone mapped)
 //   .pfm  little-endian float RGB, scale -1.0, rows bottom-to-top (HDR)
 //   .exr  32-bit float RGB via tinyexr (HDR)
+//   .exr  with write_exr_with_spp: also a FLOAT channel "spp", the per-pixel
+//         sample count of an adaptive render
 // HDR formats store hdr * exposure_scale with no curve, clamp or gamma, so a
 // reference written at one exposure can be compared in linear units.
 // Every failure throws caustica::Error naming the file; a write succeeds only
@@ -11,7 +13,9 @@
 // host/limits.h before pixels are allocated.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "host/image/image.h"
 #include "host/image/tonemap.h"
@@ -20,6 +24,17 @@ namespace caustica {
 
 void write_image(const std::string& path, const ImageF& hdr, const DisplaySettings& display);
 void write_image8(const std::string& path, const Image8& img);  // .ppm or .png only
+
+// The .exr that write_image writes (R, G, B = hdr * exposure_scale) plus a
+// FLOAT channel "spp": spp[i] samples at pixel i, row-major, top row first.
+// Throws naming the file unless spp holds one count per pixel.
+void write_exr_with_spp(const std::string& path, const ImageF& hdr, float exposure_scale,
+                        const std::vector<uint32_t>& spp);
+
+// One channel of a single-part scanline EXR as floats, row-major, top row
+// first (HALF and UINT channels converted). Throws naming the file and the
+// channel when the file has no channel of that name.
+std::vector<float> read_exr_channel(const std::string& path, const std::string& channel);
 
 // Throws unless `path` can be written by write_image as far as can be told
 // without creating it: a supported extension and an existing directory.
