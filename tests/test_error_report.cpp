@@ -43,7 +43,8 @@ RenderArgs cornell_args(const std::string& output, int spp, uint32_t seed) {
   return a;
 }
 
-// One reference and one 128-spp report, shared by the tests below.
+// One reference and one 128-spp report (adaptive, the default), and four
+// uniform ones with independent samples, shared by the tests below.
 // (Files live in the first test's temp_dir(), removed when it ends: what
 // later tests need is kept in memory.)
 struct CornellReport {
@@ -61,6 +62,9 @@ struct CornellReport {
       a.reference = reference_path;
       a.report = dir + "/report.csv";
       a.session.independent_samples = k > 0;
+      // The Monte Carlo rate below is uniform sampling's; the Sobol-Burley
+      // report renders with the default, adaptive sampling.
+      a.session.adaptive = k == 0;
       run_render(a);
       if (k == 0) sobol = read_error_report(a.report);
       else independent.push_back(read_error_report(a.report));

@@ -1,5 +1,7 @@
 #include "host/app/render_command.h"
 
+#include "host/app/spp_heatmap.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -186,8 +188,12 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option("--time", a.session.time_limit_s,
                          "path: stop after the pass that reaches SECONDS (with --spp: whichever comes first)")
       ->check(CLI::PositiveNumber);
-  render_cmd->add_option("--write-every", a.write_every_s, "path: also write the image every SECONDS")
+  render_cmd->add_option("--write-every", a.write_every_s,
+                         "path: also write the image (and --spp-map) every SECONDS")
       ->check(CLI::PositiveNumber);
+  render_cmd->add_option("--spp-map", a.spp_map,
+                         "path: draw each pixel's sample count as a heatmap with a colour bar (.png/.svg, through "
+                         "gnuplot); an .exr output always carries it as its 'spp' channel");
   render_cmd->add_option_function<std::string>(
       "--sampler",
       [&a](const std::string& s) {
@@ -246,6 +252,11 @@ int run_render(RenderArgs& a) {
     if (ext != ".png" && ext != ".svg") throw Error("--plot " + a.plot + ": expected a .png or .svg file name");
     check_output_dir("--plot", a.plot);
   }
+  if (!a.spp_map.empty()) {
+    const std::string ext = std::filesystem::path(a.spp_map).extension().string();
+    if (ext != ".png" && ext != ".svg") throw Error("--spp-map " + a.spp_map + ": expected a .png or .svg file name");
+    check_output_dir("--spp-map", a.spp_map);
+  }
   if (!a.plot.empty() && a.report.empty()) throw Error("--plot " + a.plot + ": needs --report (the plot is drawn from it)");
   if (a.target_error > 0.0 && a.no_error_estimate)
     throw Error("--target-error needs the error estimate that --no-error-estimate leaves out");
@@ -270,6 +281,8 @@ int run_render(RenderArgs& a) {
                 "x" + std::to_string(session->settings.height) + " (set --width/--height to match)");
   if (a.target_error > 0.0 && session->mode != RenderMode::Path)
     throw Error("--target-error: only path mode is stochastic; binary and phong images are exact after one pass");
+  if (!a.spp_map.empty() && session->mode != RenderMode::Path)
+    throw Error("--spp-map: only path mode takes several samples a pixel");
   const Scene& scene = session->scene;
   // Path tracing never reaches a point or spot light through glass or in a mirror:
   // without the photon pass those caustics are missing, and the error
@@ -312,6 +325,22 @@ int run_render(RenderArgs& a) {
   ErrorMonitor monitor(std::move(error_options));
   progress.set_error_monitor(&monitor);
   double last_write = 0.0, render_seconds = 0.0;
+  const bool path = session->mode == RenderMode::Path;
+  // The image, with its per-pixel sample counts where they can go: an .exr
+  // output's "spp" channel, and the --spp-map heatmap.
+  auto write_outputs = [&](const ImageF& image, const Film& film) {
+    if (path && lower_extension(a.output) == ".exr")
+      write_exr_with_spp(a.output, image, display.exposure_scale, film.pixel_spp());
+    else
+      write_image(a.output, image, display);
+    if (!a.spp_map.empty()) {
+      char title[160];
+      std::snprintf(title, sizeof title, "%s: samples per pixel (mean %d, %s)",
+                    std::filesystem::path(session->scene.source_path).filename().string().c_str(), film.passes(),
+                    session->settings.adaptive ? "adaptive" : "uniform");
+      write_spp_heatmap(a.spp_map, film.width(), film.height(), film.pixel_spp(), title);
+    }
+  };
   const ImageF image = session->renderer->render(
       &stats, [&](const PassProgress& p) { progress.update(p); },
       [&](const Film& film, double seconds) {
@@ -319,12 +348,12 @@ int run_render(RenderArgs& a) {
         const bool go_on = monitor.on_pass(film, seconds);
         if (a.write_every_s > 0.0 && seconds - last_write >= a.write_every_s) {
           last_write = seconds;
-          write_image(a.output, film.mean(), display);
+          write_outputs(film.mean(), film);
         }
         return go_on;
       });
   progress.finish();
-  write_image(a.output, image, display);
+  write_outputs(image, session->renderer->film());
   monitor.finish(session->renderer->film(), render_seconds);
   if (a.verbose) {
     std::fprintf(stderr,

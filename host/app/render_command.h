@@ -21,6 +21,7 @@ struct RenderArgs {
   bool verbose = false, quiet = false;
   double write_every_s = 0.0;  // path: also write the image while rendering
   std::string report, reference, plot;
+  std::string spp_map;  // path: the per-pixel sample counts as a heatmap (.png/.svg)
   double target_error = 0.0;
   bool no_error_estimate = false;
 };

@@ -21,15 +21,16 @@
 #include "host/read_file.h"
 
 namespace caustica {
-namespace {
-
-constexpr const char* kSupported = ".ppm, .png, .pfm, .exr";
 
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
 }
+
+namespace {
+
+constexpr const char* kSupported = ".ppm, .png, .pfm, .exr";
 
 [[noreturn]] void fail_write(const std::string& path, const std::string& why) {
   throw Error("cannot write image '" + path + "': " + why);

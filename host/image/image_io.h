@@ -41,6 +41,8 @@ std::vector<float> read_exr_channel(const std::string& path, const std::string& 
 // Commands call it before any work, so a typo does not cost a render.
 void check_output_image_path(const std::string& path);
 
+// The extension in lower case, with its dot (".exr"); "" without one.
+std::string lower_extension(const std::string& path);
 // Does the extension name an HDR format (.pfm/.exr)?
 bool is_hdr_path(const std::string& path);
 

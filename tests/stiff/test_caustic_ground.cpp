@@ -58,6 +58,11 @@ GroundRender render(CausticsMode caustics, int spp, uint32_t seed) {
   o.spp = spp;
   o.seed = seed;
   o.caustics = caustics;
+  // Issue 19's claim compares the two estimators under uniform sampling.
+  // (Adaptive sampling narrows the gap: measured with it on, path tracing
+  // alone fell from 0.82 to 0.39 in the caustic region, the photon pass
+  // from 0.20 to 0.18, 2.2x apart.)
+  o.adaptive = false;
   auto s = prepare_session(o);
   GroundRender run;
   run.caustics = s->features.caustics;
