@@ -4,8 +4,10 @@
 // renders: a noise-free half of an image gets only the minimum, the mean
 // over seeds matches a long uniform reference within its standard error
 // where the allocation stopped pixels early and where it piled samples on,
-// the film's own error estimate stays within 2x of the true error, and the
-// same seed gives the same bits for any work-group size or slot count.
+// and the same seed gives the same bits for any work-group size or slot
+// count. (The film's own error estimate with adaptive sampling is checked
+// against the truth in tests/test_error_report.cpp: its Sobol-Burley report
+// renders adaptively.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -236,27 +238,11 @@ TEST(AdaptiveSampling, TheMeanOverSeedsMatchesALongUniformRender) {
                 "difference %.2f standard errors\n",
                 region.name, count, seeds, mean, se, ref, ref_se, (mean - ref) / combined);
     EXPECT_LE(std::abs(mean - ref), 3.5 * combined) << region.name;
-    // The check can see a bias: 3.5 standard errors are a few percent of
-    // the region's light at most.
-    EXPECT_LT(3.5 * combined, 0.06 * ref) << region.name;
-  }
-}
-
-TEST(AdaptiveSampling, TheErrorEstimateStaysWithinTwiceTheTrueError) {
-  if (test::on_simulator()) GTEST_SKIP() << "thousands of samples a pixel: too slow on a simulator";
-  const PathRender reference = render_caustic(2048, false, 2000);
-  for (int spp : {32, 64, 128}) {
-    double estimated = 0.0, truth = 0.0;
-    const int seeds = 6;
-    for (int s = 0; s < seeds; ++s) {
-      const PathRender r = render_caustic(spp, true, uint32_t(100 + s));
-      estimated += r.estimated_rel_mse;
-      truth += rel_mse(r.image, reference.image);
-    }
-    std::printf("[measure] %d spp adaptive, %d seeds: estimated relMSE %.4g, true %.4g (ratio %.2f)\n", spp, seeds,
-                estimated / seeds, truth / seeds, estimated / truth);
-    EXPECT_GT(estimated / truth, 0.5) << spp;
-    EXPECT_LT(estimated / truth, 2.0) << spp;
+    // The check can see a bias: over the whole image 3.5 standard errors
+    // are under 2% of its light (an allocation that weighed each pixel's
+    // own estimate measured -1.9%, 5.2 standard errors), in the regions
+    // under 10%.
+    EXPECT_LT(3.5 * combined, (count == int(pixels) ? 0.02 : 0.10) * ref) << region.name;
   }
 }
 

@@ -126,6 +126,10 @@ void check_rows_monotone_and_geometric() {
   for (const auto& row : r.rows) EXPECT_TRUE(row.mse && row.relmse && row.mae) << row.spp << " spp";
   for (const char* key : {"scene", "mode", "device", "kernel_build_s", "bvh_build_s", "reference", "measurement_s"})
     EXPECT_NE(r.find(key), nullptr) << key;
+  // Adaptive sampling, the default: its rows are at the same mean-spp
+  // milestones, and its estimate is what the checks below judge.
+  ASSERT_NE(r.find("mode"), nullptr);
+  EXPECT_NE(r.find("mode")->find("adaptive"), std::string::npos) << *r.find("mode");
 }
 
 // Independent samples: plain Monte Carlo, MSE proportional to 1 / spp.

@@ -237,13 +237,17 @@ TEST(Film, UnevenWavesKeepEveryPixelsOwnCountAndHalf) {
             << "pixel " << p;
     }
   }
-  EXPECT_EQ(rig.film.passes(), 21);
+  EXPECT_EQ(rig.film.passes(), 15);
   EXPECT_FALSE(rig.film.uniform());
   EXPECT_TRUE(test::Contains(test::error_of([&] { rig.film.plan_wave(2, {1, 1, 1}); }),
                              {"a wave allocation of 3 samples, not 2 passes of 3 pixels"}));
   EXPECT_TRUE(test::Contains(test::error_of([&] { rig.film.plan_wave(1, {1, 1}); }), {"2 pixels for 3"}));
-  EXPECT_TRUE(test::Contains(test::error_of([&] { rig.film.plan_wave(60, {180, 0, 0}); }),
-                             {"a pixel given 180 samples in one wave"}));
+  // The cap: what the fixed-point scale fits, at least kMostWavePasses.
+  EXPECT_EQ(rig.film.most_samples_per_pixel(), 65536u);  // bound 2^12, scale 2^24: 2^27 fit
+  FilmRig tight(film_options(3, 1, 4294967296.0f, true));  // bound 2^32, scale 2^24: 2^7
+  EXPECT_EQ(tight.film.most_samples_per_pixel(), uint32_t(Film::kMostWavePasses));
+  EXPECT_TRUE(test::Contains(test::error_of([&] { tight.film.plan_wave(60, {180, 0, 0}); }),
+                             {"a pixel given 180 samples in one wave (at most 128)"}));
   rig.film.plan_wave(2, {3, 3, 0});
   EXPECT_TRUE(test::Contains(test::error_of([&] { rig.film.accumulate_pass(rig.launcher, nullptr, 1); }),
                              {"a wave of 1 passes accumulated, 2 planned"}));

@@ -12,29 +12,42 @@
 namespace caustica {
 namespace {
 
-// Separable box mean (edge pixels average over the neighbours they have),
-// then separable maximum.
-std::vector<double> filter_and_dilate(const std::vector<double>& v, int width, int height, int box, int dilate) {
-  std::vector<double> row(v.size()), out(v.size());
-  auto pass = [&](const std::vector<double>& in, std::vector<double>& to, bool horizontal, int r, bool maximum) {
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x) {
-        double acc = 0.0;  // (the values are >= 0)
-        int n = 0;
-        for (int d = -r; d <= r; ++d) {
-          const int xx = horizontal ? x + d : x, yy = horizontal ? y : y + d;
-          if (xx < 0 || yy < 0 || xx >= width || yy >= height) continue;
-          const double value = in[size_t(yy) * size_t(width) + size_t(xx)];
-          acc = maximum ? std::max(acc, value) : acc + value;
-          ++n;
-        }
-        to[size_t(y) * size_t(width) + size_t(x)] = maximum ? acc : acc / n;
-      }
+// Each pixel's weight from its neighbours' per-sample variance, never its
+// own: the largest, over the (2 dilate + 1)^2 pixels q around it, of the
+// mean of v over the (2 box + 1)^2 pixels around q less the pixel itself.
+// A pixel's own samples then decide none of its own count directly (a
+// firefly there would otherwise buy it more samples that dilute it: an
+// estimate biased low, measured at -1.9% over 24 seeds on a caustic).
+std::vector<double> neighbours_weight(const std::vector<double>& v, int width, int height, int box, int dilate) {
+  // Box sums through a summed-area table (exact enough in double).
+  const size_t w1 = size_t(width) + 1;
+  std::vector<double> table(w1 * (size_t(height) + 1), 0.0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      table[(y + 1) * w1 + x + 1] =
+          v[size_t(y) * width + x] + table[y * w1 + x + 1] + table[(y + 1) * w1 + x] - table[y * w1 + x];
+  auto box_sum = [&](int x0, int y0, int x1, int y1, int* count) {  // inclusive, clipped
+    x0 = std::max(x0, 0), y0 = std::max(y0, 0), x1 = std::min(x1, width - 1), y1 = std::min(y1, height - 1);
+    *count = (x1 - x0 + 1) * (y1 - y0 + 1);
+    return table[(y1 + 1) * w1 + x1 + 1] - table[y0 * w1 + x1 + 1] - table[(y1 + 1) * w1 + x0] + table[y0 * w1 + x0];
   };
-  pass(v, row, true, box, false);
-  pass(row, out, false, box, false);
-  pass(out, row, true, dilate, true);
-  pass(row, out, false, dilate, true);
+  std::vector<double> out(v.size(), 0.0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const double own = v[size_t(y) * width + x];
+      double best = 0.0;
+      for (int qy = std::max(0, y - dilate); qy <= std::min(height - 1, y + dilate); ++qy)
+        for (int qx = std::max(0, x - dilate); qx <= std::min(width - 1, x + dilate); ++qx) {
+          int count = 0;
+          const double sum = box_sum(qx - box, qy - box, qx + box, qy + box, &count);
+          // p lies in q's box (|q - p| <= dilate <= box): leave it out.
+          const bool inside = std::abs(qx - x) <= box && std::abs(qy - y) <= box;
+          const double others = inside ? sum - own : sum;
+          const int n = inside ? count - 1 : count;
+          if (n > 0) best = std::max(best, std::max(0.0, others) / n);
+        }
+      out[size_t(y) * width + x] = best;
+    }
   return out;
 }
 
@@ -97,7 +110,8 @@ std::vector<uint32_t> allocate_wave_samples(const AdaptiveInputs& in, int pass_c
     v[p] = e * double(in.spp[p]);
     total += in.spp[p];
   }
-  std::vector<double> weight = filter_and_dilate(v, in.width, in.height, options.filter_radius, options.dilate_radius);
+  std::vector<double> weight = neighbours_weight(v, in.width, in.height, std::max(1, options.filter_radius),
+                                                 std::clamp(options.dilate_radius, 0, std::max(1, options.filter_radius)));
   double largest = 0.0;
   for (double& w : weight) largest = std::max(largest, w = std::sqrt(w));
   const double least = largest > 0.0 ? 1e-9 * largest : 1.0;
@@ -139,7 +153,7 @@ std::vector<uint32_t> allocate_wave_samples(const Film& film, int pass_count, co
   in.height = film.height();
   in.spp = film.pixel_spp();
   in.pixel_error = pixel_rel_mse(film.mean(), film.half_mean(), in.spp, film.half_counts());
-  return allocate_wave_samples(in, pass_count, uint32_t(Film::kMostWavePasses), options);
+  return allocate_wave_samples(in, pass_count, film.most_samples_per_pixel(), options);
 }
 
 }  // namespace caustica

@@ -62,6 +62,12 @@ void Film::clear() {
   wave_entries_ = 0;
 }
 
+uint32_t Film::most_samples_per_pixel() const {
+  const double bound = std::isfinite(options_.pass_bound) && options_.pass_bound > 0.0f ? options_.pass_bound : 1.0;
+  const double fits = std::ldexp(1.0, 63) / (bound * double(params_.scale));
+  return uint32_t(std::clamp(std::floor(fits), double(kMostWavePasses), 65536.0));
+}
+
 void Film::plan_wave(int pass_count, std::vector<uint32_t> samples) {
   if (pass_count < 1 || pass_count > kMostWavePasses)
     throw Error("film: a wave of " + std::to_string(pass_count) + " passes (1 to " + std::to_string(kMostWavePasses) +
@@ -75,10 +81,11 @@ void Film::plan_wave(int pass_count, std::vector<uint32_t> samples) {
     throw Error("film: a wave allocation of " + std::to_string(samples.size()) + " pixels for " +
                 std::to_string(pixels));
   uint64_t total = 0;
+  const uint32_t most = most_samples_per_pixel();
   for (uint32_t k : samples) {
-    if (k > uint32_t(kMostWavePasses))
+    if (k > most)
       throw Error("film: a pixel given " + std::to_string(k) + " samples in one wave (at most " +
-                  std::to_string(kMostWavePasses) + ")");
+                  std::to_string(most) + ")");
     total += k;
   }
   if (total != uint64_t(pass_count) * pixels || total > 0xFFFFFFFFull)

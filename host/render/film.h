@@ -89,7 +89,7 @@ class Film {
   KernelArgs& bind(KernelArgs& args) const;
 
   // Before a wave of `pass_count` passes: `samples` (one count per pixel,
-  // each at most kMostWavePasses, summing to pass_count x pixels) spreads
+  // each at most most_samples_per_pixel(), summing to pass_count x pixels) spreads
   // them unevenly; empty: pass_count for every pixel. From the first uneven
   // wave on, the film lists every wave's pixels for the stages
   // (bind_wave_allocation, wave_entries) and keeps per-pixel counts on the
@@ -110,6 +110,10 @@ class Film {
   // At most this many passes in one pass in progress: each pass's sum is at
   // most pass_bound, which the scale fits in 2^56, so 2^7 of them fit 2^63.
   static constexpr int kMostWavePasses = 128;
+  // The most samples one pixel may take in one wave (an uneven wave's
+  // cap): as many as its scale fits, each pass summing to at most
+  // pass_bound, in 2^63 (at least kMostWavePasses, at most 2^16).
+  uint32_t most_samples_per_pixel() const;
   // How many passes a wave that starts after `passes` may hold: up to
   // `wanted`, kMostWavePasses and the next power of two (0 and 1: one).
   static int most_passes_from(int passes, int wanted);
