@@ -87,28 +87,20 @@ double solve_increasing(Total total, double lo, double hi, double target) {
 
 }  // namespace
 
-std::vector<uint32_t> allocate_wave_samples(const AdaptiveInputs& in, int pass_count, uint32_t most_per_pixel,
-                                            const AdaptiveOptions& options) {
+std::vector<double> neyman_weights(const AdaptiveInputs& in, const AdaptiveOptions& options) {
   const size_t pixels = size_t(in.width) * size_t(in.height);
   if (in.width <= 0 || in.height <= 0 || in.pixel_error.size() != pixels || in.spp.size() != pixels)
     throw Error("adaptive sampling: " + std::to_string(in.pixel_error.size()) + " errors and " +
                 std::to_string(in.spp.size()) + " counts for " + std::to_string(in.width) + "x" +
                 std::to_string(in.height) + " pixels");
-  if (pass_count < 1 || uint32_t(pass_count) > most_per_pixel)
-    throw Error("adaptive sampling: a wave of " + std::to_string(pass_count) + " passes (1 to " +
-                std::to_string(most_per_pixel) + ")");
-  const uint64_t budget = uint64_t(pass_count) * pixels;
-  const double cap = most_per_pixel;
   // Per-sample relative variance, filtered and dilated; its square root is
   // Neyman's weight. A small share of the largest keeps every weight
   // positive, so that samples the noisy pixels cannot take (their cap) go
   // to the others rather than nowhere.
   std::vector<double> v(pixels);
-  uint64_t total = 0;
   for (size_t p = 0; p < pixels; ++p) {
     const double e = std::isfinite(in.pixel_error[p]) ? std::max(0.0, in.pixel_error[p]) : 0.0;
     v[p] = e * double(in.spp[p]);
-    total += in.spp[p];
   }
   std::vector<double> weight = neighbours_weight(v, in.width, in.height, std::max(1, options.filter_radius),
                                                  std::clamp(options.dilate_radius, 0, std::max(1, options.filter_radius)));
@@ -116,6 +108,22 @@ std::vector<uint32_t> allocate_wave_samples(const AdaptiveInputs& in, int pass_c
   for (double& w : weight) largest = std::max(largest, w = std::sqrt(w));
   const double least = largest > 0.0 ? 1e-9 * largest : 1.0;
   for (double& w : weight) w += least;
+  return weight;
+}
+
+std::vector<uint32_t> place_wave_samples(const std::vector<double>& weight, const std::vector<uint32_t>& spp,
+                                         int pass_count, uint32_t most_per_pixel, const AdaptiveOptions& options) {
+  const size_t pixels = spp.size();
+  if (weight.size() != pixels)
+    throw Error("adaptive sampling: " + std::to_string(weight.size()) + " weights for " + std::to_string(pixels) +
+                " pixels");
+  if (pass_count < 1 || uint32_t(pass_count) > most_per_pixel)
+    throw Error("adaptive sampling: a wave of " + std::to_string(pass_count) + " passes (1 to " +
+                std::to_string(most_per_pixel) + ")");
+  const uint64_t budget = uint64_t(pass_count) * pixels;
+  const double cap = most_per_pixel;
+  uint64_t total = 0;
+  for (uint32_t n : spp) total += n;
   // The floor: every pixel's total after the wave.
   const double mean_after = double(total + budget) / double(pixels);
   const double floor_total = std::max(double(options.min_spp), std::ceil(options.uniform_share * mean_after));
@@ -124,7 +132,7 @@ std::vector<uint32_t> allocate_wave_samples(const AdaptiveInputs& in, int pass_c
     double sum = 0.0;
     for (size_t p = 0; p < pixels; ++p) {
       const double target = std::max(floor_at, lambda * weight[p]);
-      k[p] = std::clamp(target - double(in.spp[p]), 0.0, cap);
+      k[p] = std::clamp(target - double(spp[p]), 0.0, cap);
       sum += k[p];
     }
     return sum;
@@ -147,13 +155,28 @@ std::vector<uint32_t> allocate_wave_samples(const AdaptiveInputs& in, int pass_c
   return out;
 }
 
-std::vector<uint32_t> allocate_wave_samples(const Film& film, int pass_count, const AdaptiveOptions& options) {
-  AdaptiveInputs in;
-  in.width = film.width();
-  in.height = film.height();
-  in.spp = film.pixel_spp();
-  in.pixel_error = pixel_rel_mse(film.mean(), film.half_mean(), in.spp, film.half_counts());
-  return allocate_wave_samples(in, pass_count, film.most_samples_per_pixel(), options);
+std::vector<uint32_t> allocate_wave_samples(const AdaptiveInputs& in, int pass_count, uint32_t most_per_pixel,
+                                            const AdaptiveOptions& options) {
+  const std::vector<double> weight = neyman_weights(in, options);
+  if (pass_count < 1 || uint32_t(pass_count) > most_per_pixel)
+    throw Error("adaptive sampling: a wave of " + std::to_string(pass_count) + " passes (1 to " +
+                std::to_string(most_per_pixel) + ")");
+  return place_wave_samples(weight, in.spp, pass_count, most_per_pixel, options);
+}
+
+std::vector<uint32_t> AdaptiveSampler::plan(const Film& film, int pass_count) {
+  // The weights change slowly: read the film (its mean and half, with the
+  // photon map's image) again only once its samples grew by a quarter.
+  if (weight_.empty() || film.passes() < weights_passes_ || 4 * film.passes() >= 5 * weights_passes_) {
+    AdaptiveInputs in;
+    in.width = film.width();
+    in.height = film.height();
+    in.spp = film.pixel_spp();
+    in.pixel_error = pixel_rel_mse(film.mean(), film.half_mean(), in.spp, film.half_counts());
+    weight_ = neyman_weights(in, options_);
+    weights_passes_ = film.passes();
+  }
+  return place_wave_samples(weight_, film.pixel_spp(), pass_count, film.most_samples_per_pixel(), options_);
 }
 
 }  // namespace caustica

@@ -70,7 +70,29 @@ struct AdaptiveInputs {
 std::vector<uint32_t> allocate_wave_samples(const AdaptiveInputs& in, int pass_count, uint32_t most_per_pixel,
                                             const AdaptiveOptions& options);
 
-// The same from a film with a half buffer (reads its mean and half).
-std::vector<uint32_t> allocate_wave_samples(const Film& film, int pass_count, const AdaptiveOptions& options);
+// The two steps: each pixel's Neyman weight (the square root of its
+// neighbours' filtered per-sample variance), and the counts that water-fill
+// towards it from the pixels' current counts.
+std::vector<double> neyman_weights(const AdaptiveInputs& in, const AdaptiveOptions& options);
+std::vector<uint32_t> place_wave_samples(const std::vector<double>& weight, const std::vector<uint32_t>& spp,
+                                         int pass_count, uint32_t most_per_pixel, const AdaptiveOptions& options);
+
+// A render's allocations from its film (with the half buffer). It reads the
+// film again only when the mean count has grown by a quarter since its
+// weights were taken (each read is the mean and the half, and with the
+// photon pass its caustic image: a cost per wave that small waves felt),
+// and places every wave from the current counts. It depends on the film's
+// counts and bits only, so the same seed gives the same plan.
+class AdaptiveSampler {
+ public:
+  explicit AdaptiveSampler(const AdaptiveOptions& options) : options_(options) {}
+  std::vector<uint32_t> plan(const Film& film, int pass_count);
+  const AdaptiveOptions& options() const { return options_; }
+
+ private:
+  AdaptiveOptions options_;
+  std::vector<double> weight_;
+  int weights_passes_ = 0;
+};
 
 }  // namespace caustica

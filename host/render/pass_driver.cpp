@@ -41,9 +41,9 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
       if (predicted > room) break;
       if (predicted > 0.0) wave = std::max(1, std::min(wave, int(room / predicted)));
     }
-    if (adaptive_ && film_.has_half_buffer() && film_.passes() >= int(adaptive_->min_spp) &&
+    if (adaptive_ && film_.has_half_buffer() && film_.passes() >= int(adaptive_->options().min_spp) &&
         integrator_.wave_may_be_uneven(film_))
-      film_.plan_wave(wave, allocate_wave_samples(film_, wave, *adaptive_));
+      film_.plan_wave(wave, adaptive_->plan(film_, wave));
     else
       film_.plan_wave(wave);
     integrator_.begin_pass(film_, stats);

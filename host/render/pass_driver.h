@@ -66,7 +66,7 @@ class PassDriver {
   // has options.min_spp samples, each wave the integrator lets be uneven
   // (Integrator::wave_may_be_uneven) is spread by the film's error
   // estimate; the film needs its half buffer.
-  void set_adaptive(const AdaptiveOptions& options) { adaptive_ = options; }
+  void set_adaptive(const AdaptiveOptions& options) { adaptive_.emplace(options); }
   // Adds passes to the film (it is not cleared here).
   void run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress = {},
            const PassDoneCallback& pass_done = {});
@@ -77,7 +77,7 @@ class PassDriver {
   Integrator& integrator_;
   Film& film_;
   StageLauncher& launcher_;
-  std::optional<AdaptiveOptions> adaptive_;
+  std::optional<AdaptiveSampler> adaptive_;
 };
 
 }  // namespace caustica
