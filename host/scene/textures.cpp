@@ -163,10 +163,13 @@ std::string read_pnm(const std::string& data, LinearImage& out) {
 std::string check_jpeg_huffman_tables(const std::string& data) {
   const auto* b = reinterpret_cast<const unsigned char*>(data.data());
   const size_t n = data.size();
-  if (n < 4 || b[0] != 0xFF || b[1] != 0xD8) return "";
+  // stb takes fill bytes (0xFF) before the start-of-image marker too.
+  size_t start = 0;
+  while (start + 1 < n && b[start] == 0xFF && b[start + 1] == 0xFF) ++start;
+  if (n < start + 4 || b[start] != 0xFF || b[start + 1] != 0xD8) return "";
   bool defined[2][4] = {};
   bool progressive = false;
-  size_t at = 2;
+  size_t at = start + 2;
   while (at + 4 <= n) {
     if (b[at] != 0xFF) {  // padding between segments: stb scans past it to the next marker
       ++at;
@@ -193,6 +196,11 @@ std::string check_jpeg_huffman_tables(const std::string& data) {
         size_t count = 0;
         for (int i = 1; i <= 16; ++i) count += seg[p + i];
         if (cls < 2 && id < 4) defined[cls][id] = true;
+        // A DC symbol is a coefficient's bit count: stb reads a mask table
+        // of 17 entries with it unchecked (found by fuzz_texture).
+        if (cls == 0)
+          for (size_t i = 0; i < count && p + 17 + i < seg_len; ++i)
+            if (seg[p + 17 + i] > 15) return "corrupt JPEG: a DC Huffman table holds a symbol above 15";
         p += 17 + count;
       }
     } else if (marker == 0xDA) {  // SOS: components, then Ss, Se, Ah/Al
