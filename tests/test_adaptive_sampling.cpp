@@ -99,6 +99,44 @@ TEST(AdaptiveAllocation, ANoiseFreeRegionGetsOnlyTheFloor) {
     for (int x = w / 2; x < w; ++x) EXPECT_GT(k[size_t(y) * w + x], 32u) << x << "," << y;
 }
 
+// A stiff case: one pixel's estimate 10^12 times its neighbours' (a
+// firefly at a few spp). Pixels whose filter never reaches it keep their
+// weights to 1e-9: its value must not round the sums elsewhere (a
+// summed-area table would: 10^12 x 2^-52 is about the small values' size).
+TEST(AdaptiveAllocation, AHugeEstimateChangesOnlyItsNeighbourhood) {
+  const int w = 32, h = 24;
+  AdaptiveInputs calm = uniform_inputs(w, h, 16, 0.0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) calm.pixel_error[size_t(y) * w + x] = 1e-4 * (1 + (x * 5 + y * 3) % 7);
+  AdaptiveInputs firefly = calm;
+  firefly.pixel_error[size_t(2) * w + 2] = 1e8;
+  AdaptiveOptions options;
+  const std::vector<double> a = neyman_weights(calm, options), b = neyman_weights(firefly, options);
+  // Each weight is sqrt(filtered v) plus 1e-9 of the largest (so none is 0).
+  auto least = [](const std::vector<double>& weights) {
+    return 1e-9 * *std::max_element(weights.begin(), weights.end()) / (1.0 + 1e-9);
+  };
+  const double la = least(a), lb = least(b);
+  const int reach = options.filter_radius + options.dilate_radius;
+  int far = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t p = size_t(y) * w + x;
+      if (x == 2 && y == 2) {  // the firefly's own pixel: its own estimate is left out of its weight
+        // (subtracted from its neighbours' box sums: exact to 1e8 x 2^-52)
+        EXPECT_NEAR((b[p] - lb) / (a[p] - la), 1.0, 1e-6);
+        continue;
+      }
+      if (std::max(std::abs(x - 2), std::abs(y - 2)) <= reach) {
+        EXPECT_GT(b[p] - lb, 1e3 * (a[p] - la)) << x << "," << y;  // within reach: it counts
+        continue;
+      }
+      ++far;
+      EXPECT_NEAR((b[p] - lb) / (a[p] - la), 1.0, 1e-9) << x << "," << y;
+    }
+  EXPECT_GT(far, w * h / 2);
+}
+
 TEST(AdaptiveAllocation, InconsistentInputsAreErrors) {
   AdaptiveInputs in = uniform_inputs(4, 4, 16, 1e-3);
   in.spp.pop_back();
@@ -123,10 +161,16 @@ const char* kHalfNoisy = R"({"nbounces": 4, "rendermode": "pathtracer",
                 "material": {"kd": 0.0, "ks": 0.0, "diffusecolor": [0, 0, 0]}}]}})";
 
 TEST(AdaptiveSampling, TheNoiseFreeHalfGetsOnlyTheMinimum) {
-  const int spp = int(test::sized(64, 32));
+  // On Oclgrind 24x16 pixels and 24 spp (16 uniform, then one uneven wave).
+  const int spp = int(test::sized(64, 24));
+  std::string scene = kHalfNoisy;
+  if (test::on_simulator()) {
+    const std::string full = "\"width\": 48, \"height\": 32";
+    scene.replace(scene.find(full), full.size(), "\"width\": 24, \"height\": 16");
+  }
   PathRenderOptions o;
   o.adaptive = true;
-  const PathRender r = render_path(write_scene("half.json", kHalfNoisy), spp, o);
+  const PathRender r = render_path(write_scene("half.json", scene), spp, o);
   const int w = r.image.width, h = r.image.height;
   // Noise-free: every channel of the pixel and of its 7x7 neighbourhood
   // exactly zero (beyond the filter and dilation's reach of the wall).
@@ -154,7 +198,7 @@ TEST(AdaptiveSampling, TheNoiseFreeHalfGetsOnlyTheMinimum) {
   ASSERT_GT(free_pixels, w * h / 4);
   ASSERT_GT(lit_pixels, w * h / 4);
   EXPECT_EQ(sum(r.spp), uint64_t(spp) * w * h);  // the mean stays the asked spp
-  EXPECT_GT(lit_spp / lit_pixels, 1.5 * spp);
+  EXPECT_GT(lit_spp / lit_pixels, 1.2 * spp);  // 1.75x at 64 spp, 1.3x at 24
 }
 
 // A glass sphere focuses a small light onto the floor (path tracing alone:
