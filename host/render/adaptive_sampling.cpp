@@ -163,11 +163,7 @@ std::vector<uint32_t> place_wave_samples(const std::vector<double>& weight, cons
 
 std::vector<uint32_t> allocate_wave_samples(const AdaptiveInputs& in, int pass_count, uint32_t most_per_pixel,
                                             const AdaptiveOptions& options) {
-  const std::vector<double> weight = neyman_weights(in, options);
-  if (pass_count < 1 || uint32_t(pass_count) > most_per_pixel)
-    throw Error("adaptive sampling: a wave of " + std::to_string(pass_count) + " passes (1 to " +
-                std::to_string(most_per_pixel) + ")");
-  return place_wave_samples(weight, in.spp, pass_count, most_per_pixel, options);
+  return place_wave_samples(neyman_weights(in, options), in.spp, pass_count, most_per_pixel, options);
 }
 
 std::vector<uint32_t> AdaptiveSampler::plan(const Film& film, int pass_count) {
