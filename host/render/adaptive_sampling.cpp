@@ -95,10 +95,11 @@ double solve_increasing(Total total, double lo, double hi, double target) {
 
 std::vector<double> neyman_weights(const AdaptiveInputs& in, const AdaptiveOptions& options) {
   const size_t pixels = size_t(in.width) * size_t(in.height);
-  if (in.width <= 0 || in.height <= 0 || in.pixel_error.size() != pixels || in.spp.size() != pixels)
-    throw Error("adaptive sampling: " + std::to_string(in.pixel_error.size()) + " errors and " +
-                std::to_string(in.spp.size()) + " counts for " + std::to_string(in.width) + "x" +
-                std::to_string(in.height) + " pixels");
+  if (in.width <= 0 || in.height <= 0 || in.pixel_error.size() != pixels || in.spp.size() != pixels ||
+      (!in.rays.empty() && in.rays.size() != pixels))
+    throw Error("adaptive sampling: " + std::to_string(in.pixel_error.size()) + " errors, " +
+                std::to_string(in.spp.size()) + " counts and " + std::to_string(in.rays.size()) + " ray counts for " +
+                std::to_string(in.width) + "x" + std::to_string(in.height) + " pixels");
   // Per-sample relative variance, filtered and dilated; its square root is
   // Neyman's weight. A small share of the largest keeps every weight
   // positive, so that samples the noisy pixels cannot take (their cap) go
@@ -108,8 +109,18 @@ std::vector<double> neyman_weights(const AdaptiveInputs& in, const AdaptiveOptio
     const double e = std::isfinite(in.pixel_error[p]) ? std::max(0.0, in.pixel_error[p]) : 0.0;
     v[p] = e * double(in.spp[p]);
   }
-  std::vector<double> weight = neighbours_weight(v, in.width, in.height, std::max(1, options.filter_radius),
-                                                 std::clamp(options.dilate_radius, 0, std::max(1, options.filter_radius)));
+  const int box = std::max(1, options.filter_radius);
+  std::vector<double> weight = neighbours_weight(v, in.width, in.height, box, std::clamp(options.dilate_radius, 0, box));
+  if (!in.rays.empty()) {
+    // Equal time: weigh v by the cost per sample, rays per sample (at least
+    // the camera ray), its neighbours' mean like v's (no dilation: a costly
+    // rim should not make a cheap inside look costly).
+    std::vector<double> cost(pixels);
+    for (size_t p = 0; p < pixels; ++p)
+      cost[p] = in.spp[p] > 0 ? std::max(1.0, double(in.rays[p]) / double(in.spp[p])) : 1.0;
+    const std::vector<double> neighbours_cost = neighbours_weight(cost, in.width, in.height, box, 0);
+    for (size_t p = 0; p < pixels; ++p) weight[p] /= std::max(1.0, neighbours_cost[p]);
+  }
   double largest = 0.0;
   for (double& w : weight) largest = std::max(largest, w = std::sqrt(w));
   const double least = largest > 0.0 ? 1e-9 * largest : 1.0;
@@ -175,6 +186,7 @@ std::vector<uint32_t> AdaptiveSampler::plan(const Film& film, int pass_count) {
     in.height = film.height();
     in.spp = film.pixel_spp();
     in.pixel_error = pixel_rel_mse(film.mean(), film.half_mean(), in.spp, film.half_counts());
+    if (options_.weigh_cost) in.rays = film.pixel_rays();
     weight_ = neyman_weights(in, options_);
     weights_passes_ = film.passes();
   }

@@ -9,7 +9,12 @@
 // sqrt(v) (the Lagrange condition v / n^2 equal everywhere); a wave
 // water-fills towards it: every pixel's total after the wave is
 // max(floor, lambda sqrt(v)), lambda chosen so that the wave's samples add
-// up exactly. Cycles' noise-threshold sampling (Dammertz et al. 2009's
+// up exactly. At equal time, not equal samples, the rule weighs each
+// pixel's cost per sample c too: minimising sum v / n subject to
+// sum c n fixed gives n proportional to sqrt(v / c). A pixel's cost is the
+// rays its samples traced so far (closest-hit and shadow) over its samples
+// (the film's pixel_rays, counted by the shade stage): a glass pixel's long paths cost
+// several times a wall's, a miss the least. Cycles' noise-threshold sampling (Dammertz et al. 2009's
 // criterion on the same half-buffer difference) switches pixels off at a
 // threshold instead; here there is no threshold to choose: the wave's size
 // is the pass driver's, only its spread is adaptive.
@@ -28,6 +33,9 @@
 //    stays uniform and no pixel is ever left behind for good.
 // Everything is a function of the film's bits and the counts, so the same
 // seed gives the same allocation, and so the same image, on any machine.
+//
+// The cost is filtered like v, over the neighbours only (a path's length
+// and its radiance are not independent).
 //
 // Bias: a mean over a count that depends on its own samples is not
 // unbiased (Kirk & Arvo 1991): a firefly that buys its pixel more samples
@@ -55,6 +63,7 @@ struct AdaptiveOptions {
   double uniform_share = 0.25;  // the floor's share of the mean count
   int filter_radius = 2;        // the per-sample variance's box filter: (2r + 1)^2 pixels
   int dilate_radius = 1;        // then its maximum over (2r + 1)^2 pixels
+  bool weigh_cost = true;       // n ~ sqrt(v / c) (equal time), not sqrt(v) (equal samples)
 };
 
 // The film's inputs to an allocation, each row-major per pixel.
@@ -62,6 +71,7 @@ struct AdaptiveInputs {
   int width = 0, height = 0;
   std::vector<double> pixel_error;  // e: the pixel's estimated relMSE (pixel_rel_mse)
   std::vector<uint32_t> spp;        // n: its samples so far
+  std::vector<uint64_t> rays;       // the rays its samples traced (empty: every sample costs alike)
 };
 
 // Samples per pixel for a wave of `pass_count` passes: the counts add up to
@@ -71,7 +81,7 @@ std::vector<uint32_t> allocate_wave_samples(const AdaptiveInputs& in, int pass_c
                                             const AdaptiveOptions& options);
 
 // The two steps: each pixel's Neyman weight (the square root of its
-// neighbours' filtered per-sample variance), and the counts that water-fill
+// neighbours' filtered per-sample variance over their cost per sample), and the counts that water-fill
 // towards it from the pixels' current counts.
 std::vector<double> neyman_weights(const AdaptiveInputs& in, const AdaptiveOptions& options);
 std::vector<uint32_t> place_wave_samples(const std::vector<double>& weight, const std::vector<uint32_t>& spp,

@@ -35,6 +35,7 @@ Film::Film(Runtime& runtime, const cl::Program& program, const FilmOptions& opti
   if (options.half_buffer) half_offset_ = values;
   accumulated_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, float_passes * values * sizeof(float));
   counters_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, FILM_COUNTERS * sizeof(cl_uint));
+  pixel_rays_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixel_count() * sizeof(cl_ulong));
   accumulate_ = std::make_unique<StageKernel>(program, "accumulate_film_pass");
   // Until the first uneven wave the stages read none of these.
   pixel_spp_ = wave_spp_buffer_ = entry_pixel_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
@@ -52,6 +53,7 @@ void Film::clear() {
   runtime_.fill(pass_, cl_ulong(0), 0, pixel_count() * 3 * sizeof(cl_ulong));
   runtime_.fill(accumulated_, 0.0f, 0, (options_.half_buffer ? 2 : 1) * pixel_count() * 3 * sizeof(float));
   runtime_.fill(counters_, cl_uint(0), 0, FILM_COUNTERS * sizeof(cl_uint));
+  runtime_.fill(pixel_rays_, cl_ulong(0), 0, pixel_count() * sizeof(cl_ulong));
   passes_ = 0;
   per_pixel_ = false;
   spp_.assign(pixel_count(), 0u);
@@ -118,6 +120,14 @@ void Film::plan_wave(int pass_count, std::vector<uint32_t> samples) {
     q.enqueueWriteBuffer(entry_offset_, CL_TRUE, 0, entry_offset.size() * sizeof(cl_uint), entry_offset.data());
   }
   wave_spp_ = std::move(samples);
+}
+
+KernelArgs& Film::bind_pixel_rays(KernelArgs& args) const { return args.arg("pixel_rays", pixel_rays_); }
+
+std::vector<uint64_t> Film::pixel_rays() const {
+  std::vector<uint64_t> rays(pixel_count());
+  runtime_.queue().enqueueReadBuffer(pixel_rays_, CL_TRUE, 0, rays.size() * sizeof(cl_ulong), rays.data());
+  return rays;
 }
 
 KernelArgs& Film::bind_wave_allocation(KernelArgs& args) const {

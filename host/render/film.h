@@ -100,6 +100,12 @@ class Film {
   // more entry than pixels) and every pixel's samples before the wave.
   KernelArgs& bind_wave_allocation(KernelArgs& args) const;
   uint32_t wave_entries() const { return per_pixel_ ? wave_entries_ : 0u; }  // 0: every pixel alike
+  // "pixel_rays": each pixel's count of rays traced for its samples
+  // (shade_surface_path adds, per path vertex, the closest-hit ray that
+  // found it and its shadow ray, when adaptive sampling weighs them), what
+  // its samples cost; pixel_rays() reads it back (a blocking transfer).
+  KernelArgs& bind_pixel_rays(KernelArgs& args) const;
+  std::vector<uint64_t> pixel_rays() const;
 
   void clear();  // everything: accumulated passes, the pass in progress, counters
   void clear_pass_range(size_t first_pixel, size_t pixel_count);  // of the pass in progress only
@@ -144,7 +150,7 @@ class Film {
   int planned_passes_ = 0;                   // the planned wave's pass count (0: none planned)
   uint32_t wave_entries_ = 0;
   cl::Buffer pixel_spp_, wave_spp_buffer_, entry_pixel_, entry_offset_;
-  cl::Buffer pass_, accumulated_, counters_;
+  cl::Buffer pass_, accumulated_, counters_, pixel_rays_;
   std::unique_ptr<StageKernel> accumulate_;
   size_t half_offset_ = FILM_PASS_ABSENT;
   const SeparateEstimate* separate_ = nullptr;

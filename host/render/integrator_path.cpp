@@ -266,7 +266,8 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
         .queue("shadow", shadow_, loop_->traced_count(j))
         .arg("camera", camera)
         .arg("wave_progress", loop_->extra(kWaveProgress));
-    film.bind_wave_allocation(shade);
+    film.bind_pixel_rays(film.bind_wave_allocation(shade))
+        .arg("count_pixel_rays", cl_uint(settings_.adaptive && settings_.adaptive_options.weigh_cost ? 1 : 0));
     if (photons_)
       photons_->bind_photon_map(photons_->bind_visible_points(shade).arg("record_visible_points",
                                                                           cl_uint(photon_pass_now_ ? 1 : 0)));

@@ -285,7 +285,10 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
 }
 
 /* The kernel: path i's vertex, then, if the path ended, the wave's next
- * sample in its place (regeneration). Samples and queue slots are taken
+ * sample in its place (regeneration). With count_pixel_rays (adaptive
+ * sampling) each vertex counts its rays for its pixel (pixel_rays: the
+ * closest-hit ray that found it, a miss included, and its shadow ray): what
+ * a pixel's samples cost, which the allocation weighs. Samples and queue slots are taken
  * per work-group, one global atomic each, not per path: every path of the
  * wave would otherwise contend on the same two counters. No early return,
  * so that every work-item reaches the barriers. */
@@ -296,7 +299,8 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const Light* res
                                  PATH_QUEUE_PARAMS(in), __global const Hit* restrict hits, FILM_PARAMS,
                                  PATH_QUEUE_PARAMS(next), volatile __global uint* restrict cleared_count,
                                  SHADOW_QUEUE_PARAMS(shadow), CameraGPU camera,
-                                 volatile __global uint* restrict wave_progress, WAVE_ALLOCATION_PARAMS PATH_CAUSTIC_PARAMS
+                                 volatile __global uint* restrict wave_progress, WAVE_ALLOCATION_PARAMS,
+                                 volatile __global ulong* restrict pixel_rays, uint count_pixel_rays PATH_CAUSTIC_PARAMS
                                      PATH_NUMERICS_PARAMS) {
   __local uint group_starts, group_first_sample, group_pushes, group_first_slot;
   const uint i = get_global_id(0);
@@ -311,6 +315,8 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const Light* res
   bool goes_on = false, starts = false;
   if (i < count) {
     goes_on = shade_path_vertex(PATH_VERTEX_ARGS, i, &child);
+    /* its pixel's cost: the ray that found this vertex, and its shadow ray */
+    if (count_pixel_rays) atom_add(&pixel_rays[in_pixel[i]], shadow_pixel[i] == SHADOW_SLOT_EMPTY ? 1ul : 2ul);
     starts = !goes_on;
   }
   const uint start_rank = starts ? atomic_inc(&group_starts) : 0u;

@@ -28,6 +28,7 @@ struct PathRender {
   ImageF image, half;  // half: the mean of the film's half buffer
   RenderStats stats;
   std::vector<uint32_t> spp, half_counts;  // per pixel (Film::pixel_spp, half_counts)
+  std::vector<uint64_t> pixel_rays;         // per pixel (Film::pixel_rays)
   double estimated_rel_mse = 0.0;           // the film's own estimate (spp >= 2)
 };
 
@@ -64,6 +65,7 @@ inline PathRender render_path(const std::string& scene, int spp, const PathRende
   expect_finite_render(out.image, out.stats.film, scene);
   out.spp = r.film().pixel_spp();
   out.half_counts = r.film().half_counts();
+  out.pixel_rays = r.film().pixel_rays();
   if (spp >= 2) {
     out.half = r.film().half_mean();
     const ImageF separate = r.film().separate_variance();
