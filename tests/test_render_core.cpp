@@ -191,6 +191,45 @@ TEST(Film, WavesOfPassesAccumulateLikeTheirPasses) {
   EXPECT_THROW(crossing.film.accumulate_pass(crossing.launcher, nullptr, 0), Error);
 }
 
+// The accumulated sums are integers (issue 23: states from several
+// processes add to the bits of one): passes of values that are not whole
+// numbers give the same mean and half bits whether they came one by one or
+// in waves (float sums, as before, rounded differently).
+TEST(Film, SumsDoNotDependOnTheWavesThePassesCameIn) {
+  FilmRig waves(film_options(2, 1, 64.0f, true)), single(film_options(2, 1, 64.0f, true));
+  auto value = [](int p) { return float(0.1 * (p + 1) + 1.0 / 3.0); };
+  int n = 0;
+  while (n < 100) {
+    const int k = Film::most_passes_from(n, 100);
+    for (int p = n; p < n + k; ++p) {
+      waves.add_pass({{value(p), 0.0f, 0.0f, 0.0f}}, {0u});
+      single.add_pass({{value(p), 0.0f, 0.0f, 0.0f}}, {0u});
+      single.film.accumulate_pass(single.launcher);
+    }
+    waves.film.accumulate_pass(waves.launcher, nullptr, k);
+    n += k;
+    ASSERT_EQ(waves.film.mean().rgb[0], single.film.mean().rgb[0]) << n << " passes";
+    if (n >= 2) ASSERT_EQ(waves.film.half_mean().rgb[0], single.film.half_mean().rgb[0]) << n << " passes";
+  }
+  double exact = 0.0;
+  for (int p = 0; p < n; ++p) exact += value(p);
+  EXPECT_NEAR(single.film.mean().rgb[0], exact / n, 1e-6 * exact / n);
+}
+
+// A 128-bit sum becomes the nearest float, ties to even, in one rounding.
+TEST(Film, WideSumsRoundOnceToTheNearestFloat) {
+  const float two64 = std::ldexp(1.0f, 64);
+  EXPECT_EQ(sum128_to_float(12345, 0), 12345.0f);
+  EXPECT_EQ(sum128_to_float(~uint64_t(0), 0), two64);  // 2^64 - 1 rounds up
+  EXPECT_EQ(sum128_to_float(0, 1), two64);
+  // Floats near 2^64 are 2^41 apart: 2^64 + 2^40 is a tie (to even, 2^64);
+  // one more and it rounds up, which only the bits below the top 64 tell.
+  EXPECT_EQ(sum128_to_float(uint64_t(1) << 40, 1), two64);
+  EXPECT_EQ(sum128_to_float((uint64_t(1) << 40) + 1, 1), two64 + std::ldexp(1.0f, 41));
+  EXPECT_EQ(sum128_to_float(0, uint64_t(1) << 63), std::ldexp(1.0f, 127));
+  EXPECT_EQ(sum128_to_float(1, uint64_t(1) << 63), std::ldexp(1.0f, 127));
+}
+
 // Uneven waves (adaptive sampling): each pixel counts its own samples. A
 // pixel's half restarts at n, the wave's first sample, whenever the wave's
 // samples [n, n + k) hold a power of two (at it, for waves that start

@@ -43,8 +43,8 @@ static_assert(sizeof(PathParams) == 64 && offsetof(PathParams, light_count) == 1
               "PathParams layout");
 static_assert(sizeof(Hit) == 16 && offsetof(Hit, prim) == 12, "Hit layout");
 static_assert(sizeof(FilmParams) == 16 && offsetof(FilmParams, max_contribution) == 4, "FilmParams layout");
-static_assert(sizeof(FilmAccumulate) == 32 && offsetof(FilmAccumulate, inv_scale) == 12 &&
-                  offsetof(FilmAccumulate, pass_count) == 16,
+static_assert(sizeof(FilmAccumulate) == 32 && offsetof(FilmAccumulate, pass_count) == 12 &&
+                  offsetof(FilmAccumulate, per_pixel) == 16,
               "FilmAccumulate layout");
 static_assert(sizeof(PathRecord) == 80 && offsetof(PathRecord, throughput) == 32 && offsetof(PathRecord, pixel) == 48 &&
                   offsetof(PathRecord, depth) == 52 && offsetof(PathRecord, bsdf_pdf) == 56 &&

@@ -31,9 +31,8 @@ Film::Film(Runtime& runtime, const cl::Program& program, const FilmOptions& opti
   if (values > 0xFFFFFFFFull / 2) throw Error("film: image too large for 32-bit pass offsets");
   auto& ctx = runtime.context();
   pass_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, values * sizeof(cl_ulong));
-  const size_t float_passes = options.half_buffer ? 2 : 1;
   if (options.half_buffer) half_offset_ = values;
-  accumulated_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, float_passes * values * sizeof(float));
+  accumulated_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, accumulated_bytes());
   counters_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, FILM_COUNTERS * sizeof(cl_uint));
   pixel_rays_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixel_count() * sizeof(cl_ulong));
   accumulate_ = std::make_unique<StageKernel>(program, "accumulate_film_pass");
@@ -51,7 +50,7 @@ KernelArgs& Film::bind(KernelArgs& args) const {
 
 void Film::clear() {
   runtime_.fill(pass_, cl_ulong(0), 0, pixel_count() * 3 * sizeof(cl_ulong));
-  runtime_.fill(accumulated_, 0.0f, 0, (options_.half_buffer ? 2 : 1) * pixel_count() * 3 * sizeof(float));
+  runtime_.fill(accumulated_, cl_ulong(0), 0, accumulated_bytes());
   runtime_.fill(counters_, cl_uint(0), 0, FILM_COUNTERS * sizeof(cl_uint));
   runtime_.fill(pixel_rays_, cl_ulong(0), 0, pixel_count() * sizeof(cl_ulong));
   passes_ = 0;
@@ -179,7 +178,6 @@ void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats, int pass
   a.value_count = cl_uint(pixel_count() * 3);
   a.half_offset = cl_uint(half_offset_);
   a.pass_index = cl_uint(passes_);
-  a.inv_scale = 1.0f / params_.scale;
   a.pass_count = cl_uint(pass_count);
   a.per_pixel = per_pixel_ ? 1u : 0u;
   KernelArgs(*accumulate_)
@@ -205,14 +203,35 @@ int Film::most_passes_from(int passes, int wanted) {
   return std::max(1, std::min({wanted, kMostWavePasses, next_restart - passes}));
 }
 
+size_t Film::accumulated_bytes() const {
+  return (options_.half_buffer ? 2 : 1) * pixel_count() * 3 * kAccumulatedValueBytes;
+}
+
 ImageF Film::read_sums(size_t offset) const {
   ImageF image;
   image.width = options_.width;
   image.height = options_.height;
   image.rgb.resize(pixel_count() * 3);
-  runtime_.queue().enqueueReadBuffer(accumulated_, CL_TRUE, offset * sizeof(float), image.rgb.size() * sizeof(float),
-                                     image.rgb.data());
+  std::vector<uint64_t> sums(2 * image.rgb.size());
+  runtime_.queue().enqueueReadBuffer(accumulated_, CL_TRUE, offset * kAccumulatedValueBytes,
+                                     sums.size() * sizeof(uint64_t), sums.data());
+  const float inv_scale = 1.0f / params_.scale;  // a power of two: exact
+  for (size_t i = 0; i < image.rgb.size(); ++i) image.rgb[i] = sum128_to_float(sums[2 * i], sums[2 * i + 1]) * inv_scale;
   return image;
+}
+
+float sum128_to_float(uint64_t low, uint64_t high) {
+  // One rounding, to nearest even, as float(low) alone when high is 0 (a
+  // single pass: the bits of the kernel's convert_float before issue 23).
+  // Otherwise the top 64 bits with a sticky bit for the rest, which rounds
+  // them as the whole value would (the sticky bit sits far below float's
+  // 24 bits), scaled back exactly.
+  if (high == 0) return float(low);
+  const int drop = 64 - __builtin_clzll(high);  // 1 to 64 low bits do not fit
+  uint64_t top = drop == 64 ? high : (high << (64 - drop)) | (low >> drop);
+  const uint64_t rest = drop == 64 ? low : low & ((uint64_t(1) << drop) - 1);
+  if (rest != 0) top |= 1;
+  return std::ldexp(float(top), drop);
 }
 
 // Sums to means, as value * (1 / count) (the same bits for every pixel

@@ -3,8 +3,10 @@
 // Rules: stages add to the pass in progress (64-bit fixed point with integer
 // atomics, kernels/lib/film.h), whose scale is chosen here per render from
 // the scene's radiance bound, so any contribution the scene can produce fits
-// and the image keeps the full HDR range. A finished pass is added, as
-// floats, to the accumulated passes on the device (accumulate_film_pass.cl):
+// and the image keeps the full HDR range. A finished pass is added to the
+// accumulated passes on the device (accumulate_film_pass.cl) as 128-bit
+// integers, so sums of passes add to the same bits however they were
+// grouped or wherever they were traced, and are floats only when read:
 // the combined sum, and, when asked for, the sum of the passes since the
 // latest power of two (the half an error estimate compares against; see
 // accumulate_film_pass.cl). Every pixel counts its own samples: a wave adds
@@ -136,8 +138,14 @@ class Film {
   ImageF separate_variance() const;
   FilmCounts counts() const;
 
+  // The accumulated sums: 128-bit integers in the pass's fixed point, two
+  // 64-bit words (low first) per channel value, so that sums of passes add
+  // to the same bits however they were grouped (accumulate_film_pass.cl).
+  static constexpr size_t kAccumulatedValueBytes = 2 * sizeof(uint64_t);
+
  private:
-  ImageF read_sums(size_t offset) const;
+  size_t accumulated_bytes() const;
+  ImageF read_sums(size_t offset) const;  // offset in values
   void divide_by(ImageF& image, const std::vector<uint32_t>& counts) const;
 
   Runtime& runtime_;
@@ -155,6 +163,9 @@ class Film {
   size_t half_offset_ = FILM_PASS_ABSENT;
   const SeparateEstimate* separate_ = nullptr;
 };
+
+// A 128-bit accumulated sum (low and high words) as the nearest float.
+float sum128_to_float(uint64_t low, uint64_t high);
 
 // Fixed-point parameters for a pass whose per-pixel sum is at most
 // pass_bound: the largest power-of-two scale up to FILM_MAX_SCALE with

@@ -300,20 +300,20 @@ typedef struct {
 #define NUMERICS_COUNTERS (3u * NUMERICS_DEPTHS + 1u)
 #define NUMERICS_WEIGHT_SCALE 16777216.0f
 
-/* Parameters of accumulate_film_pass: pass floats are laid out in one buffer
- * at offsets (host/render/film.h). */
+/* Parameters of accumulate_film_pass: the accumulated sums are 128-bit
+ * integers (two ulongs, low first) laid out in one buffer at offsets
+ * (host/render/film.h). */
 #define FILM_PASS_ABSENT 0xFFFFFFFFu
 typedef struct {
   cs_uint value_count; /* pixels * 3 */
-  cs_uint half_offset; /* float offset of the sum of passes [P, N), or FILM_PASS_ABSENT */
+  cs_uint half_offset; /* value offset of the sum of passes [P, N), or FILM_PASS_ABSENT */
   cs_uint pass_index;  /* 0-based index of the first pass being added */
-  float inv_scale;     /* 1 / FilmParams.scale */
   cs_uint pass_count;  /* passes the pass in progress holds (a wave's) */
   /* 1: pixels have counts of their own (adaptive sampling): pixel p had
    * pixel_spp[p] samples and the wave adds wave_spp[p] (pass_index and
    * pass_count unused); 0: every pixel has pass_index and adds pass_count. */
   cs_uint per_pixel;
-  cs_uint pad0, pad1;
+  cs_uint pad0, pad1, pad2;
 } FilmAccumulate; /* 32 bytes */
 
 #endif /* CAUSTICA_SHARED_TYPES_H */

@@ -17,7 +17,7 @@
   X(__builtin_offsetof(ShadowRecord, contribution)) X(__builtin_offsetof(ShadowRecord, pixel))              \
   X(sizeof(FilmParams)) X(__builtin_offsetof(FilmParams, max_contribution))                                 \
   X(sizeof(FilmAccumulate)) X(__builtin_offsetof(FilmAccumulate, pass_index))                               \
-  X(__builtin_offsetof(FilmAccumulate, inv_scale)) X(__builtin_offsetof(FilmAccumulate, pass_count))      \
+  X(__builtin_offsetof(FilmAccumulate, per_pixel)) X(__builtin_offsetof(FilmAccumulate, pass_count))      \
   X(__builtin_offsetof(PathRecord, flags))                                                                  \
   X(sizeof(ShadeParams)) X(__builtin_offsetof(ShadeParams, light_count))                                    \
   X(__builtin_offsetof(ShadeParams, min_weight))                                                            \
