@@ -30,6 +30,12 @@ inline constexpr int kMaxJsonDepth = 64;
 inline constexpr int kMaxImageSide = 32768;
 inline constexpr uint64_t kMaxImagePixels = uint64_t(1) << 28;  // 268,435,456, e.g. 16384 x 16384
 
+// Render state files (host/render/render_state.h): the largest a render
+// within kMaxImagePixels writes: per pixel two float sums of 3 channels,
+// its samples, half start and ray count, and an adaptive weight (48 bytes),
+// plus 1 MiB for the header and the identity.
+inline constexpr uint64_t kMaxStateFileBytes = 48 * kMaxImagePixels + (uint64_t(1) << 20);
+
 // Exposure in stops (the camera's "exposure", --exposure): every pixel is
 // scaled by 2^exposure, which must stay a normal float either way.
 inline constexpr float kMaxExposureStops = 64.0f;

@@ -204,7 +204,11 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
   shadow_ = DeviceQueue(ctx, shadow_record_layout(), slots_);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, slots_ * sizeof(Hit));
   loop_ = std::make_unique<WaveLoop>(launcher, std::vector<int>{1, int(WAVE_PROGRESS_VALUES)});
-  if (settings.check_numerics) numerics_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, NUMERICS_COUNTERS * sizeof(cl_ulong));
+  if (settings.check_numerics) {
+    numerics_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, NUMERICS_COUNTERS * sizeof(cl_ulong));
+    // Zeroed here too: a resumed render (render_state.h) starts past pass 0.
+    launcher.runtime().fill(numerics_, cl_ulong(0), 0, NUMERICS_COUNTERS * sizeof(cl_ulong));
+  }
   if (settings.caustics && light_count_ > 0)
     photons_ = std::make_unique<PhotonPass>(launcher, scene, program, lights_, uint32_t(light_count_), settings);
 }
