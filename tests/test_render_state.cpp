@@ -102,7 +102,7 @@ std::string render_args(const std::string& scene, int spp, bool adaptive) {
 }
 
 // Renders with a checkpoint after every wave and kills the process with
-// SIGKILL as soon as a checkpoint holds at least kKillAfter passes (far
+// SIGKILL as soon as a checkpoint holds at least 768 passes (far
 // past adaptive sampling's first 16 spp, with waves of 128 passes);
 // resumes; compares with an uninterrupted render. A device fast enough to
 // finish before the kill gets more samples.
@@ -110,11 +110,13 @@ void expect_kill_and_resume_same_bits(bool adaptive) {
   const std::string dir = test::temp_dir();
   const std::string scene = test::write_scene("lit.json", kPathScene);
   const std::string state = dir + "/state.cst";
-  constexpr int kKillAfter = 768;
-  int spp = 2048;
+  // Oclgrind: 64 spp, killed after 16 (its waves are as long; fewer of them).
+  const int kill_after = int(test::sized(768, 16));
+  int spp = int(test::sized(2048, 64));
   int killed_at = 0;
   for (int attempt = 0; attempt < 3 && killed_at == 0; ++attempt, spp *= 8) {
     fs::remove(state);
+    fs::remove(dir + "/killed.pfm");
     const pid_t pid =
         spawn_caustica({"render", scene, "--mode", "path", "--caustics", "off", "--spp", std::to_string(spp),
                         "--device", test::device_spec(), adaptive ? "--adaptive" : "--no-adaptive", "-q",
@@ -131,7 +133,7 @@ void expect_kill_and_resume_same_bits(bool adaptive) {
       if (fs::exists(state)) {
         // Renamed into place whole: whatever is there is a complete state.
         const RenderState s = read_render_state(state);
-        if (s.film.passes >= kKillAfter) {
+        if (s.film.passes >= kill_after) {
           ASSERT_EQ(kill(pid, SIGKILL), 0);
           ASSERT_EQ(waitpid(pid, &status, 0), pid);
           break;
@@ -148,7 +150,7 @@ void expect_kill_and_resume_same_bits(bool adaptive) {
     killed_at = read_render_state(state).film.passes;
   }
   spp /= 8;
-  ASSERT_GT(killed_at, 0) << "every render finished before a checkpoint of " << kKillAfter << " passes";
+  ASSERT_GT(killed_at, 0) << "every render finished before a checkpoint of " << kill_after << " passes";
   ASSERT_LT(killed_at, spp);
   std::printf("[measure] killed at %d of %d spp (%s)\n", killed_at, spp, adaptive ? "adaptive" : "uniform");
 
@@ -237,7 +239,9 @@ TEST(RenderState, ResumedInProcessAdaptivePathHasTheSameBits) {
   // film again once its passes grew by a quarter: at 640, not at 768, so a
   // state saved at 768 resumes with weights cached at 640 (and the pixels'
   // ray counts they weigh).
-  expect_resume_in_process_same_bits(test::write_scene("lit.json", kPathScene), RenderMode::Path, 1024, 768, true);
+  // (Oclgrind: 64 passes, saved at 32.)
+  expect_resume_in_process_same_bits(test::write_scene("lit.json", kPathScene), RenderMode::Path,
+                                     int(test::sized(1024, 64)), int(test::sized(768, 32)), true);
 }
 
 TEST(RenderState, ResumedInProcessPhongHasTheSameBits) {
