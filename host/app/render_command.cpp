@@ -379,10 +379,13 @@ int run_render(RenderArgs& a) {
   progress.set_error_monitor(&monitor);
   double last_write = 0.0, render_seconds = 0.0, last_checkpoint = 0.0;
   const double checkpoint_every = a.checkpoint_every_s.value_or(kDefaultCheckpointSeconds);
+  int checkpoint_passes = -1;  // the latest checkpoint's
   auto write_checkpoint = [&] {
+    if (session->renderer->film().passes() == checkpoint_passes) return;  // the same state again
     RenderState state = session->renderer->state();
     state.identity = identity;
     write_render_state(a.checkpoint, state);
+    checkpoint_passes = state.film.passes;
     if (a.verbose)
       std::fprintf(stderr, "[caustica] checkpoint %s at %d spp\n", a.checkpoint.c_str(), state.film.passes);
   };
