@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <type_traits>
 
 #include "host/error.h"
@@ -16,6 +17,8 @@
 
 namespace caustica {
 namespace {
+
+namespace fs = std::filesystem;
 
 // The header: magic, version, payload size; the payload; its checksum.
 constexpr char kMagic[16] = {'c', 'a', 'u', 's', 't', 'i', 'c', 'a', ' ', 's', 't', 'a', 't', 'e', '\n', '\0'};
@@ -271,8 +274,10 @@ RenderState read_render_state(const std::string& path) {
 void write_render_state(const std::string& path, const RenderState& state) {
   const std::string bytes = encode_render_state(state);
   const std::string temporary = path + ".tmp";
+  // A failed write leaves the previous state and no temporary file.
   auto fail = [&](const std::string& what) {
     const std::string reason = std::strerror(errno);
+    ::unlink(temporary.c_str());
     return Error(temporary + ": cannot " + what + " the state file: " + reason);
   };
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
@@ -298,7 +303,16 @@ void write_render_state(const std::string& path, const RenderState& state) {
   if (::close(fd) != 0) throw fail("close");
   if (std::rename(temporary.c_str(), path.c_str()) != 0) {
     const std::string reason = std::strerror(errno);
+    ::unlink(temporary.c_str());
     throw Error(path + ": cannot rename " + temporary + " to it: " + reason);
+  }
+  // The rename itself on disk: the directory flushed. Best effort: some file
+  // systems refuse fsync on a directory, and the state is complete either way.
+  const std::string dir = fs::path(path).parent_path().string();
+  const int dir_fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir_fd >= 0) {
+    ::fsync(dir_fd);
+    ::close(dir_fd);
   }
 }
 
