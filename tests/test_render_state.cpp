@@ -1,8 +1,9 @@
 // Render state files (host/render/render_state.h): a render killed with
 // SIGKILL after a checkpoint and resumed ends with the same bits as one never
-// interrupted (the caustica binary, killed for real); the same in process
-// for path (adaptive), phong and binary; and every state that does not fit
-// is refused with one precise error.
+// interrupted (the caustica binary, killed for real: uniform, adaptive, with
+// the photon pass); the same in process for path (adaptive, photon pass
+// auto and on), phong and binary; and every state that does not fit is
+// refused with one precise error.
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
@@ -96,32 +97,39 @@ pid_t spawn_caustica(const std::vector<std::string>& args, const std::string& lo
   return failed ? -1 : pid;
 }
 
+// `caustica render SCENE --spp SPP OPTIONS --device ...` as a word list.
+std::vector<std::string> render_words(const std::string& scene, int spp, const std::vector<std::string>& options) {
+  std::vector<std::string> words = {"render", scene, "--mode", "path", "--spp", std::to_string(spp)};
+  words.insert(words.end(), options.begin(), options.end());
+  words.insert(words.end(), {"--device", test::device_spec()});
+  return words;
+}
+// The same for the shell (test::run_cli).
+std::string shell_words(const std::vector<std::string>& words) {
+  std::string line;
+  for (const std::string& w : words) line += (line.empty() ? "'" : " '") + w + "'";
+  return line;
+}
 std::string render_args(const std::string& scene, int spp, bool adaptive) {
-  return "render '" + scene + "' --mode path --caustics off --spp " + std::to_string(spp) + " --device '" +
-         test::device_spec() + "' " + (adaptive ? "--adaptive" : "--no-adaptive");
+  return shell_words(render_words(scene, spp, {"--caustics", "off", adaptive ? "--adaptive" : "--no-adaptive"}));
 }
 
 // Renders with a checkpoint after every wave and kills the process with
-// SIGKILL as soon as a checkpoint holds at least 768 passes (far
-// past adaptive sampling's first 16 spp, with waves of 128 passes);
+// SIGKILL as soon as a checkpoint holds at least `kill_after` passes;
 // resumes; compares with an uninterrupted render. A device fast enough to
 // finish before the kill gets more samples.
-void expect_kill_and_resume_same_bits(bool adaptive) {
+void expect_kill_and_resume_same_bits(const std::string& scene, const std::vector<std::string>& options,
+                                      int kill_after, int first_spp) {
   const std::string dir = test::temp_dir();
-  const std::string scene = test::write_scene("lit.json", kPathScene);
   const std::string state = dir + "/state.cst";
-  // Oclgrind: 64 spp, killed after 16 (its waves are as long; fewer of them).
-  const int kill_after = int(test::sized(768, 16));
-  int spp = int(test::sized(2048, 64));
+  int spp = first_spp;
   int killed_at = 0;
   for (int attempt = 0; attempt < 3 && killed_at == 0; ++attempt, spp *= 8) {
     fs::remove(state);
     fs::remove(dir + "/killed.pfm");
-    const pid_t pid =
-        spawn_caustica({"render", scene, "--mode", "path", "--caustics", "off", "--spp", std::to_string(spp),
-                        "--device", test::device_spec(), adaptive ? "--adaptive" : "--no-adaptive", "-q",
-                        "--checkpoint", state, "--checkpoint-every", "0.001", "-o", dir + "/killed.pfm"},
-                       dir + "/killed.log");
+    std::vector<std::string> words = render_words(scene, spp, options);
+    words.insert(words.end(), {"-q", "--checkpoint", state, "--checkpoint-every", "0.001", "-o", dir + "/killed.pfm"});
+    const pid_t pid = spawn_caustica(words, dir + "/killed.log");
     ASSERT_GT(pid, 0) << "cannot start " << test::binary_path();
     int status = 0;
     bool ended = false;
@@ -152,21 +160,38 @@ void expect_kill_and_resume_same_bits(bool adaptive) {
   spp /= 8;
   ASSERT_GT(killed_at, 0) << "every render finished before a checkpoint of " << kill_after << " passes";
   ASSERT_LT(killed_at, spp);
-  std::printf("[measure] killed at %d of %d spp (%s)\n", killed_at, spp, adaptive ? "adaptive" : "uniform");
+  std::printf("[measure] killed at %d of %d spp\n", killed_at, spp);
 
-  const test::CliResult resumed =
-      test::run_cli(render_args(scene, spp, adaptive) + " --resume '" + state + "' -o '" + dir + "/resumed.pfm'");
+  const test::CliResult resumed = test::run_cli(shell_words(render_words(scene, spp, options)) + " --resume '" +
+                                                state + "' -o '" + dir + "/resumed.pfm'");
   ASSERT_EQ(resumed.status, 0) << resumed.output;
   EXPECT_TRUE(Contains(resumed.output, {"resumed from " + std::to_string(killed_at) + " spp"}));
-  const test::CliResult whole = test::run_cli(render_args(scene, spp, adaptive) + " -q -o '" + dir + "/whole.pfm'");
+  const test::CliResult whole =
+      test::run_cli(shell_words(render_words(scene, spp, options)) + " -q -o '" + dir + "/whole.pfm'");
   ASSERT_EQ(whole.status, 0) << whole.output;
   const std::string a = slurp(dir + "/whole.pfm"), b = slurp(dir + "/resumed.pfm");
   ASSERT_GT(a.size(), 32u * 24u * 12u);
   EXPECT_TRUE(a == b) << "the resumed render's bits differ from the uninterrupted render's";
 }
 
-TEST(RenderState, KilledAndResumedPathRenderHasTheSameBits) { expect_kill_and_resume_same_bits(false); }
-TEST(RenderState, KilledAndResumedAdaptiveRenderHasTheSameBits) { expect_kill_and_resume_same_bits(true); }
+// 32 x 24 pixels: waves of 128 passes from 256 on, killed at 768 or later,
+// far past adaptive sampling's first 16 spp. Oclgrind: 64 spp, killed
+// after 16.
+TEST(RenderState, KilledAndResumedPathRenderHasTheSameBits) {
+  expect_kill_and_resume_same_bits(test::write_scene("lit.json", kPathScene), {"--caustics", "off", "--no-adaptive"},
+                                   int(test::sized(768, 16)), int(test::sized(2048, 64)));
+}
+TEST(RenderState, KilledAndResumedAdaptiveRenderHasTheSameBits) {
+  expect_kill_and_resume_same_bits(test::write_scene("lit.json", kPathScene), {"--caustics", "off", "--adaptive"},
+                                   int(test::sized(768, 16)), int(test::sized(2048, 64)));
+}
+// The photon pass, `auto`: at 48 x 36 a map every 28 passes, then the
+// interval the errors balance at; killed past the second map.
+TEST(RenderState, KilledAndResumedPhotonPassRenderHasTheSameBits) {
+  expect_kill_and_resume_same_bits(test::source_dir() + "/scenes/caustics.json",
+                                   {"--caustics", "auto", "--width", "48"}, int(test::sized(40, 2)),
+                                   int(test::sized(256, 8)));
+}
 
 // --- in process ---
 
@@ -175,13 +200,15 @@ struct Prepared {
   RenderSettings settings;
 };
 
-Prepared prepare(const std::string& scene, RenderMode mode, int passes, bool adaptive) {
+Prepared prepare(const std::string& scene, RenderMode mode, int passes, bool adaptive,
+                 CausticsMode caustics = CausticsMode::Off, int width = 0) {
   SessionOptions o;
   o.scene_path = scene;
   o.device = test::device_spec();
   o.mode = mode;
   o.spp = passes;
-  o.caustics = CausticsMode::Off;
+  o.caustics = caustics;
+  o.width = width;  // 0: the camera's
   o.adaptive = adaptive;
   Prepared p;
   p.session = prepare_session(o);
@@ -198,8 +225,9 @@ StateIdentity identity_of(const Session& s, const RenderSettings& settings, floa
 // the wave that reached `save_at` passes (through a state file), with a
 // new renderer: the same bits and counts.
 void expect_resume_in_process_same_bits(const std::string& scene, RenderMode mode, int passes, int save_at,
-                                        bool adaptive) {
-  Prepared p = prepare(scene, mode, passes, adaptive);
+                                        bool adaptive, CausticsMode caustics = CausticsMode::Off, int width = 0) {
+  Prepared p = prepare(scene, mode, passes, adaptive, caustics, width);
+  ASSERT_EQ(p.settings.caustics, caustics != CausticsMode::Off);
   Session& s = *p.session;
   const std::string path = test::temp_dir() + "/state.cst";
   ImageF whole;
@@ -219,6 +247,13 @@ void expect_resume_in_process_same_bits(const std::string& scene, RenderMode mod
     });
     ASSERT_GT(saved, 0);
     ASSERT_LT(saved, passes);
+    if (p.settings.caustics && mode == RenderMode::Path) {
+      // The pass stayed on, with maps on both sides of the state.
+      EXPECT_TRUE(stats.caustics_decision.find("off") == std::string::npos) << stats.caustics_decision;
+      EXPECT_GE(stats.photon_maps, 3u) << stats.caustics_decision;
+      std::printf("[measure] %u photon maps in %d passes, saved at %d%s%s\n", stats.photon_maps, passes, saved,
+                  stats.caustics_decision.empty() ? "" : ": ", stats.caustics_decision.c_str());
+    }
     whole_spp = r.film().pixel_spp();
   }
   Renderer r(*s.runtime, *s.device_scene, s.mode, s.program.program, p.settings);
@@ -242,6 +277,26 @@ TEST(RenderState, ResumedInProcessAdaptivePathHasTheSameBits) {
   // (Oclgrind: 64 passes, saved at 32.)
   expect_resume_in_process_same_bits(test::write_scene("lit.json", kPathScene), RenderMode::Path,
                                      int(test::sized(1024, 64)), int(test::sized(768, 32)), true);
+}
+
+// The photon pass: SPPM statistics, visible points, the latest map (its grid
+// built again) and `auto`'s schedule. scenes/caustics.json at 48 x 36.
+TEST(RenderState, ResumedInProcessPhotonPassHasTheSameBits) {
+  const std::string scene = test::source_dir() + "/scenes/caustics.json";
+  // auto: a map every 28 passes here, then the interval the errors balance
+  // at; states between maps, at a map and after the decisions.
+  for (int save_at : {1, 2, 16, 29, 40, 70}) {
+    SCOPED_TRACE("auto, saved at " + std::to_string(save_at));
+    expect_resume_in_process_same_bits(scene, RenderMode::Path, 96, save_at, true, CausticsMode::Auto, 48);
+  }
+  for (int save_at : {3, 20}) {
+    SCOPED_TRACE("on, saved at " + std::to_string(save_at));
+    expect_resume_in_process_same_bits(scene, RenderMode::Path, 32, save_at, false, CausticsMode::On, 48);
+  }
+  // Phong with --caustics on: a map every pass, gathered within a shared
+  // radius that shrinks with the map count.
+  SCOPED_TRACE("phong");
+  expect_resume_in_process_same_bits(scene, RenderMode::Phong, 8, 3, false, CausticsMode::On, 48);
 }
 
 TEST(RenderState, ResumedInProcessPhongHasTheSameBits) {
@@ -366,8 +421,8 @@ TEST(RenderState, StatesOfOtherScenesOrSettingsAreRefused) {
   EXPECT_TRUE(Contains(path_refused(share), {"p.cst: adaptive uniform share 0.25 in the state, 0.5 asked"}));
 }
 
-// Through the binary: a state of another size, a resume past the asked
-// spp, and the photon pass, each one line naming the file or the option.
+// Through the binary: a state of another size, seed or spp than asked, each
+// one line naming the file and what differs.
 TEST(RenderState, TheCliRefusesWhatItCannotResume) {
   const std::string dir = test::temp_dir();
   const std::string scene = test::write_scene("lit.json", kPathScene);
@@ -390,18 +445,6 @@ TEST(RenderState, TheCliRefusesWhatItCannotResume) {
   r = test::run_cli(base + " --resume '" + state + "' -o '" + dir + "/c.pfm'");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(slurp(dir + "/a.pfm") == slurp(dir + "/c.pfm"));
-
-  // Glass: the photon pass, refused before any kernel is built.
-  std::string glass = kPathScene;
-  glass.replace(glass.find(R"({"type": "diffuse", "albedo": [0.8, 0.3, 0.2]})"), 46,
-                R"({"type": "dielectric", "ior": 1.5})");
-  const std::string glass_scene = test::write_scene("glass.json", glass);
-  r = test::run_cli("render '" + glass_scene + "' --mode path --caustics on --device '" + test::device_spec() +
-                    "' -q --checkpoint '" + state + "' -o '" + dir + "/g.pfm'");
-  EXPECT_EQ(r.status, 1);
-  EXPECT_EQ(r.output,
-            "caustica: error: --checkpoint: not supported yet with the photon pass (--caustics off renders without "
-            "it)\n");
 }
 
 }  // namespace

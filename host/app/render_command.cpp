@@ -240,7 +240,7 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
                        "path: leave out the film's half buffer (no self-estimated error, so no adaptive sampling)");
   render_cmd->add_option("--checkpoint", a.checkpoint,
                          "write the render's state to FILE (atomically) every --checkpoint-every seconds, between "
-                         "waves, and at the end; --resume continues from it (not yet with the photon pass)");
+                         "waves, and at the end; --resume continues from it");
   render_cmd->add_option_function<double>(
       "--checkpoint-every", [&a](const double& s) { a.checkpoint_every_s = s; },
       "seconds between --checkpoint writes (default 60)")
@@ -304,9 +304,6 @@ int run_render(RenderArgs& a) {
   a.session.error_estimate = !a.no_error_estimate;
   if (a.no_error_estimate) a.session.adaptive = false;  // it allocates by that estimate
   a.session.open_ended = a.target_error > 0.0;
-  // The photon pass's state is not saved yet (host/render/render_state.h).
-  if (!a.resume.empty()) a.session.refuses_photon_pass = "--resume";
-  else if (!a.checkpoint.empty()) a.session.refuses_photon_pass = "--checkpoint";
   const auto session = prepare_session(a.session);
   if (reference && (reference->width != session->settings.width || reference->height != session->settings.height))
     throw Error("--reference " + a.reference + ": the reference is " + std::to_string(reference->width) + "x" +

@@ -136,9 +136,6 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   if (session->mode == RenderMode::Path) add_light_geometry(scene);
 
   session->features = analyse_scene(scene, session->mode, options.caustics);
-  if (!options.refuses_photon_pass.empty() && session->features.caustics)
-    throw Error(options.refuses_photon_pass +
-                ": not supported yet with the photon pass (--caustics off renders without it)");
   const bool path = session->mode == RenderMode::Path;
   session->features.check_numerics = path && options.check_numerics;
   session->settings.check_numerics = session->features.check_numerics;

@@ -46,9 +46,6 @@ struct SessionOptions {
   uint32_t photons = 0;         // path: photons per pass; 0: RenderSettings' default
   float caustic_radius = 0.0f;  // path: initial gather radius; 0: from the scene's size
   bool open_ended = false;      // path: no default sample count (a target error decides), unless --spp
-  // An option the photon pass cannot run with yet ("--checkpoint"): with the
-  // pass on, refused before any device, kernel or BVH work; "" none.
-  std::string refuses_photon_pass;
   // --bvh: spatial splits (SBVH) by default; "fast" for huge scenes.
   BvhBuildOptions::Quality bvh_quality = BvhBuildOptions::Quality::Spatial;
   // Applied to the loaded scene before anything is derived from it (tests:

@@ -14,6 +14,7 @@
 #include "host/limits.h"
 #include "host/read_file.h"
 #include "host/render/integrator.h"
+#include "host/render/state_bytes.h"
 
 namespace caustica {
 namespace {
@@ -38,88 +39,6 @@ std::string hex64(uint64_t v) {
   std::snprintf(b, sizeof b, "%016llx", (unsigned long long)v);
   return b;
 }
-
-// Little-endian whatever the host (the file moves between machines).
-class Writer {
- public:
-  template <typename T>
-  void put(T v) {
-    static_assert(std::is_arithmetic_v<T>);
-    uint64_t bits = 0;
-    if constexpr (std::is_floating_point_v<T>) {
-      using Bits = std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>;
-      Bits b;
-      std::memcpy(&b, &v, sizeof b);
-      bits = b;
-    } else {
-      bits = uint64_t(v);
-    }
-    for (size_t i = 0; i < sizeof(T); ++i) bytes_.push_back(char((bits >> (8 * i)) & 0xFF));
-  }
-  void text(const std::string& s) {
-    put(uint32_t(s.size()));
-    bytes_ += s;
-  }
-  template <typename T>
-  void array(const std::vector<T>& values) {
-    put(uint64_t(values.size()));
-    for (const T& v : values) put(v);
-  }
-  std::string& bytes() { return bytes_; }
-
- private:
-  std::string bytes_;
-};
-
-class Reader {
- public:
-  Reader(const std::string& bytes, size_t begin, size_t end, const std::string& path)
-      : bytes_(bytes), at_(begin), end_(end), path_(path) {}
-  template <typename T>
-  T get(const char* what) {
-    static_assert(std::is_arithmetic_v<T>);
-    need(sizeof(T), what);
-    uint64_t bits = 0;
-    for (size_t i = 0; i < sizeof(T); ++i) bits |= uint64_t(static_cast<unsigned char>(bytes_[at_ + i])) << (8 * i);
-    at_ += sizeof(T);
-    if constexpr (std::is_floating_point_v<T>) {
-      using Bits = std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>;
-      const Bits b = Bits(bits);
-      T v;
-      std::memcpy(&v, &b, sizeof v);
-      return v;
-    } else {
-      return T(bits);
-    }
-  }
-  std::string text(const char* what) {
-    const uint32_t n = get<uint32_t>(what);
-    need(n, what);
-    std::string s = bytes_.substr(at_, n);
-    at_ += n;
-    return s;
-  }
-  template <typename T>
-  std::vector<T> array(const char* what) {
-    const uint64_t n = get<uint64_t>(what);
-    if (n > (end_ - at_) / sizeof(T)) fail(std::string(what) + " of " + std::to_string(n) + " values");
-    std::vector<T> values(n);
-    for (T& v : values) v = get<T>(what);
-    return values;
-  }
-  bool done() const { return at_ == end_; }
-
- private:
-  void need(size_t n, const std::string& what) {
-    if (n > end_ - at_) fail(what);
-  }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw Error(path_ + ": the state's payload ends inside its " + what + " (written by another caustica?)");
-  }
-  const std::string& bytes_;
-  size_t at_, end_;
-  const std::string& path_;
-};
 
 std::string number(double v) {
   char b[40];
@@ -179,13 +98,19 @@ StateIdentity render_identity(uint64_t scene, RenderMode mode, const RenderSetti
   }
   id.emplace_back("half buffer", settings.half_buffer || settings.adaptive ? "on" : "off");
   id.emplace_back("photon pass", settings.caustics ? "on" : "off");
+  if (settings.caustics) {
+    id.emplace_back("caustics", settings.caustics_auto ? "auto" : "on");
+    id.emplace_back("photons per pass", std::to_string(settings.photons_per_pass));
+    id.emplace_back("caustic radius", number(settings.caustic_radius));
+    id.emplace_back("photon guiding", settings.photon_guiding ? "on" : "off");
+  }
   id.emplace_back("bvh", bvh);
   id.emplace_back("film scale", number(film_scale));
   return id;
 }
 
 std::string encode_render_state(const RenderState& state) {
-  Writer payload;
+  StateWriter payload;
   payload.put(uint32_t(state.identity.size()));
   for (const auto& [name, value] : state.identity) {
     payload.text(name);
@@ -204,8 +129,9 @@ std::string encode_render_state(const RenderState& state) {
     payload.put(int32_t(state.adaptive->weights_passes));
     payload.array(state.adaptive->weights);
   }
+  payload.blob(state.integrator);
   const std::string& body = payload.bytes();
-  Writer file;
+  StateWriter file;
   file.bytes().assign(kMagic, sizeof kMagic);
   file.put(kRenderStateVersion);
   file.put(uint64_t(body.size()));
@@ -221,7 +147,7 @@ RenderState decode_render_state(const std::string& bytes, const std::string& pat
     throw Error(path + ": not a caustica state file (it does not start with \"caustica state\")");
   if (bytes.size() < kHeaderBytes + kChecksumBytes)
     throw Error(path + ": truncated: " + std::to_string(bytes.size()) + " bytes, less than a state's header");
-  Reader header(bytes, sizeof kMagic, kHeaderBytes, path);
+  StateReader header(bytes, sizeof kMagic, kHeaderBytes, path);
   const uint32_t version = header.get<uint32_t>("version");
   if (version != kRenderStateVersion)
     throw Error(path + ": state file version " + std::to_string(version) + ", this caustica reads version " +
@@ -234,14 +160,14 @@ RenderState decode_render_state(const std::string& bytes, const std::string& pat
   if (expected < bytes.size())
     throw Error(path + ": " + std::to_string(bytes.size() - expected) + " bytes after the state's end (" +
                 std::to_string(expected) + " bytes)");
-  Reader trailer(bytes, kHeaderBytes + payload, bytes.size(), path);
+  StateReader trailer(bytes, kHeaderBytes + payload, bytes.size(), path);
   const uint64_t stored = trailer.get<uint64_t>("checksum");
   const uint64_t computed = fnv1a(bytes.data() + kHeaderBytes, payload);
   if (stored != computed)
     throw Error(path + ": checksum mismatch (stored " + hex64(stored) + ", computed " + hex64(computed) +
                 "): the file is damaged");
 
-  Reader in(bytes, kHeaderBytes, kHeaderBytes + payload, path);
+  StateReader in(bytes, kHeaderBytes, kHeaderBytes + payload, path);
   RenderState state;
   const uint32_t names = in.get<uint32_t>("identity");
   for (uint32_t i = 0; i < names; ++i) {
@@ -263,6 +189,7 @@ RenderState decode_render_state(const std::string& bytes, const std::string& pat
     a.weights = in.array<double>("adaptive weights");
     state.adaptive = std::move(a);
   }
+  state.integrator = in.blob("integrator state");
   if (!in.done()) throw Error(path + ": the state's payload has bytes after its end (written by another caustica?)");
   return state;
 }

@@ -3,15 +3,16 @@
 //
 // Rules. A state holds everything a path, phong or binary render needs to
 // go on after an accumulated wave: the film's sums, half buffer, per-pixel
-// counts, half starts and ray counts and its counters (FilmState), and the
-// adaptive sampler's cached weights (AdaptiveSamplerState). The waves of a
-// render with --spp depend on the film's pass count only (pass_driver.h)
-// and the film adds passes in order, so a render resumed from a state ends
-// with the same bits as one never interrupted, for the same seed and spp.
-// Nothing that happens within a wave is saved: a state is taken only
-// between waves. The photon pass's state (SPPM statistics, its photon map
-// and schedule) is not saved yet: renders with it are refused
-// (Renderer::state, Renderer::render).
+// counts, half starts and ray counts and its counters (FilmState), the
+// adaptive sampler's cached weights (AdaptiveSamplerState), and the
+// integrator's state (Integrator::state: with the photon pass, every
+// pixel's SPPM statistics and visible point, the latest photon map, the
+// gather counters and the schedule `auto` decided). The waves of a render
+// with --spp depend on the film's pass count only (pass_driver.h), the
+// photon pass's decisions on counts only, and the film adds passes in
+// order, so a render resumed from a state ends with the same bits as one
+// never interrupted, for the same seed and spp. Nothing that happens
+// within a wave is saved: a state is taken only between waves.
 //
 // A state also records what it is a state of: its identity, a list of
 // (name, value) pairs, the scene's hash first (scene_hash: the scene
@@ -47,6 +48,7 @@ struct RenderState {
   StateIdentity identity;
   FilmState film;
   std::optional<AdaptiveSamplerState> adaptive;  // present when the render samples adaptively
+  std::string integrator;  // Integrator::state(): the photon pass's (empty without it)
 };
 
 inline constexpr uint32_t kRenderStateVersion = 1;

@@ -26,16 +26,7 @@ Renderer::Renderer(Runtime& runtime, const DeviceScene& scene, RenderMode mode, 
   }
 }
 
-namespace {
-void refuse_photon_pass(const RenderSettings& settings) {
-  // Its SPPM statistics, photon map and schedule would have to be saved too.
-  if (settings.caustics)
-    throw Error("render state: not supported yet with the photon pass (--caustics off renders without it)");
-}
-}  // namespace
-
 void Renderer::check_state(const RenderState& state) const {
-  refuse_photon_pass(settings_);
   film_->check_state(state.film);
   if (settings_.adaptive != state.adaptive.has_value())
     throw Error(std::string("render state: ") +
@@ -47,11 +38,11 @@ void Renderer::check_state(const RenderState& state) const {
 }
 
 RenderState Renderer::state() const {
-  refuse_photon_pass(settings_);
   RenderState s;
   s.film = film_->state();
   if (settings_.adaptive)
     s.adaptive = driver_ && driver_->adaptive() ? driver_->adaptive()->state() : AdaptiveSamplerState{};
+  s.integrator = integrator_->state();
   return s;
 }
 
@@ -69,6 +60,7 @@ ImageF Renderer::render(RenderStats* stats, const ProgressCallback& progress, co
     if (resume) {
       film_->restore(resume->film);
       if (resume->adaptive) driver.adaptive()->restore(*resume->adaptive);
+      integrator_->restore_state(*film_, resume->integrator, "render state");
     } else {
       film_->clear();
     }

@@ -25,13 +25,13 @@ class Renderer {
   // passes (or until settings.time_limit_s), returns the mean.
   ImageF render(RenderStats* stats, const ProgressCallback& progress = {}, const PassDoneCallback& pass_done = {},
                 const RenderState* resume = nullptr);
-  // The film's and the adaptive sampler's state, between waves (its
-  // identity is left to the caller, render_identity). Throws
-  // caustica::Error with the photon pass on, whose state is not saved yet.
+  // The film's, the adaptive sampler's and the integrator's state (the
+  // photon pass's), between waves; its identity is left to the caller
+  // (render_identity).
   RenderState state() const;
   // Throws caustica::Error, saying what differs, when `state` cannot be
-  // resumed by this renderer (sizes, the adaptive sampler's presence, the
-  // photon pass); render(..., &state) checks it too.
+  // resumed by this renderer (sizes, the adaptive sampler's presence);
+  // render(..., &state) checks it too.
   void check_state(const RenderState& state) const;
 
   Integrator& integrator() { return *integrator_; }
