@@ -17,6 +17,7 @@
 #include "host/lights/light_types.h"
 #include "host/limits.h"
 #include "host/image/tonemap.h"
+#include "host/render/render_state.h"
 
 namespace caustica {
 namespace {
@@ -42,6 +43,8 @@ class ProgressReporter {
     if (!enabled_) return;
     const double s = seconds();
     const double samples = double(p.pixels_total) * p.pass + double(p.pixels_done);  // pixel samples done
+    // This run's: a resumed render's rate and time left leave out the state's.
+    const double run_samples = samples - double(p.pixels_total) * p.first_pass;
     const bool open_ended = p.passes == std::numeric_limits<int>::max();
     const double total = double(p.pixels_total) * p.passes;
     const uint64_t rays = p.stats ? p.stats->rays() : 0;
@@ -49,7 +52,7 @@ class ProgressReporter {
     last_ = s;
     // Time left: to the sample target at the current rate, or to the time
     // limit, or to the target error as projected, whichever comes first.
-    double left = samples > 0 && !open_ended ? s * (total - samples) / samples : 1e300;
+    double left = run_samples > 0 && !open_ended ? s * (total - samples) / run_samples : 1e300;
     if (p.time_limit_s > 0.0) left = std::min(left, std::max(0.0, p.time_limit_s - p.seconds));
     std::optional<double> to_target = monitor_ ? monitor_->seconds_to_target(p.seconds) : std::nullopt;
     if (to_target) left = std::min(left, *to_target);
@@ -62,7 +65,7 @@ class ProgressReporter {
       if (to_target) error += " (target in " + format_seconds(*to_target) + ")";
     }
     std::fprintf(stderr, "%s[caustica] %.2f/%s spp, %.3g samples/s, %.2f Mrays/s%s, %.1f s elapsed, %s left%s",
-                 tty_ ? "\r" : "", samples / double(p.pixels_total), target, samples / s, rays / s * 1e-6,
+                 tty_ ? "\r" : "", samples / double(p.pixels_total), target, run_samples / s, rays / s * 1e-6,
                  error.c_str(), s, left < 1e299 ? format_seconds(left).c_str() : "?", tty_ ? "\x1b[K" : "\n");
     printed_ = true;
   }
@@ -111,7 +114,8 @@ void print_numerics_report(const RenderStats& stats, RenderMode mode) {
 
 // The report's header: what was rendered, where, and what it cost before
 // the first sample (the rows' seconds start at the first sample).
-std::vector<std::pair<std::string, std::string>> report_header(const Session& session, const RenderArgs& a) {
+std::vector<std::pair<std::string, std::string>> report_header(const Session& session, const RenderArgs& a,
+                                                               int resumed_passes) {
   char buf[128];
   std::vector<std::pair<std::string, std::string>> h;
   h.emplace_back("scene", session.scene.source_path);
@@ -128,6 +132,7 @@ std::vector<std::pair<std::string, std::string>> report_header(const Session& se
   std::snprintf(buf, sizeof buf, "%.3f", session.bvh.build_ms / 1e3);
   h.emplace_back("bvh_build_s", buf);
   if (!a.reference.empty()) h.emplace_back("reference", a.reference);
+  if (!a.resume.empty()) h.emplace_back("resumed_from", a.resume + " at " + std::to_string(resumed_passes) + " spp");
   return h;
 }
 
@@ -148,6 +153,15 @@ void check_output_dir(const std::string& option, const std::string& path) {
   std::error_code ec;
   if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
     throw Error(option + " " + path + ": the directory '" + dir.string() + "' does not exist");
+}
+
+const char* bvh_quality_name(BvhBuildOptions::Quality q) {
+  switch (q) {
+    case BvhBuildOptions::Quality::Fast: return "fast";
+    case BvhBuildOptions::Quality::Sah: return "sah";
+    case BvhBuildOptions::Quality::Spatial: return "spatial";
+  }
+  return "unknown";
 }
 
 }  // namespace
@@ -224,6 +238,16 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
                        "and report them");
   render_cmd->add_flag("--no-error-estimate", a.no_error_estimate,
                        "path: leave out the film's half buffer (no self-estimated error, so no adaptive sampling)");
+  render_cmd->add_option("--checkpoint", a.checkpoint,
+                         "write the render's state to FILE (atomically) every --checkpoint-every seconds, between "
+                         "waves, and at the end; --resume continues from it");
+  render_cmd->add_option_function<double>(
+      "--checkpoint-every", [&a](const double& s) { a.checkpoint_every_s = s; },
+      "seconds between --checkpoint writes (default 60)")
+      ->check(CLI::PositiveNumber);
+  render_cmd->add_option("--resume", a.resume,
+                         "continue the render saved in FILE by --checkpoint, up to --spp (or for --time); the scene "
+                         "and every setting that changes the image must match it");
   render_cmd->add_flag("--adaptive,!--no-adaptive", a.session.adaptive,
                        "path: adaptive sampling, the default: after 16 spp, each wave's samples go where the "
                        "estimated error is (--no-adaptive: every pixel alike)");
@@ -260,6 +284,12 @@ int run_render(RenderArgs& a) {
   if (!a.plot.empty() && a.report.empty()) throw Error("--plot " + a.plot + ": needs --report (the plot is drawn from it)");
   if (a.target_error > 0.0 && a.no_error_estimate)
     throw Error("--target-error needs the error estimate that --no-error-estimate leaves out");
+  if (a.checkpoint_every_s && a.checkpoint.empty())
+    throw Error("--checkpoint-every needs --checkpoint (the file the state is written to)");
+  if (!a.checkpoint.empty()) check_output_dir("--checkpoint", a.checkpoint);
+  // A state that cannot be read, or is damaged, fails before the scene is read.
+  std::optional<RenderState> resume;
+  if (!a.resume.empty()) resume = read_render_state(a.resume);
   // A bad reference fails before anything is built or rendered.
   std::optional<ImageF> reference;
   if (!a.reference.empty()) {
@@ -283,6 +313,26 @@ int run_render(RenderArgs& a) {
     throw Error("--target-error: only path mode is stochastic; binary and phong images are exact after one pass");
   if (!a.spp_map.empty() && session->mode != RenderMode::Path)
     throw Error("--spp-map: only path mode takes several samples a pixel");
+  // The state's identity: what a resumed state must match, and what a
+  // checkpoint records.
+  StateIdentity identity;
+  if (!a.checkpoint.empty() || resume) {
+    identity = render_identity(scene_hash(session->scene), session->mode, session->settings,
+                               session->renderer->film().params().scale, bvh_quality_name(a.session.bvh_quality));
+  }
+  if (resume) {
+    check_render_state(a.resume, *resume, identity);
+    try {
+      session->renderer->check_state(*resume);
+    } catch (const Error& e) {
+      throw Error(a.resume + ": " + e.what());
+    }
+    if (resume->film.passes > session->settings.passes)
+      throw Error(a.resume + ": holds " + std::to_string(resume->film.passes) + " spp, more than the " +
+                  std::to_string(session->settings.passes) + " asked" +
+                  (session->mode == RenderMode::Path ? " (--spp)" : " (phong and binary take one pass)"));
+  }
+  const int resumed_passes = resume ? resume->film.passes : 0;
   const Scene& scene = session->scene;
   // Path tracing never reaches a point or spot light through glass or in a mirror:
   // without the photon pass those caustics are missing, and the error
@@ -321,10 +371,21 @@ int run_render(RenderArgs& a) {
   error_options.reference = std::move(reference);
   error_options.target_error = a.target_error;
   error_options.exposure_scale = display.exposure_scale;
-  error_options.header = report_header(*session, a);
+  error_options.header = report_header(*session, a, resumed_passes);
   ErrorMonitor monitor(std::move(error_options));
   progress.set_error_monitor(&monitor);
-  double last_write = 0.0, render_seconds = 0.0;
+  double last_write = 0.0, render_seconds = 0.0, last_checkpoint = 0.0;
+  const double checkpoint_every = a.checkpoint_every_s.value_or(kDefaultCheckpointSeconds);
+  int checkpoint_passes = -1;  // the latest checkpoint's
+  auto write_checkpoint = [&] {
+    if (session->renderer->film().passes() == checkpoint_passes) return;  // the same state again
+    RenderState state = session->renderer->state();
+    state.identity = identity;
+    write_render_state(a.checkpoint, state);
+    checkpoint_passes = state.film.passes;
+    if (a.verbose)
+      std::fprintf(stderr, "[caustica] checkpoint %s at %d spp\n", a.checkpoint.c_str(), state.film.passes);
+  };
   const bool path = session->mode == RenderMode::Path;
   // The image, with its per-pixel sample counts where they can go: an .exr
   // output's "spp" channel, and the --spp-map heatmap.
@@ -350,10 +411,17 @@ int run_render(RenderArgs& a) {
           last_write = seconds;
           write_outputs(film.mean(), film);
         }
+        // Between waves: the film holds whole waves only.
+        if (!a.checkpoint.empty() && seconds - last_checkpoint >= checkpoint_every) {
+          last_checkpoint = seconds;
+          write_checkpoint();
+        }
         return go_on;
-      });
+      },
+      resume ? &*resume : nullptr);
   progress.finish();
   write_outputs(image, session->renderer->film());
+  if (!a.checkpoint.empty()) write_checkpoint();
   monitor.finish(session->renderer->film(), render_seconds);
   if (a.verbose) {
     std::fprintf(stderr,
@@ -399,8 +467,14 @@ int run_render(RenderArgs& a) {
     std::string accuracy;
     if (monitor.estimate()) accuracy += ", estimated relMSE " + format_error(*monitor.estimate());
     if (monitor.true_rel_mse()) accuracy += ", relMSE against the reference " + format_error(*monitor.true_rel_mse());
-    std::fprintf(stderr, "[caustica] wrote %s (%dx%d, %d spp) in %.2f s%s\n", a.output.c_str(), image.width,
-                 image.height, stats.passes, stats.render_ms / 1e3, accuracy.c_str());
+    std::string resumed;
+    if (resume) resumed = ", resumed from " + std::to_string(resumed_passes) + " spp in " + a.resume;
+    std::fprintf(stderr, "[caustica] wrote %s (%dx%d, %d spp%s) in %.2f s%s\n", a.output.c_str(), image.width,
+                 image.height, session->renderer->film().passes(), resumed.c_str(), stats.render_ms / 1e3,
+                 accuracy.c_str());
+    if (!a.checkpoint.empty())
+      std::fprintf(stderr, "[caustica] wrote %s (the render's state at %d spp)\n", a.checkpoint.c_str(),
+                   session->renderer->film().passes());
     if (!a.report.empty())
       std::fprintf(stderr, "[caustica] wrote %s (%d measurements, %.1f ms measuring = %.2f%% of the render)%s%s\n",
                    a.report.c_str(), monitor.measurements(), monitor.measurement_seconds() * 1e3,

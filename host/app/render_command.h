@@ -1,7 +1,8 @@
 // `caustica render`: options, the render itself, progress on stderr, the
-// image written at the end (and while rendering with --write-every), and the
+// image written at the end (and while rendering with --write-every), the
 // error against run time (--report, --reference, --plot, --target-error;
-// host/app/error_monitor.h).
+// host/app/error_monitor.h), and its state saved and resumed (--checkpoint,
+// --resume; host/render/render_state.h).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -24,7 +25,13 @@ struct RenderArgs {
   std::string spp_map;  // path: the per-pixel sample counts as a heatmap (.png/.svg)
   double target_error = 0.0;
   bool no_error_estimate = false;
+  // Render state files (host/render/render_state.h): written every
+  // checkpoint_every_s seconds (between waves) and at the end; resumed from.
+  std::string checkpoint, resume;
+  std::optional<double> checkpoint_every_s;  // default kDefaultCheckpointSeconds
 };
+
+inline constexpr double kDefaultCheckpointSeconds = 60.0;
 
 // The `render` subcommand's options, bound to `args`.
 CLI::App* add_render_command(CLI::App& app, RenderArgs& args);

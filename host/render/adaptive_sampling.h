@@ -50,6 +50,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "host/image/image.h"
@@ -93,11 +94,24 @@ std::vector<uint32_t> place_wave_samples(const std::vector<double>& weight, cons
 // photon pass its caustic image: a cost per wave that small waves felt),
 // and places every wave from the current counts. It depends on the film's
 // counts and bits only, so the same seed gives the same plan.
+// The sampler's cached weights and the film's pass count when they were
+// taken: a resumed render (host/render/render_state.h) restores them, so
+// that its waves are placed exactly as an uninterrupted render's.
+struct AdaptiveSamplerState {
+  std::vector<double> weights;  // empty: none taken yet
+  int weights_passes = 0;
+};
+
 class AdaptiveSampler {
  public:
   explicit AdaptiveSampler(const AdaptiveOptions& options) : options_(options) {}
   std::vector<uint32_t> plan(const Film& film, int pass_count);
   const AdaptiveOptions& options() const { return options_; }
+  AdaptiveSamplerState state() const { return {weight_, weights_passes_}; }
+  void restore(AdaptiveSamplerState state) {
+    weight_ = std::move(state.weights);
+    weights_passes_ = state.weights_passes;
+  }
 
  private:
   AdaptiveOptions options_;

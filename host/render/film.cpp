@@ -62,6 +62,68 @@ void Film::clear() {
   wave_entries_ = 0;
 }
 
+void Film::allocate_per_pixel_buffers() {
+  auto& ctx = runtime_.context();
+  const size_t pixels = pixel_count();
+  pixel_spp_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_uint));
+  wave_spp_buffer_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_uint));
+  entry_pixel_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_uint));
+  entry_offset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, (pixels + 1) * sizeof(cl_uint));
+  per_pixel_ = true;
+}
+
+FilmState Film::state() const {
+  if (planned_passes_ != 0) throw Error("film: its state is taken between waves, not with a wave planned");
+  FilmState s;
+  s.passes = passes_;
+  s.per_pixel = per_pixel_;
+  s.spp = spp_;
+  s.half_start = half_start_;
+  s.pixel_rays = pixel_rays();
+  s.accumulated.resize(accumulated_words());
+  s.counters.resize(FILM_COUNTERS);
+  auto& q = runtime_.queue();
+  q.enqueueReadBuffer(accumulated_, CL_TRUE, 0, s.accumulated.size() * sizeof(uint64_t), s.accumulated.data());
+  q.enqueueReadBuffer(counters_, CL_TRUE, 0, s.counters.size() * sizeof(cl_uint), s.counters.data());
+  return s;
+}
+
+void Film::check_state(const FilmState& s) const {
+  const size_t pixels = pixel_count();
+  auto wrong = [&](const std::string& what, size_t got, size_t want) {
+    return Error("film: a state with " + std::to_string(got) + " " + what + " for a film of " +
+                 std::to_string(want));
+  };
+  if (s.spp.size() != pixels) throw wrong("pixel counts", s.spp.size(), pixels);
+  if (s.half_start.size() != pixels) throw wrong("half starts", s.half_start.size(), pixels);
+  if (s.pixel_rays.size() != pixels) throw wrong("ray counts", s.pixel_rays.size(), pixels);
+  if (s.accumulated.size() != accumulated_words())
+    throw wrong("accumulated sum words", s.accumulated.size(), accumulated_words());
+  if (s.counters.size() != FILM_COUNTERS) throw wrong("counters", s.counters.size(), FILM_COUNTERS);
+  if (s.passes < 0) throw Error("film: a state of " + std::to_string(s.passes) + " passes");
+  // The mean of the pixels' counts is the pass count (Film's rule): a state
+  // that breaks it was not written by a film.
+  uint64_t total = 0;
+  for (uint32_t n : s.spp) total += n;
+  if (total != uint64_t(s.passes) * pixels)
+    throw Error("film: a state whose pixels hold " + std::to_string(total) + " samples, not " +
+                std::to_string(s.passes) + " passes of " + std::to_string(pixels) + " pixels");
+}
+
+void Film::restore(const FilmState& s) {
+  check_state(s);
+  clear();
+  auto& q = runtime_.queue();
+  q.enqueueWriteBuffer(accumulated_, CL_TRUE, 0, s.accumulated.size() * sizeof(uint64_t), s.accumulated.data());
+  q.enqueueWriteBuffer(counters_, CL_TRUE, 0, s.counters.size() * sizeof(cl_uint), s.counters.data());
+  q.enqueueWriteBuffer(pixel_rays_, CL_TRUE, 0, s.pixel_rays.size() * sizeof(cl_ulong), s.pixel_rays.data());
+  passes_ = s.passes;
+  spp_ = s.spp;
+  half_start_ = s.half_start;
+  // The per-pixel buffers' contents are uploaded by every plan_wave.
+  if (s.per_pixel) allocate_per_pixel_buffers();
+}
+
 uint32_t Film::most_samples_per_pixel() const {
   const double bound = std::isfinite(options_.pass_bound) && options_.pass_bound > 0.0f ? options_.pass_bound : 1.0;
   const double fits = std::ldexp(1.0, 63) / (bound * double(params_.scale));
@@ -91,14 +153,7 @@ void Film::plan_wave(int pass_count, std::vector<uint32_t> samples) {
   if (total != uint64_t(pass_count) * pixels || total > 0xFFFFFFFFull)
     throw Error("film: a wave allocation of " + std::to_string(total) + " samples, not " +
                 std::to_string(pass_count) + " passes of " + std::to_string(pixels) + " pixels");
-  auto& ctx = runtime_.context();
-  if (!per_pixel_) {
-    pixel_spp_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_uint));
-    wave_spp_buffer_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_uint));
-    entry_pixel_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_uint));
-    entry_offset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, (pixels + 1) * sizeof(cl_uint));
-    per_pixel_ = true;
-  }
+  if (!per_pixel_) allocate_per_pixel_buffers();
   std::vector<uint32_t> entry_pixel, entry_offset;
   entry_pixel.reserve(pixels);
   entry_offset.reserve(pixels + 1);
@@ -148,6 +203,12 @@ std::vector<uint32_t> Film::spp_after_wave() const {
 
 void Film::clear_pass_range(size_t first_pixel, size_t count) {
   runtime_.fill(pass_, cl_ulong(0), first_pixel * 3 * sizeof(cl_ulong), count * 3 * sizeof(cl_ulong));
+}
+
+void Film::abandon_wave() {
+  clear_pass_range(0, pixel_count());
+  planned_passes_ = 0;
+  wave_spp_.clear();
 }
 
 namespace {
@@ -201,10 +262,6 @@ void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats, int pass
 int Film::most_passes_from(int passes, int wanted) {
   const int next_restart = next_half_restart(passes);
   return std::max(1, std::min({wanted, kMostWavePasses, next_restart - passes}));
-}
-
-size_t Film::accumulated_bytes() const {
-  return (options_.half_buffer ? 2 : 1) * pixel_count() * 3 * kAccumulatedValueBytes;
 }
 
 ImageF Film::read_sums(size_t offset) const {

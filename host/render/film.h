@@ -51,6 +51,20 @@ struct FilmCounts {
   uint64_t total() const { return nonfinite + negative + clamped; }
 };
 
+// What the film holds between waves, all a render needs of it to go on
+// (host/render/render_state.h writes it to a file): the accumulated sums
+// (the combined sum, then the half buffer's when kept), every pixel's
+// samples, half start and traced rays (adaptive sampling reads them), and
+// the film's counters. The pass in progress is empty between waves.
+struct FilmState {
+  int passes = 0;
+  bool per_pixel = false;  // an uneven wave was accumulated (Film::uniform() is false)
+  std::vector<uint32_t> spp, half_start;
+  std::vector<uint64_t> pixel_rays;
+  std::vector<uint64_t> accumulated;  // 128-bit sums, two words each (Film::kAccumulatedValueBytes)
+  std::vector<uint32_t> counters;    // FILM_COUNTERS values
+};
+
 // An estimate kept apart from the film's passes and added to its image (the
 // photon pass's caustics: SPPM's per-pixel statistics are not a mean of
 // passes). It is added to mean() and to half_mean() alike, so the error
@@ -110,7 +124,16 @@ class Film {
   std::vector<uint64_t> pixel_rays() const;
 
   void clear();  // everything: accumulated passes, the pass in progress, counters
+  // Between waves (none planned): everything the film holds (a blocking
+  // read), and the film put back to it. restore throws caustica::Error when
+  // the state's sizes are not this film's.
+  FilmState state() const;
+  void check_state(const FilmState& state) const;  // what restore checks, and nothing else
+  void restore(const FilmState& state);
   void clear_pass_range(size_t first_pixel, size_t pixel_count);  // of the pass in progress only
+  // The planned wave is dropped unaccumulated (a time limit ran out within
+  // it): the pass in progress cleared, nothing planned.
+  void abandon_wave();
   // Adds the pass in progress, which holds pass_count passes (a wave, as
   // planned), to the accumulated passes and clears it. An even wave may not
   // cross the half buffer's restart at a power of two (most_passes_from).
@@ -144,8 +167,12 @@ class Film {
   static constexpr size_t kAccumulatedValueBytes = 2 * sizeof(uint64_t);
 
  private:
-  size_t accumulated_bytes() const;
+  // Accumulated sums and halves, in 64-bit words (two per channel value).
+  size_t accumulated_words() const { return (options_.half_buffer ? 2 : 1) * pixel_count() * 3 * 2; }
+  size_t accumulated_bytes() const { return accumulated_words() * sizeof(uint64_t); }
   ImageF read_sums(size_t offset) const;  // offset in values
+  // The buffers the stages read from the first uneven wave on.
+  void allocate_per_pixel_buffers();
   void divide_by(ImageF& image, const std::vector<uint32_t>& counts) const;
 
   Runtime& runtime_;

@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "host/error.h"
 #include "host/render/adaptive_sampling.h"
 #include "host/render/film.h"
 #include "host/render/photon_stats.h"
@@ -152,6 +153,14 @@ class Integrator {
   virtual int next_pass_kind(const Film& /*film*/) const { return 0; }
   // After the last pass: whatever the integrator counted on the device.
   virtual void collect(RenderStats* /*stats*/) {}
+  // Render state files (host/render/render_state.h): what later waves
+  // depend on beyond the film, between waves (the photon pass's statistics,
+  // latest map and schedule), as bytes; empty: nothing. restore_state puts
+  // it back after the film was restored (`what` names the file in errors).
+  virtual std::string state() const { return {}; }
+  virtual void restore_state(Film& /*film*/, const std::string& bytes, const std::string& what) {
+    if (!bytes.empty()) throw Error(what + ": integrator state for a " + name_ + " render that keeps none");
+  }
 
   const char* name() const { return name_; }  // the mode, as --mode spells it
   // Pixels per chunk its queues are sized for.

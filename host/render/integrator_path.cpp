@@ -34,6 +34,7 @@
 #include "host/render/kernel_args.h"
 #include "host/lights/light_table.h"
 #include "host/render/photon_pass.h"
+#include "host/render/state_bytes.h"
 #include "host/render/wave_loop.h"
 
 namespace caustica {
@@ -161,6 +162,37 @@ class PathIntegrator final : public Integrator {
     }
     passes_since_photons_ = (passes_since_photons_ + uint32_t(passes)) % interval_;
   }
+  // The photon pass's schedule and state (render_state.h); nothing without it.
+  std::string state() const override {
+    if (!photons_) return {};
+    StateWriter out;
+    out.put(interval_);
+    out.put(least_interval_);
+    out.put(uint8_t(balanced_ ? 1 : 0));
+    out.put(passes_counted_);
+    out.put(passes_since_photons_);
+    out.text(decision_);
+    photons_->save(out);
+    return std::move(out.bytes());
+  }
+  void restore_state(Film& film, const std::string& bytes, const std::string& what) override {
+    if (!photons_) return Integrator::restore_state(film, bytes, what);
+    if (bytes.empty()) throw Error(what + ": no photon pass state for a render with the photon pass");
+    StateReader in(bytes, 0, bytes.size(), what);
+    interval_ = in.get<uint32_t>("photon schedule");
+    least_interval_ = in.get<uint32_t>("photon schedule");
+    balanced_ = in.get<uint8_t>("photon schedule") != 0;
+    passes_counted_ = in.get<uint32_t>("photon schedule");
+    passes_since_photons_ = in.get<uint32_t>("photon schedule");
+    decision_ = in.text("photon schedule");
+    if (interval_ == 0 || passes_since_photons_ >= interval_)
+      throw Error(what + ": a photon map every " + std::to_string(interval_) + " passes, " +
+                  std::to_string(passes_since_photons_) + " since the latest");
+    photons_->load(in);
+    if (!in.done()) throw Error(what + ": bytes after the photon pass's state");
+    // Added to the image even when no pass is left to run.
+    film.set_separate_estimate(photons_.get());
+  }
   void collect(RenderStats* stats) override {
     if (photons_ && stats) {
       photons_->read_counters(stats);
@@ -204,7 +236,11 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
   shadow_ = DeviceQueue(ctx, shadow_record_layout(), slots_);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, slots_ * sizeof(Hit));
   loop_ = std::make_unique<WaveLoop>(launcher, std::vector<int>{1, int(WAVE_PROGRESS_VALUES)});
-  if (settings.check_numerics) numerics_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, NUMERICS_COUNTERS * sizeof(cl_ulong));
+  if (settings.check_numerics) {
+    numerics_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, NUMERICS_COUNTERS * sizeof(cl_ulong));
+    // Zeroed here too: a resumed render (render_state.h) starts past pass 0.
+    launcher.runtime().fill(numerics_, cl_ulong(0), 0, NUMERICS_COUNTERS * sizeof(cl_ulong));
+  }
   if (settings.caustics && light_count_ > 0)
     photons_ = std::make_unique<PhotonPass>(launcher, scene, program, lights_, uint32_t(light_count_), settings);
 }

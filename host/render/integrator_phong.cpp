@@ -21,6 +21,7 @@
 #include "host/lights/light_table.h"
 #include "host/lights/light_table.h"
 #include "host/render/photon_pass.h"
+#include "host/render/state_bytes.h"
 #include "host/render/wave_loop.h"
 
 namespace caustica {
@@ -37,6 +38,20 @@ class PhongIntegrator final : public Integrator {
     if (!photons_) return;
     if (film.passes() == 0) photons_->clear();
     photons_->trace(stats);
+  }
+  // --caustics on: the photon pass's maps and radius schedule (render_state.h).
+  std::string state() const override {
+    if (!photons_) return {};
+    StateWriter out;
+    photons_->save(out);
+    return std::move(out.bytes());
+  }
+  void restore_state(Film& film, const std::string& bytes, const std::string& what) override {
+    if (!photons_) return Integrator::restore_state(film, bytes, what);
+    if (bytes.empty()) throw Error(what + ": no photon pass state for a render with the photon pass");
+    StateReader in(bytes, 0, bytes.size(), what);
+    photons_->load(in);
+    if (!in.done()) throw Error(what + ": bytes after the photon pass's state");
   }
 
  private:

@@ -30,11 +30,14 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
   const double tolerance = timed ? time_limit_tolerance(stop.seconds) : 0.0;
   std::map<int, double> latest_pass_s;  // seconds a pass, by kind (of the latest wave of that kind)
   double longest_pass_s = 0.0;
-  for (int pass = 0; pass < stop.passes;) {
+  // The waves depend on the film's pass count only (without a time limit),
+  // so a resumed run traces the waves an uninterrupted one would have.
+  const int first_pass = film_.passes();
+  for (int pass = first_pass; pass < stop.passes;) {
     const int kind = integrator_.next_pass_kind(film_);
     const double start = seconds();
     int wave = Film::most_passes_from(film_.passes(), std::min(integrator_.wave_passes(film_), stop.passes - pass));
-    if (timed && pass > 0) {
+    if (timed && pass > first_pass) {
       const auto known = latest_pass_s.find(kind);
       const double predicted = known != latest_pass_s.end() ? known->second : longest_pass_s;
       const double room = stop.seconds + 0.75 * tolerance - start;
@@ -49,17 +52,17 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
     integrator_.begin_pass(film_, stats);
     bool abandoned = false;
     for (size_t first = 0; first < pixels; first += chunk) {
-      if (timed && pass > 0 && first > 0 && seconds() > stop.seconds + 0.9 * tolerance) {
+      if (timed && pass > first_pass && first > 0 && seconds() > stop.seconds + 0.9 * tolerance) {
         abandoned = true;
         break;
       }
       trace_chunk(first, std::min(chunk, pixels - first), wave, stats);
       if (progress)
         progress(PassProgress{pass + wave - 1, stop.passes, seconds(), stop.seconds, std::min(pixels, first + chunk),
-                              pixels, stats});
+                              pixels, stats, first_pass});
     }
     if (abandoned) {
-      film_.clear_pass_range(0, pixels);
+      film_.abandon_wave();
       break;
     }
     integrator_.end_pass(film_, wave, stats);

@@ -22,7 +22,7 @@
 // not seen yet), would end within 3/4 of that tolerance after T (it is cut
 // to the passes that do), and a pass still running at T plus 9/10 of it is
 // abandoned between chunks (its contributions cleared, never accumulated).
-// The first pass always runs to the end.
+// The first pass of a run always runs to the end.
 #pragma once
 
 #include <functional>
@@ -43,6 +43,7 @@ struct PassProgress {
   size_t pixels_done = 0;  // of this pass
   size_t pixels_total = 0;
   const RenderStats* stats = nullptr;
+  int first_pass = 0;  // the film's passes when this run started (a resumed render's)
 };
 using ProgressCallback = std::function<void(const PassProgress&)>;
 // After each accumulated wave (the film holds film.passes() passes).
@@ -51,7 +52,7 @@ using PassDoneCallback = std::function<bool(const Film& film, double seconds)>;
 
 // The driver stops at whichever comes first.
 struct StopConditions {
-  int passes = 1;
+  int passes = 1;  // the film's passes at the end (a resumed film counts those it holds)
   double seconds = 0.0;  // wall-time limit (above; at least one pass runs); 0: none
 };
 
@@ -67,7 +68,13 @@ class PassDriver {
   // (Integrator::wave_may_be_uneven) is spread by the film's error
   // estimate; the film needs its half buffer.
   void set_adaptive(const AdaptiveOptions& options) { adaptive_.emplace(options); }
-  // Adds passes to the film (it is not cleared here).
+  // The adaptive sampler (nullptr without adaptive sampling): its state is
+  // part of a render's (host/render/render_state.h).
+  AdaptiveSampler* adaptive() { return adaptive_ ? &*adaptive_ : nullptr; }
+  const AdaptiveSampler* adaptive() const { return adaptive_ ? &*adaptive_ : nullptr; }
+  // Adds passes to the film (it is not cleared here) until it holds
+  // stop.passes: a film restored from a state goes on from its passes, with
+  // the waves an uninterrupted render would have traced from there.
   void run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress = {},
            const PassDoneCallback& pass_done = {});
 

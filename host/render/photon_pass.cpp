@@ -8,6 +8,7 @@
 #include "host/cl/runtime.h"
 #include "host/render/device_scene.h"
 #include "host/render/integrator.h"
+#include "host/render/state_bytes.h"
 #include "host/render/wave_loop.h"
 #include "host/scene/features.h"
 #include "host/scene/scene.h"
@@ -264,13 +265,82 @@ void PhotonPass::trace(RenderStats* stats) {
   PhotonGridShape shape;
   shape.origin = origin_;
   if (gather_mode_ == PhotonGather::SharedRadius) cell_size_ = shared_radius(pass_index);
-  shape.cell_size = cell_size_;
+  shape.cell_size = map_cell_size_ = cell_size_;
   const uint32_t stored = grid_.build(launcher_, photons_, stored_count_, photons_per_pass_, shape, stats);
   stats_.emitted += photons_per_pass_;
   stats_.stored += stored;
   stats_.photon_rays += last_photon_rays_;
   last_stored_ = stored;
   stats_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+namespace {
+std::string read_bytes(Runtime& runtime, const cl::Buffer& buffer, size_t bytes) {
+  std::string out(bytes, '\0');
+  if (bytes > 0) runtime.queue().enqueueReadBuffer(buffer, CL_TRUE, 0, bytes, out.data());
+  return out;
+}
+void write_bytes(Runtime& runtime, const cl::Buffer& buffer, const std::string& bytes, size_t expected,
+                 const std::string& what) {
+  if (bytes.size() != expected)
+    throw Error("photon pass state: " + std::to_string(bytes.size()) + " bytes of " + what + ", " +
+                std::to_string(expected) + " expected");
+  if (expected > 0) runtime.queue().enqueueWriteBuffer(buffer, CL_TRUE, 0, expected, bytes.data());
+}
+}  // namespace
+
+void PhotonPass::save(StateWriter& out) const {
+  Runtime& rt = launcher_.runtime();
+  out.put(maps_);
+  out.put(gathered_);
+  out.put(uint8_t(on_ ? 1 : 0));
+  out.put(cell_size_);
+  out.put(map_cell_size_);
+  out.array(spp_while_on_);
+  out.array(std::vector<uint64_t>(radii_.begin(), radii_.end()));
+  const bool per_pixel = gather_mode_ == PhotonGather::PerPixel;
+  out.blob(per_pixel ? read_bytes(rt, pixels_, pixel_count_ * sizeof(SppmPixel)) : std::string());
+  out.blob(per_pixel ? read_bytes(rt, visible_points_, pixel_count_ * sizeof(VisiblePoint)) : std::string());
+  out.blob(per_pixel ? read_bytes(rt, gather_counters_, GATHER_COUNTERS * sizeof(cl_ulong)) : std::string());
+  // The latest map: its stored photons (the counter may have run past the
+  // buffer: the grid holds at most photons_per_pass_ of them).
+  out.put(uint64_t(last_stored_));
+  const size_t kept = maps_ > 0 ? std::min<uint64_t>(last_stored_, photons_per_pass_) : 0;
+  out.blob(read_bytes(rt, photons_, kept * sizeof(Photon)));
+}
+
+void PhotonPass::load(StateReader& in) {
+  Runtime& rt = launcher_.runtime();
+  maps_ = in.get<uint32_t>("photon pass");
+  gathered_ = in.get<uint32_t>("photon pass");
+  on_ = in.get<uint8_t>("photon pass") != 0;
+  cell_size_ = in.get<float>("photon pass");
+  map_cell_size_ = in.get<float>("photon pass");
+  spp_while_on_ = in.array<uint32_t>("photon pass's samples while on");
+  const std::vector<uint64_t> radii = in.array<uint64_t>("photon radius histogram");
+  if (radii.size() != radii_.size())
+    throw Error("photon pass state: a radius histogram of " + std::to_string(radii.size()) + " bins, " +
+                std::to_string(radii_.size()) + " expected");
+  std::copy(radii.begin(), radii.end(), radii_.begin());
+  const bool per_pixel = gather_mode_ == PhotonGather::PerPixel;
+  write_bytes(rt, pixels_, in.blob("SPPM pixels"), per_pixel ? pixel_count_ * sizeof(SppmPixel) : 0, "SPPM pixels");
+  write_bytes(rt, visible_points_, in.blob("visible points"), per_pixel ? pixel_count_ * sizeof(VisiblePoint) : 0,
+              "visible points");
+  write_bytes(rt, gather_counters_, in.blob("gather counters"), per_pixel ? GATHER_COUNTERS * sizeof(cl_ulong) : 0,
+              "gather counters");
+  const uint64_t stored = in.get<uint64_t>("photon map");
+  const std::string photons = in.blob("photon map");
+  const size_t kept = maps_ > 0 ? std::min<uint64_t>(stored, photons_per_pass_) : 0;
+  write_bytes(rt, photons_, photons, kept * sizeof(Photon), "photons");
+  last_stored_ = stored;
+  if (maps_ == 0) return;
+  // The latest map's grid, built again from its photons and cells.
+  const cl_uint counter = cl_uint(std::min<uint64_t>(stored, 0xFFFFFFFFull));
+  rt.queue().enqueueWriteBuffer(stored_count_, CL_TRUE, 0, sizeof counter, &counter);
+  PhotonGridShape shape;
+  shape.origin = origin_;
+  shape.cell_size = map_cell_size_;
+  grid_.build(launcher_, photons_, stored_count_, photons_per_pass_, shape);
 }
 
 void PhotonPass::gather(RenderStats* stats) {

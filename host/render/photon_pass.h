@@ -34,6 +34,8 @@
 namespace caustica {
 
 class WaveLoop;
+class StateReader;
+class StateWriter;
 
 class DeviceScene;
 class StageLauncher;
@@ -86,6 +88,13 @@ class PhotonPass final : public SeparateEstimate {
   ~PhotonPass() override;
 
   void clear();  // a new render: radii back to the initial one, no photons
+  // Render state files (host/render/render_state.h), between waves: the
+  // schedule (maps, gathers, on or off, the cells), every pixel's SPPM
+  // statistics and visible point, the gather counters of the passes since
+  // the latest map, and that map's photons (load builds its grid again:
+  // the same photons and cells give the same grid).
+  void save(StateWriter& out) const;
+  void load(StateReader& in);
   // A new photon map (the next photon pass; in path mode `auto` may trace
   // one every few camera passes, integrator_path.cpp), before a camera
   // pass's chunks.
@@ -159,6 +168,7 @@ class PhotonPass final : public SeparateEstimate {
   float first_cell_size_;  // the first pass's cells
   std::array<float, 3> origin_{};
   float cell_size_;
+  float map_cell_size_ = 0.0f;  // the latest map's cells (cell_size_ is the next's)
   bool fixed_radius_;  // --caustic-radius: every pixel starts at it
   bool on_ = true;
   uint32_t maps_ = 0, gathered_ = 0;

@@ -26,15 +26,44 @@ Renderer::Renderer(Runtime& runtime, const DeviceScene& scene, RenderMode mode, 
   }
 }
 
-ImageF Renderer::render(RenderStats* stats, const ProgressCallback& progress, const PassDoneCallback& pass_done) {
+void Renderer::check_state(const RenderState& state) const {
+  film_->check_state(state.film);
+  if (settings_.adaptive != state.adaptive.has_value())
+    throw Error(std::string("render state: ") +
+                (state.adaptive ? "an adaptive sampler's state" : "no adaptive sampler's state") +
+                " for a render " + (settings_.adaptive ? "with" : "without") + " adaptive sampling");
+  if (state.adaptive && !state.adaptive->weights.empty() && state.adaptive->weights.size() != film_->pixel_count())
+    throw Error("render state: " + std::to_string(state.adaptive->weights.size()) + " adaptive weights for " +
+                std::to_string(film_->pixel_count()) + " pixels");
+}
+
+RenderState Renderer::state() const {
+  RenderState s;
+  s.film = film_->state();
+  if (settings_.adaptive)
+    s.adaptive = driver_ && driver_->adaptive() ? driver_->adaptive()->state() : AdaptiveSamplerState{};
+  s.integrator = integrator_->state();
+  return s;
+}
+
+ImageF Renderer::render(RenderStats* stats, const ProgressCallback& progress, const PassDoneCallback& pass_done,
+                        const RenderState* resume) {
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    film_->clear();
+    if (resume) check_state(*resume);
     StopConditions stop;
     stop.passes = settings_.passes;
     stop.seconds = settings_.time_limit_s;
-    PassDriver driver(*integrator_, *film_, launcher_);
+    driver_ = std::make_unique<PassDriver>(*integrator_, *film_, launcher_);
+    PassDriver& driver = *driver_;
     if (settings_.adaptive) driver.set_adaptive(settings_.adaptive_options);
+    if (resume) {
+      film_->restore(resume->film);
+      if (resume->adaptive) driver.adaptive()->restore(*resume->adaptive);
+      integrator_->restore_state(*film_, resume->integrator, "render state");
+    } else {
+      film_->clear();
+    }
     driver.run(stop, stats, progress, pass_done);
     ImageF image = film_->mean();
     launcher_.collect(stats);

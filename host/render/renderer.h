@@ -1,6 +1,8 @@
 // One render of a scene in one mode: the device scene, the mode's integrator,
 // a film and the pass driver, put together. What `caustica render`, the tests
-// and the bench's render timing call.
+// and the bench's render timing call. A render may start from a saved state
+// (host/render/render_state.h) and its state may be taken between waves
+// (from a pass-done callback, or after render returns).
 #pragma once
 
 #include <memory>
@@ -9,6 +11,7 @@
 #include "host/render/film.h"
 #include "host/render/integrator.h"
 #include "host/render/pass_driver.h"
+#include "host/render/render_state.h"
 
 namespace caustica {
 
@@ -17,9 +20,19 @@ class Renderer {
   Renderer(Runtime& runtime, const DeviceScene& scene, RenderMode mode, const cl::Program& program,
            const RenderSettings& settings);
 
-  // Clears the film, renders settings.passes passes (or until
-  // settings.time_limit_s), returns the mean.
-  ImageF render(RenderStats* stats, const ProgressCallback& progress = {}, const PassDoneCallback& pass_done = {});
+  // Clears the film (or, given `resume`, restores it and the adaptive
+  // sampler from that state), renders until the film holds settings.passes
+  // passes (or until settings.time_limit_s), returns the mean.
+  ImageF render(RenderStats* stats, const ProgressCallback& progress = {}, const PassDoneCallback& pass_done = {},
+                const RenderState* resume = nullptr);
+  // The film's, the adaptive sampler's and the integrator's state (the
+  // photon pass's), between waves; its identity is left to the caller
+  // (render_identity).
+  RenderState state() const;
+  // Throws caustica::Error, saying what differs, when `state` cannot be
+  // resumed by this renderer (sizes, the adaptive sampler's presence);
+  // render(..., &state) checks it too.
+  void check_state(const RenderState& state) const;
 
   Integrator& integrator() { return *integrator_; }
   Film& film() { return *film_; }
@@ -31,6 +44,7 @@ class Renderer {
   StageLauncher launcher_;
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<Film> film_;
+  std::unique_ptr<PassDriver> driver_;  // the latest render's
 };
 
 }  // namespace caustica
