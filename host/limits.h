@@ -31,13 +31,14 @@ inline constexpr int kMaxImageSide = 32768;
 inline constexpr uint64_t kMaxImagePixels = uint64_t(1) << 28;  // 268,435,456, e.g. 16384 x 16384
 
 // Render state files (host/render/render_state.h): the largest a render
-// within kMaxImagePixels writes: per pixel two float sums of 3 channels,
-// its samples, half start and ray count, and an adaptive weight (48 bytes),
-// with the photon pass its SPPM statistics and visible point (160 bytes);
-// a photon map of at most 2^22 photons of 48 bytes (--photons' limit); and
-// 1 MiB for the header, the identity and the schedule.
+// within kMaxImagePixels writes: per pixel two 128-bit sums of 3 channels
+// (the sum and the half, 96 bytes), its samples, half start and ray count,
+// and an adaptive weight (24 bytes), with the photon pass its SPPM
+// statistics and visible point (160 bytes); a photon map of at most 2^22
+// photons of 48 bytes (--photons' limit); and 1 MiB for the header, the
+// identity and the schedule.
 inline constexpr uint64_t kMaxStateFileBytes =
-    (48 + 160) * kMaxImagePixels + 48 * (uint64_t(1) << 22) + (uint64_t(1) << 20);
+    (120 + 160) * kMaxImagePixels + 48 * (uint64_t(1) << 22) + (uint64_t(1) << 20);
 
 // Exposure in stops (the camera's "exposure", --exposure): every pixel is
 // scaled by 2^exposure, which must stay a normal float either way.
