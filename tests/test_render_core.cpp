@@ -216,7 +216,9 @@ TEST(Film, SumsDoNotDependOnTheWavesThePassesCameIn) {
   EXPECT_NEAR(single.film.mean().rgb[0], exact / n, 1e-6 * exact / n);
 }
 
-// A 128-bit sum becomes the nearest float, ties to even, in one rounding.
+// A 128-bit sum becomes the nearest float, ties to even, in one rounding
+// (kernels/lib/film_sums.h, on the host; the device's is the same code, and
+// the tests above read every film through it).
 TEST(Film, WideSumsRoundOnceToTheNearestFloat) {
   const float two64 = std::ldexp(1.0f, 64);
   EXPECT_EQ(sum128_to_float(12345, 0), 12345.0f);

@@ -186,7 +186,8 @@ class Film {
   uint32_t wave_entries_ = 0;
   cl::Buffer pixel_spp_, wave_spp_buffer_, entry_pixel_, entry_offset_;
   cl::Buffer pass_, accumulated_, counters_, pixel_rays_;
-  std::unique_ptr<StageKernel> accumulate_;
+  std::unique_ptr<StageKernel> accumulate_, read_sums_;
+  cl::Buffer read_values_;  // read_sums' floats (one image's)
   size_t half_offset_ = FILM_PASS_ABSENT;
   const SeparateEstimate* separate_ = nullptr;
 };

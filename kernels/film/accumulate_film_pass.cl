@@ -20,6 +20,7 @@
  * cross one: its half then starts at n, the wave's first sample
  * (lib/wave_samples.h's rule, which the host film shares). */
 
+#include "lib/film_sums.h"
 #include "lib/wave_samples.h"
 
 /* sum (two ulongs at *sum, low first) += value */
@@ -45,4 +46,14 @@ __kernel void accumulate_film_pass(__global ulong* restrict film, __global ulong
     add_to_sum128(half_sum, value);
   }
   film[i] = 0;
+}
+
+/* Before the host reads them: value_count sums from `offset` (in values) as
+ * floats times inv_scale (a power of two: exact), one work-item each. */
+__kernel void read_film_sums(__global const ulong* restrict passes, __global float* restrict values,
+                             uint value_count, uint offset, float inv_scale) {
+  const uint i = get_global_id(0);
+  if (i >= value_count) return;
+  const ulong at = 2ul * ((ulong)offset + i);
+  values[i] = film_sum_to_float(passes[at], passes[at + 1ul]) * inv_scale;
 }
