@@ -64,4 +64,16 @@ inline constexpr uint64_t kMaxPixelsPerFileByteRle = 256;
 // lights and has no such limit.
 inline constexpr uint64_t kMaxPhongLights = 1024;
 
+// glTF (host/scene/gltf*.cpp): files (.gltf, .glb and the buffers and
+// images they name) are read under kMaxMeshFileBytes. An accessor may not
+// claim more elements than this (one without a buffer view is all zeros and
+// bounded by nothing else); the node graph is walked at most this deep and
+// places at most this many node instances (a graph whose nodes share
+// children multiplies); and the triangles all mesh instances add are
+// bounded before they are stored (each costs some 140 bytes on the host).
+inline constexpr uint64_t kMaxGltfAccessorElements = uint64_t(1) << 28;
+inline constexpr int kMaxGltfNodeDepth = 1024;
+inline constexpr uint64_t kMaxGltfNodeInstances = uint64_t(1) << 20;
+inline constexpr uint64_t kMaxGltfTriangles = uint64_t(1) << 26;
+
 }  // namespace caustica::limits
