@@ -38,7 +38,8 @@ CameraDesc pick_camera(const Reader& r, const GltfModel& model, const LoadOption
     const int n = *options.gltf_camera;
     if (n < 0 || static_cast<size_t>(n) >= model.camera_count)
       throw Error("--camera " + std::to_string(n) + ": " + r.file() + " has " + std::to_string(model.camera_count) +
-                  " cameras" + (model.camera_count ? " (0 to " + std::to_string(model.camera_count - 1) + ")" : ""));
+                  (model.camera_count == 1 ? " camera" : " cameras") +
+                  (model.camera_count ? " (0 to " + std::to_string(model.camera_count - 1) + ")" : ""));
     for (const GltfCamera& c : model.cameras)
       if (c.index == n) chosen = chosen ? chosen : &c;
     if (!chosen)
