@@ -233,6 +233,16 @@ TEST(Gltf, CyclesDeepChainsAndSharedChildrenAreRefusedWithoutRecursion) {
   }
 }
 
+// tinygltf converts "extras" recursively: nesting is bounded before it runs.
+TEST(Gltf, DeeplyNestedJsonIsRefusedEvenInExtras) {
+  Doc d;
+  d.mesh(kTriangle);
+  d.node({{"mesh", 0}});
+  std::string text = d.text();
+  text.insert(text.size() - 1, R"(, "extras": )" + std::string(100000, '[') + std::string(100000, ']'));
+  EXPECT_TRUE(test::Contains(error_of_text(text), {"t.gltf: /extras/0/0/0", "nested at most 64 levels"}));
+}
+
 TEST(Gltf, MaterialsMapOntoOursAsFormatMdSays) {
   Doc d;
   d.mesh(kTriangle);

@@ -63,25 +63,29 @@ class SchemaCheck {
  public:
   explicit SchemaCheck(const std::string& file) : file_(file) {}
 
-  void value(const json& v, const std::string& pointer, int depth) {
+  // `typed`: inside glTF's own properties, whose types are checked; the
+  // author's "extras", unknown top-level properties and extensions we do
+  // not read are only checked for depth (tinygltf converts extras and
+  // extensions recursively).
+  void value(const json& v, const std::string& pointer, int depth, bool typed = true) {
     if (depth > limits::kMaxJsonDepth)
       fail(pointer, "expected JSON nested at most " + std::to_string(limits::kMaxJsonDepth) + " levels deep");
     if (v.is_array()) {
-      for (size_t i = 0; i < v.size(); ++i) value(v[i], pointer + "/" + std::to_string(i), depth + 1);
+      for (size_t i = 0; i < v.size(); ++i) value(v[i], pointer + "/" + std::to_string(i), depth + 1, typed);
     } else if (v.is_object()) {
       for (auto it = v.begin(); it != v.end(); ++it) {
         const std::string& key = it.key();
         const std::string p = pointer + "/" + scene_detail::pointer_token(key);
-        if (key == "extras") continue;
+        bool typed_here = typed && key != "extras";
         // Properties glTF 2.0 does not define (glTF 1.0 leftovers such as
         // "techniques", vendor extensions) have schemas of their own.
-        if (pointer.empty() && !kTopLevel.count(key)) continue;
-        if (ends_with(pointer, "/extensions") && !kCheckedExtensions.count(key)) {
+        if (typed_here && pointer.empty() && !kTopLevel.count(key)) typed_here = false;
+        if (typed_here && ends_with(pointer, "/extensions") && !kCheckedExtensions.count(key)) {
           if (!it->is_object()) expected(p, "an extension object", *it);
-          continue;
+          typed_here = false;
         }
-        property(key, *it, p, pointer);
-        value(*it, p, depth + 1);
+        if (typed_here) property(key, *it, p, pointer);
+        value(*it, p, depth + 1, typed_here);
       }
     }
   }
