@@ -233,6 +233,23 @@ TEST(Gltf, CyclesDeepChainsAndSharedChildrenAreRefusedWithoutRecursion) {
   }
 }
 
+// tinygltf 2.7 passes an image's buffer view to the image loader without
+// checking it against its buffer (fuzz_gltf found the read past the end):
+// the importer reads such images itself, with the check.
+TEST(Gltf, AnImageViewBeyondItsBufferIsAnErrorNotARead) {
+  Doc d;
+  d.mesh(kTriangle);
+  d.node({{"mesh", 0}});
+  const int v = d.view(std::string(8, 'x'));
+  d.j["bufferViews"][v]["byteLength"] = 4096;
+  d.j["images"] = {{{"bufferView", v}, {"mimeType", "image/png"}}};
+  d.j["textures"] = {{{"source", 0}}};
+  d.j["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+  d.j["meshes"][0]["primitives"][0]["material"] = 0;
+  EXPECT_TRUE(test::Contains(error_of_text(d.text()), {"t.gltf: /bufferViews/1: expected byteOffset + byteLength within "
+                                                       "/buffers/0", "(the image /images/0)"}));
+}
+
 // tinygltf converts "extras" recursively: nesting is bounded before it runs.
 TEST(Gltf, DeeplyNestedJsonIsRefusedEvenInExtras) {
   Doc d;

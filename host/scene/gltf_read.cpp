@@ -87,9 +87,12 @@ bool refuse_write(std::string* err, const std::string&, const std::vector<unsign
 
 // Images stay encoded here: decode_texture_image (textures.cpp) checks their
 // size against host/limits.h before decoding, and only used ones are decoded.
+// An image in a buffer view is not copied at all: tinygltf 2.7 hands over the
+// view's bytes without checking the view against its buffer (a read past its
+// end, found by fuzz_gltf); gltf_textures.cpp reads them with the checks.
 bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
                         const unsigned char* bytes, int size, void*) {
-  image->image.assign(bytes, bytes + std::max(size, 0));
+  if (image->bufferView < 0) image->image.assign(bytes, bytes + std::max(size, 0));
   image->width = image->height = image->component = -1;
   return true;
 }

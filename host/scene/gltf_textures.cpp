@@ -20,12 +20,29 @@ std::string decode(Context& ctx, size_t t, const std::string& pointer, LinearIma
   const size_t i = checked_index(ctx, tex.source, ctx.model.images.size(), tp + "/source", "images");
   *image_index = i;
   const tinygltf::Image& image = ctx.model.images[i];
-  if (image.image.empty())
-    return "/images/" + std::to_string(i) + (image.uri.empty() ? std::string() : " (\"" + image.uri.substr(0, 200) + "\")") +
-           " has no data";
+  const std::string ip = "/images/" + std::to_string(i);
+  std::string bytes;
+  if (image.bufferView >= 0) {
+    const tinygltf::Model& m = ctx.model;
+    const size_t vi = checked_index(ctx, image.bufferView, m.bufferViews.size(), ip + "/bufferView", "bufferViews");
+    const tinygltf::BufferView& view = m.bufferViews[vi];
+    const size_t bi = checked_index(ctx, view.buffer, m.buffers.size(), "/bufferViews/" + std::to_string(vi) + "/buffer",
+                                    "buffers");
+    const std::vector<unsigned char>& data = m.buffers[bi].data;
+    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
+      ctx.fail("/bufferViews/" + std::to_string(vi),
+               "expected byteOffset + byteLength within /buffers/" + std::to_string(bi) + " (" +
+                   std::to_string(data.size()) + " bytes), got " + std::to_string(view.byteOffset) + " + " +
+                   std::to_string(view.byteLength) + " (the image " + ip + ")");
+    bytes.assign(reinterpret_cast<const char*>(data.data()) + view.byteOffset, view.byteLength);
+  } else {
+    bytes.assign(image.image.begin(), image.image.end());
+  }
+  if (bytes.empty())
+    return ip + (image.uri.empty() ? std::string() : " (\"" + image.uri.substr(0, 200) + "\")") + " has no data";
   (void)pointer;
-  const std::string why = decode_texture_image(std::string(image.image.begin(), image.image.end()), out);
-  return why.empty() ? why : "/images/" + std::to_string(i) + ": " + why;
+  const std::string why = decode_texture_image(bytes, out);
+  return why.empty() ? why : ip + ": " + why;
 }
 
 double srgb_encode(double linear) {
