@@ -389,5 +389,29 @@ TEST(Gltf, ACourseworkSceneCanPlaceAGltfMeshWithATransform) {
   expect_near(to_vec3(s.materials[s.triangles[0].material].emission), {2, 2, 2}, "the file's material");
 }
 
+// The repository's example (tools/make_gltf_example.py) loads with its
+// camera, both lights and every material, and warns only about what
+// FORMAT.md says it stands in for (the directional light).
+TEST(Gltf, TheExampleSceneLoadsWhole) {
+  std::vector<std::string> warnings;
+  LoadOptions o;
+  o.warnings = &warnings;
+  const Scene s = load_scene(test::source_dir() + "/scenes/gltf_example.gltf", o);
+  ASSERT_EQ(warnings.size(), 1u) << warnings[0];
+  EXPECT_TRUE(test::Contains(warnings[0], {"/extensions/KHR_lights_punctual/lights/0", "directional"}));
+  EXPECT_EQ(s.mode, RenderMode::Path);
+  EXPECT_EQ(s.lights.size(), 2u);
+  EXPECT_EQ(s.camera.width, 800);
+  EXPECT_EQ(s.camera.height, 533);
+  EXPECT_EQ(s.textures.size(), 1u);  // the embedded checker
+  bool glass = false, gold = false, lamp = false;
+  for (const Material& m : s.materials) {
+    glass |= (m.flags & MATERIAL_REFRACTIVE) != 0;
+    gold |= m.metallic == 1.0f;
+    lamp |= m.emission.x == 6.0f && (m.flags & MATERIAL_TWO_SIDED);
+  }
+  EXPECT_TRUE(glass && gold && lamp);
+}
+
 }  // namespace
 }  // namespace caustica
