@@ -65,15 +65,17 @@ inline constexpr uint64_t kMaxPixelsPerFileByteRle = 256;
 inline constexpr uint64_t kMaxPhongLights = 1024;
 
 // glTF (host/scene/gltf*.cpp): files (.gltf, .glb and the buffers and
-// images they name) are read under kMaxMeshFileBytes. An accessor may not
-// claim more elements than this (one without a buffer view is all zeros and
-// bounded by nothing else); the node graph is walked at most this deep and
-// places at most this many node instances (a graph whose nodes share
-// children multiplies); and the triangles all mesh instances add are
-// bounded before they are stored (each costs some 140 bytes on the host).
-inline constexpr uint64_t kMaxGltfAccessorElements = uint64_t(1) << 28;
+// images they name) are read under kMaxMeshFileBytes, so an accessor in a
+// buffer is bounded by the file; one without a buffer view (all zeros,
+// bounded by nothing else) may claim at most kMaxGltfZeroAccessorElements.
+// The node graph is walked at most this deep and places at most this many
+// node instances (a graph whose nodes share children multiplies); the
+// triangles all mesh instances add, counted before degenerate ones are
+// dropped, are bounded before they are stored (each costs some 250 bytes on
+// the host on its way to the device: 4 GiB at the limit).
+inline constexpr uint64_t kMaxGltfZeroAccessorElements = uint64_t(1) << 20;
 inline constexpr int kMaxGltfNodeDepth = 1024;
 inline constexpr uint64_t kMaxGltfNodeInstances = uint64_t(1) << 20;
-inline constexpr uint64_t kMaxGltfTriangles = uint64_t(1) << 26;
+inline constexpr uint64_t kMaxGltfTriangles = uint64_t(1) << 24;
 
 }  // namespace caustica::limits

@@ -53,9 +53,10 @@ View checked_view(const Context& ctx, int index, const std::string& used_at) {
   v.component_size = static_cast<size_t>(size);
   v.components = static_cast<size_t>(components);
   v.count = a.count;
-  if (v.count > limits::kMaxGltfAccessorElements)
-    ctx.fail(v.pointer + "/count", "expected at most " + std::to_string(limits::kMaxGltfAccessorElements) +
-                                       " elements (the limit), got " + std::to_string(v.count));
+  if (a.bufferView < 0 && v.count > limits::kMaxGltfZeroAccessorElements)
+    ctx.fail(v.pointer + "/count", "expected at most " + std::to_string(limits::kMaxGltfZeroAccessorElements) +
+                                       " elements in an accessor without a bufferView (the limit), got " +
+                                       std::to_string(v.count));
   v.normalized = a.normalized;
   const uint64_t element = uint64_t(size) * uint64_t(components);
   v.stride = element;

@@ -16,6 +16,15 @@
 
 namespace caustica::gltf_detail {
 
+// One mesh primitive as read from its accessors (gltf_primitives.cpp).
+struct DecodedPrimitive {
+  std::string pointer;  // "/meshes/<m>/primitives/<p>"
+  int material = -1;
+  std::vector<glm::vec3> p, n;  // n: empty or one per position
+  std::vector<glm::vec2> uv;    // empty or one per position
+  std::vector<uint32_t> corners;  // three per triangle, into p
+};
+
 class Context {
  public:
   Context(std::string file, const tinygltf::Model& model, GltfModel& out, TextureLibrary& textures)
@@ -32,6 +41,7 @@ class Context {
   const tinygltf::Model& model;
   GltfModel& out;
   TextureLibrary& textures;
+  std::map<size_t, std::vector<DecodedPrimitive>> decoded_meshes;  // by mesh index
 
  private:
   struct Once {

@@ -55,14 +55,14 @@ void warn_unused_attributes(Context& ctx, const tinygltf::Primitive& prim, const
     ctx.warn_once("morph targets", pp + "/targets", "morph targets are not supported; the base mesh is rendered");
 }
 
-}  // namespace
-
-void add_mesh_instance(Context& ctx, size_t mi, const glm::dmat4& world) {
+// A mesh's primitives as read from their accessors, once per mesh however
+// many nodes place it: instancing costs a transform per triangle, not a
+// re-read (a graph placing a big mesh 2^20 times must not read it as often).
+const std::vector<DecodedPrimitive>& decoded_mesh(Context& ctx, size_t mi) {
+  auto cached = ctx.decoded_meshes.find(mi);
+  if (cached != ctx.decoded_meshes.end()) return cached->second;
+  std::vector<DecodedPrimitive>& out = ctx.decoded_meshes[mi];
   const tinygltf::Mesh& mesh = ctx.model.meshes[mi];
-  const glm::dmat3 linear(world);
-  const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
-  const bool mirrored = glm::determinant(linear) < 0.0;
-  Mesh& out = ctx.out.mesh;
   for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
     const tinygltf::Primitive& prim = mesh.primitives[pi];
     const std::string pp = "/meshes/" + std::to_string(mi) + "/primitives/" + std::to_string(pi);
@@ -80,51 +80,64 @@ void add_mesh_instance(Context& ctx, size_t mi, const glm::dmat4& world) {
       continue;
     }
     warn_unused_attributes(ctx, prim, pp);
-    const int material = prim.material < 0 ? -1 : static_cast<int>(checked_index(
-                                                      ctx, prim.material, ctx.model.materials.size(),
-                                                      pp + "/material", "materials"));
-    const std::vector<glm::vec3> p = read_vec3_accessor(ctx, position->second, pp + "/attributes/POSITION");
+    DecodedPrimitive d;
+    d.material = prim.material < 0 ? -1 : static_cast<int>(checked_index(ctx, prim.material, ctx.model.materials.size(),
+                                                                       pp + "/material", "materials"));
+    d.p = read_vec3_accessor(ctx, position->second, pp + "/attributes/POSITION");
     auto same_count = [&](size_t count, const char* name) {
-      if (count != p.size())
-        ctx.fail(pp + "/attributes/" + name, "expected as many elements as POSITION (" + std::to_string(p.size()) +
+      if (count != d.p.size())
+        ctx.fail(pp + "/attributes/" + name, "expected as many elements as POSITION (" + std::to_string(d.p.size()) +
                                                  "), got " + std::to_string(count));
     };
-    std::vector<glm::vec3> n;
     if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
-      n = read_vec3_accessor(ctx, it->second, pp + "/attributes/NORMAL");
-      same_count(n.size(), "NORMAL");
+      d.n = read_vec3_accessor(ctx, it->second, pp + "/attributes/NORMAL");
+      same_count(d.n.size(), "NORMAL");
     }
-    std::vector<glm::vec2> uv;
     if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
-      uv = read_texcoord_accessor(ctx, it->second, pp + "/attributes/TEXCOORD_0");
-      same_count(uv.size(), "TEXCOORD_0");
+      d.uv = read_texcoord_accessor(ctx, it->second, pp + "/attributes/TEXCOORD_0");
+      same_count(d.uv.size(), "TEXCOORD_0");
     }
     std::vector<uint32_t> vertices;
     if (prim.indices >= 0) {
-      vertices = read_index_accessor(ctx, prim.indices, p.size(), pp + "/indices");
+      vertices = read_index_accessor(ctx, prim.indices, d.p.size(), pp + "/indices");
     } else {
-      vertices.resize(p.size());
-      for (size_t i = 0; i < p.size(); ++i) vertices[i] = static_cast<uint32_t>(i);
+      vertices.resize(d.p.size());
+      for (size_t i = 0; i < d.p.size(); ++i) vertices[i] = static_cast<uint32_t>(i);
     }
     if (prim.mode == TINYGLTF_MODE_TRIANGLES && vertices.size() % 3 != 0)
       ctx.warn_once("partial triangle", pp, std::to_string(vertices.size()) +
                                                 " vertices is not a multiple of 3; the last " +
                                                 std::to_string(vertices.size() % 3) + " ignored");
-    const std::vector<uint32_t> corners = triangle_corners(prim.mode, vertices);
-    if (out.triangles.size() + corners.size() / 3 > limits::kMaxGltfTriangles)
-      ctx.fail(pp, "the file's mesh instances add more than " + std::to_string(limits::kMaxGltfTriangles) +
-                       " triangles (the limit)");
-    out.source_faces += corners.size() / 3;
-    for (size_t t = 0; t + 2 < corners.size(); t += 3) {
+    d.corners = triangle_corners(prim.mode, vertices);
+    d.pointer = pp;
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+}  // namespace
+
+void add_mesh_instance(Context& ctx, size_t mi, const glm::dmat4& world) {
+  const glm::dmat3 linear(world);
+  const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
+  const bool mirrored = glm::determinant(linear) < 0.0;
+  Mesh& out = ctx.out.mesh;
+  for (const DecodedPrimitive& d : decoded_mesh(ctx, mi)) {
+    // Counted before degenerate ones are dropped: the work, not the result.
+    if (out.source_faces + d.corners.size() / 3 > limits::kMaxGltfTriangles)
+      ctx.fail(d.pointer, "the file's mesh instances add more than " + std::to_string(limits::kMaxGltfTriangles) +
+                              " triangles (the limit)");
+    out.source_faces += d.corners.size() / 3;
+    for (size_t t = 0; t + 2 < d.corners.size(); t += 3) {
       glm::vec3 tp[3], tn[3];
       glm::vec2 tuv[3];
       for (int k = 0; k < 3; ++k) {
-        const uint32_t v = corners[t + size_t(mirrored && k > 0 ? 3 - k : k)];
-        tp[k] = glm::vec3(world * glm::dvec4(p[v], 1.0));
-        if (!n.empty()) tn[k] = glm::vec3(normal_matrix * glm::dvec3(n[v]));
-        if (!uv.empty()) tuv[k] = uv[v];
+        const uint32_t v = d.corners[t + size_t(mirrored && k > 0 ? 3 - k : k)];
+        tp[k] = glm::vec3(world * glm::dvec4(d.p[v], 1.0));
+        if (!d.n.empty()) tn[k] = glm::vec3(normal_matrix * glm::dvec3(d.n[v]));
+        if (!d.uv.empty()) tuv[k] = d.uv[v];
       }
-      mesh_internal::add_triangle(out, tp, n.empty() ? nullptr : tn, uv.empty() ? nullptr : tuv, material);
+      mesh_internal::add_triangle(out, tp, d.n.empty() ? nullptr : tn, d.uv.empty() ? nullptr : tuv, d.material);
     }
   }
 }
