@@ -42,6 +42,7 @@ class Context {
   GltfModel& out;
   TextureLibrary& textures;
   std::map<size_t, std::vector<DecodedPrimitive>> decoded_meshes;  // by mesh index
+  std::map<size_t, int> texture_indices;  // /textures/<i> -> index in `textures`, once decoded
 
  private:
   struct Once {

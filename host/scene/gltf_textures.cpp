@@ -68,15 +68,17 @@ int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::st
       ctx.warn_once("wrap", "/samplers/" + std::to_string(s),
                     "clamped and mirrored texture wrapping are not supported; textures repeat");
   }
+  // Decoded once per texture however many materials use it.
+  if (auto it = ctx.texture_indices.find(t); it != ctx.texture_indices.end()) return it->second;
   LinearImage img;
   size_t image_index = 0;
   std::string why = decode(ctx, t, pointer, img, &image_index);
   int index = -1;
   if (why.empty()) why = ctx.textures.add_image(ctx.file + "#image" + std::to_string(image_index), img, &index);
-  if (why.empty()) return index;
+  if (why.empty()) return ctx.texture_indices[t] = index;
   ctx.warn(pointer, "texture /textures/" + std::to_string(t) + " cannot be read: " + why +
                         "; using a magenta/black checker");
-  return ctx.textures.fallback();
+  return ctx.texture_indices[t] = ctx.textures.fallback();
 }
 
 glm::vec3 texture_mean(Context& ctx, int texture, const std::string& pointer, bool linear_data) {
