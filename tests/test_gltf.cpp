@@ -15,6 +15,7 @@
 
 #include "host/error.h"
 #include "host/lights/light_types.h"
+#include "host/render/render_state.h"
 #include "host/scene/gltf.h"
 #include "host/scene/load_scene.h"
 #include "tests/support/path_render.h"
@@ -317,6 +318,8 @@ TEST(Gltf, CamerasFromYfovAndAspectAndTheCameraOption) {
   const Scene s1 = load_scene(path, o);
   expect_near(s1.camera.position, {0, 0, 9}, "camera 1 position");
   EXPECT_EQ(s1.camera.height, 600);  // no aspectRatio: 4:3
+  // A render state of one camera's view is not resumed from another's.
+  EXPECT_NE(scene_hash(s), scene_hash(s1));
   o.gltf_camera = 2;
   EXPECT_TRUE(test::Contains(test::error_of([&] { load_scene(path, o); }), {"--camera 2: ", "has 2 cameras (0 to 1)"}));
 }
