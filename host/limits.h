@@ -68,4 +68,18 @@ inline constexpr uint64_t kMaxPhongLights = 1024;
 // community scenes go up to 9. Far above is a typo or a unit mistake.
 inline constexpr float kMaxReflectance = 100.0f;
 
+// glTF (host/scene/gltf*.cpp): files (.gltf, .glb and the buffers and
+// images they name) are read under kMaxMeshFileBytes, so an accessor in a
+// buffer is bounded by the file; one without a buffer view (all zeros,
+// bounded by nothing else) may claim at most kMaxGltfZeroAccessorElements.
+// The node graph is walked at most this deep and places at most this many
+// node instances (a graph whose nodes share children multiplies); the
+// triangles all mesh instances add, counted before degenerate ones are
+// dropped, are bounded before they are stored (each costs some 250 bytes on
+// the host on its way to the device: 4 GiB at the limit).
+inline constexpr uint64_t kMaxGltfZeroAccessorElements = uint64_t(1) << 20;
+inline constexpr int kMaxGltfNodeDepth = 1024;
+inline constexpr uint64_t kMaxGltfNodeInstances = uint64_t(1) << 20;
+inline constexpr uint64_t kMaxGltfTriangles = uint64_t(1) << 24;
+
 }  // namespace caustica::limits

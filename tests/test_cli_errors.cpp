@@ -122,6 +122,13 @@ std::vector<Row> make_rows() {
     write_file(fs::path(m).stem().string() + "_" + fs::path(m).extension().string().substr(1) + ".json",
                scene(mesh_shape(m)));
 
+  // glTF: a truncated .glb, a node cycle placed as a coursework mesh, and
+  // --camera where it does not apply.
+  write_file("truncated.glb", std::string("glTF\x02\0\0\0\xff\xff\0\0", 12));
+  write_file("cycle.gltf", R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}],
+    "nodes": [{"children": [1]}, {"children": [0]}]})");
+  write_file("cycle_gltf.json", scene(mesh_shape("cycle.gltf")));
+
   // Writes that fail: /dev/full takes the open and refuses every byte.
   for (const char* ext : {"png", "exr", "ppm", "pfm"}) {
     std::error_code ec;
@@ -193,6 +200,12 @@ std::vector<Row> make_rows() {
       {"obj_inf_vertex", "render " + quote(d + "/inf_vertex_obj.json"), true, {"inf_vertex.obj: line 4", "'inf'"}},
       {"obj_huge_index", "render " + quote(d + "/huge_index_obj.json"), true,
        {"huge_index.obj: line 4: expected face indices", "'100000000000000000000'"}},
+      {"gltf_truncated_glb", "render " + quote(d + "/truncated.glb"), true, {"truncated.glb: ", "glTF"}},
+      {"gltf_cycle_as_mesh", "render " + quote(d + "/cycle_gltf.json"), true,
+       {"/scene/shapes/0/file", "cycle.gltf: /nodes/1/children/0: node 0 is its own ancestor"}},
+      {"gltf_camera_on_json", "render " + quote(ok) + " --camera 1", true, {"--camera 1: ", "ok.json is not a glTF file"}},
+      {"gltf_camera_missing", "render " + quote(test::source_dir() + "/scenes/gltf_example.gltf") + " --camera 3", true,
+       {"--camera 3: ", "gltf_example.gltf has 1 camera (0 to 0)"}},
       {"ply_nan_vertex", "render " + quote(d + "/nan_vertex_ply.json"), true,
        {"nan_vertex.ply: PLY element 'vertex' item 3 of 3 (line 12): expected a finite 'x'"}},
   };

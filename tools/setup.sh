@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers clinfo
-  libglm-dev libstb-dev nlohmann-json3-dev libcli11-dev libtinyexr-dev libtinyobjloader-dev
+  libglm-dev libstb-dev nlohmann-json3-dev libcli11-dev libtinyexr-dev libtinyobjloader-dev libtinygltf-dev
   libgtest-dev libbenchmark-dev
   gnuplot-nox
 )
@@ -15,7 +15,7 @@ packages=(
 # clang-14; libclang_rt.fuzzer-x86_64.a is in libclang-rt-14-dev).
 if [[ ${1:-} == --fuzz ]]; then
   packages=(clang libclang-rt-14-dev cmake pkg-config
-    libglm-dev libstb-dev nlohmann-json3-dev libtinyobjloader-dev libtinyexr-dev libcli11-dev
+    libglm-dev libstb-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libtinyexr-dev libcli11-dev
     ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers)
 fi
 # tools/oclgrind.sh: the default set (it builds and runs the tests) and

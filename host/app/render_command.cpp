@@ -168,7 +168,10 @@ const char* bvh_quality_name(BvhBuildOptions::Quality q) {
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   CLI::App* render_cmd = app.add_subcommand("render", "render a scene to an image (.ppm .png .pfm .exr)");
-  render_cmd->add_option("scene", a.session.scene_path, "scene JSON file")->required();
+  render_cmd->add_option("scene", a.session.scene_path, "scene JSON file, or a glTF 2.0 file (.gltf, .glb)")->required();
+  render_cmd->add_option("--camera", a.session.gltf_camera,
+                         "glTF scenes: render from the file's camera N (/cameras/N; default: the first placed)")
+      ->check(CLI::NonNegativeNumber);
   render_cmd->add_option("-o,--output", a.output, "output image; the extension picks the format");
   render_cmd->add_option("--mode", a.mode, "binary | phong | path (default: the scene's rendermode)");
   render_cmd->add_option("--width", a.session.width, "image width (keeps the camera's aspect unless --height)");

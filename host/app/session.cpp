@@ -110,6 +110,7 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   auto t0 = std::chrono::steady_clock::now();
   LoadOptions load_options;
   load_options.strict = options.strict;
+  load_options.gltf_camera = options.gltf_camera;
   session->scene = load_scene(options.scene_path, load_options);
   session->load_ms = ms_since(t0);
   Scene& scene = session->scene;

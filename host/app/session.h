@@ -33,6 +33,7 @@ struct SessionOptions {
   std::string device;  // --device spec
   bool use_kernel_cache = true;
   bool strict = false;  // unknown scene keys are errors instead of warnings
+  std::optional<int> gltf_camera;  // --camera: a glTF scene's /cameras/N (default: the first placed)
   size_t local_size = 64;  // work-group size of the stage launches
   bool profile_stages = false;  // device time per stage kernel in RenderStats::stage_ms (bench)
   int spp = 0;                  // path: samples per pixel (passes); 0: the default (kDefaultPathSpp)

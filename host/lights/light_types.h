@@ -64,6 +64,10 @@ float area_light_power(const Light& l);
 LightType shape_light_type(uint32_t kind);
 // A point light at p with intensity i.
 Light delta_light_at(const glm::vec3& p, const glm::vec3& intensity);
+// A spot light (spot_light.cpp) with cone angles in degrees from its axis;
+// the caller has checked 0 <= inner < outer and 0.5 <= outer <= 90.
+Light spot_light_at(const glm::vec3& position, const glm::vec3& unit_direction, const glm::vec3& intensity,
+                    double inner_degrees, double outer_degrees);
 // An emissive material that reflects nothing, appended to the scene.
 uint32_t add_emissive_material(Scene& scene, const glm::vec3& radiance);
 

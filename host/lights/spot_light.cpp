@@ -31,15 +31,8 @@ void read_spot_light(const Reader& r, const json& l, const std::string& path, Sc
   if (!(inner < outer))
     r.fail(path + "/inner_cone_angle", "expected an angle below outer_cone_angle (" + std::to_string(outer) +
                                            " degrees), got " + std::to_string(inner));
-  const double to_radians = 3.14159265358979323846 / 180.0;
-  const double cos_inner = std::cos(inner * to_radians), cos_outer = std::cos(outer * to_radians);
-  const double half_outer = 0.5 * outer * to_radians;
-  Light s = delta_light_at(position, r.read_vec3(l, "intensity", path, Range::NonNegative));
-  s.kind = LIGHT_SPOT;
-  s.p1 = to_float4(glm::normalize(direction), float(cos_outer));
-  // 1 - cos(outer) = 2 sin^2(outer / 2): exact for narrow cones.
-  s.p2 = cs_float4{float(cos_inner), float(2.0 * std::sin(half_outer) * std::sin(half_outer)), 0.0f, 0.0f};
-  scene.lights.push_back(s);
+  scene.lights.push_back(spot_light_at(position, glm::normalize(direction),
+                                       r.read_vec3(l, "intensity", path, Range::NonNegative), inner, outer));
 }
 
 // Its flux: 2 pi I (integral of the falloff over cos from cos_o to 1) =
@@ -53,6 +46,19 @@ float spot_light_power(const Light& l) {
 Light itself(const Light& l) { return l; }
 
 }  // namespace
+
+Light spot_light_at(const glm::vec3& position, const glm::vec3& unit_direction, const glm::vec3& intensity,
+                    double inner_degrees, double outer_degrees) {
+  const double to_radians = 3.14159265358979323846 / 180.0;
+  const double cos_inner = std::cos(inner_degrees * to_radians), cos_outer = std::cos(outer_degrees * to_radians);
+  const double half_outer = 0.5 * outer_degrees * to_radians;
+  Light s = delta_light_at(position, intensity);
+  s.kind = LIGHT_SPOT;
+  s.p1 = to_float4(unit_direction, float(cos_outer));
+  // 1 - cos(outer) = 2 sin^2(outer / 2): exact for narrow cones.
+  s.p2 = cs_float4{float(cos_inner), float(2.0 * std::sin(half_outer) * std::sin(half_outer)), 0.0f, 0.0f};
+  return s;
+}
 
 LightType spot_light_type() {
   LightType t;

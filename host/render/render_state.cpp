@@ -15,6 +15,7 @@
 #include "host/read_file.h"
 #include "host/render/integrator.h"
 #include "host/render/state_bytes.h"
+#include "host/scene/gltf.h"
 
 namespace caustica {
 namespace {
@@ -59,8 +60,18 @@ const char* strategy_name(uint32_t s) {
 
 uint64_t scene_hash(const Scene& scene) {
   uint64_t h = kFnvOffset;
-  const std::string file = read_input_file(scene.source_path, "scene file", limits::kMaxSceneFileBytes);
+  const bool gltf = is_gltf_file(scene.source_path);
+  const std::string file = read_input_file(scene.source_path, "scene file",
+                                           gltf ? limits::kMaxMeshFileBytes : limits::kMaxSceneFileBytes);
   h = fnv1a(file.data(), file.size(), h);
+  // A glTF file holds several cameras and --camera picks one: the camera
+  // used is part of what the state is of (a JSON scene's is in its bytes).
+  if (gltf) {
+    const CameraDesc& c = scene.camera;
+    const float camera[] = {c.position.x, c.position.y, c.position.z, c.look_at.x, c.look_at.y,  c.look_at.z,
+                            c.up.x,       c.up.y,       c.up.z,       c.fov_y_degrees, float(c.width), float(c.height)};
+    h = fnv1a(camera, sizeof camera, h);
+  }
   for (const Scene::MeshInfo& mesh : scene.meshes) {
     const std::string bytes = read_input_file(mesh.file, "mesh file", limits::kMaxMeshFileBytes);
     h = fnv1a(bytes.data(), bytes.size(), h);

@@ -15,6 +15,7 @@
 #include "host/limits.h"
 #include "host/lights/light_types.h"
 #include "host/read_file.h"
+#include "host/scene/gltf.h"
 #include "host/scene/scene_reader.h"
 
 namespace caustica {
@@ -298,6 +299,10 @@ Scene parse_scene_text(const std::string& text, const std::string& file_for_mess
 
 Scene load_scene(const std::string& path, const LoadOptions& options) {
   namespace fs = std::filesystem;
+  if (is_gltf_file(path)) return load_gltf_scene(path, options);
+  if (options.gltf_camera)
+    throw Error("--camera " + std::to_string(*options.gltf_camera) + ": " + path +
+                " is not a glTF file (.gltf, .glb); a coursework scene has one camera");
   // Bounded, and only from a regular file: /dev/zero or /dev/urandom as a
   // scene would otherwise be read until memory runs out.
   const std::string text = read_input_file(path, "scene file", limits::kMaxSceneFileBytes);

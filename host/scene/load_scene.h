@@ -31,10 +31,14 @@ struct LoadOptions {
   // meant for this renderer, where a misspelt key would silently fall back
   // to a default.
   bool strict = false;
+  // glTF scenes (.gltf, .glb): which of the file's cameras (/cameras/N)
+  // to render from (--camera); unset: the first one a node places.
+  std::optional<int> gltf_camera;
 };
 
 // Reads and parses `path`; relative asset paths (textures, meshes) inside
-// resolve against its folder.
+// resolve against its folder. A .gltf or .glb file is a glTF 2.0 scene
+// (host/scene/gltf.h); anything else the coursework JSON format.
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
 
 // Parses the text of a scene file (what load_scene does after reading it;

@@ -17,6 +17,10 @@
 #include "host/scene/mesh.h"
 #include "host/scene/textures.h"
 
+namespace caustica {
+struct GltfModel;  // host/scene/gltf.h
+}
+
 namespace caustica::scene_detail {
 
 using nlohmann::json;
@@ -150,6 +154,8 @@ struct LoadContext {
   std::vector<TriangleShading> shading;
   bool any_shading = false;
   std::map<std::string, std::shared_ptr<const Mesh>> meshes;  // by resolved path
+  // glTF files placed as meshes: the Mesh above aliases the model's.
+  std::map<std::string, std::shared_ptr<const GltfModel>> gltf_models;
   // Per load, so that a texture named by many shapes (found or missing) is
   // looked up, and warned about, once.
   std::map<std::string, int> image_textures;  // folder + "\n" + path as written -> index
@@ -174,5 +180,11 @@ int image_texture(LoadContext& ctx, const std::string& written, const std::strin
 
 // scene_shapes.cpp
 void read_shapes(LoadContext& ctx, const json& scene_obj);
+// Appends one triangle with its shading record (`uv` null: the default UVs;
+// `normals` null: the geometric normal) to ctx.scene.
+void append_triangle(LoadContext& ctx, const glm::vec3 p[3], cs_uint material, const glm::vec2* uv,
+                     const glm::vec3* normals = nullptr);
+// Moves the shading records into the scene when any triangle has real ones.
+void finish_shading(LoadContext& ctx);
 
 }  // namespace caustica::scene_detail

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "host/error.h"
+#include "host/scene/gltf.h"
 #include "host/scene/scene_reader.h"
 
 namespace caustica::scene_detail {
@@ -47,6 +48,31 @@ glm::mat3 rotation_xyz(const glm::vec3& degrees) {
   return rz * ry * rx;
 }
 
+}  // namespace
+
+void append_triangle(LoadContext& ctx, const glm::vec3 p[3], cs_uint material, const glm::vec2* uv,
+                     const glm::vec3* normals) {
+  Triangle t{};
+  t.v0 = to_float4(p[0]);
+  t.v1 = to_float4(p[1]);
+  t.v2 = to_float4(p[2]);
+  t.material = material;
+  ctx.scene.triangles.push_back(t);
+  const glm::vec3 n = geometric_normal(p);
+  const glm::vec3 flat[3] = {n, n, n};
+  ctx.shading.push_back(make_shading(normals ? normals : flat, uv ? uv : kDefaultUv));
+  if (uv || normals) ctx.any_shading = true;
+}
+
+void finish_shading(LoadContext& ctx) {
+  if (ctx.any_shading)
+    ctx.scene.triangle_shading = std::move(ctx.shading);
+  else
+    ctx.scene.triangle_shading.clear();
+}
+
+namespace {
+
 class ShapeReader {
  public:
   explicit ShapeReader(LoadContext& ctx) : ctx_(ctx), r_(ctx.r), out_(ctx.scene) {}
@@ -83,10 +109,7 @@ class ShapeReader {
   void finish() {
     if (dropped_ > kWarnLimit)
       r_.warn("/scene/shapes", std::to_string(dropped_) + " zero-area triangles dropped in total");
-    if (ctx_.any_shading)
-      out_.triangle_shading = std::move(ctx_.shading);
-    else
-      out_.triangle_shading.clear();
+    finish_shading(ctx_);
   }
 
  private:
@@ -94,19 +117,8 @@ class ShapeReader {
     return ctx_.materials.add(read_shape_material(ctx_, s, path));
   }
 
-  // `uv` null: no texture coordinates (default UVs, and no shading data
-  // unless `normals` are given).
   void add_triangle(const glm::vec3 p[3], cs_uint material, const glm::vec2* uv, const glm::vec3* normals = nullptr) {
-    Triangle t{};
-    t.v0 = to_float4(p[0]);
-    t.v1 = to_float4(p[1]);
-    t.v2 = to_float4(p[2]);
-    t.material = material;
-    out_.triangles.push_back(t);
-    const glm::vec3 n = geometric_normal(p);
-    const glm::vec3 flat[3] = {n, n, n};
-    ctx_.shading.push_back(make_shading(normals ? normals : flat, uv ? uv : kDefaultUv));
-    if (uv || normals) ctx_.any_shading = true;
+    append_triangle(ctx_, p, material, uv, normals);
   }
 
   // Emitters are one-sided (FORMAT.md). A single emissive triangle or
@@ -263,7 +275,7 @@ class ShapeReader {
     const char* file_key = nullptr;
     const json* file = Reader::find_any(s, {"file", "filename", "path"}, &file_key);
     if (!file)
-      r_.fail(path + "/file", "required key \"file\" is missing (expected the mesh's .obj or .ply file name; "
+      r_.fail(path + "/file", "required key \"file\" is missing (expected the mesh's .obj, .ply, .gltf or .glb file name; "
                               "\"filename\" and \"path\" are accepted too)");
     const std::string file_path = path + "/" + file_key;
     const std::string written = r_.string(*file, file_path);
@@ -299,16 +311,32 @@ class ShapeReader {
       r_.fail(file_path, "expected an existing mesh file, got \"" + written + "\" (looked " + tried + ")");
     Scene::MeshInfo info;
     info.file = resolved;
+    const bool gltf = is_gltf_file(resolved);
     std::shared_ptr<const Mesh>& cached = ctx_.meshes[resolved];
+    std::shared_ptr<const GltfModel>& model = ctx_.gltf_models[resolved];
     if (!cached) {
       const auto t0 = std::chrono::steady_clock::now();
       try {
-        cached = std::make_shared<const Mesh>(load_mesh(resolved));
+        if (gltf) {
+          model = std::make_shared<const GltfModel>(import_gltf(resolved, ctx_.textures));
+          cached = std::shared_ptr<const Mesh>(model, &model->mesh);
+        } else {
+          cached = std::make_shared<const Mesh>(load_mesh(resolved));
+        }
       } catch (const Error& e) {
         r_.fail(file_path, std::string("cannot load mesh: ") + e.what());
       }
       info.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       for (const std::string& w : cached->warnings) r_.warn(file_path, w);
+      if (gltf) {
+        for (const std::string& w : model->warnings) r_.forward_warning(w);
+        // The coursework scene has its own camera and lights.
+        if (!model->cameras.empty() || !model->lights.empty())
+          r_.warn(file_path, "the glTF file's " + std::to_string(model->cameras.size()) + " cameras and " +
+                                 std::to_string(model->lights.size()) +
+                                 " punctual lights are not used in a coursework scene (its own camera and "
+                                 "lightsources are); only its meshes and materials are placed");
+      }
     }
     const Mesh& mesh = *cached;
 
@@ -316,13 +344,15 @@ class ShapeReader {
     const bool override_material = Reader::find(s, "material") != nullptr;
     const cs_uint shape_material = override_material ? material(s, path) : 0;
     const std::string mesh_dir = std::filesystem::path(resolved).parent_path().string();
-    std::vector<int> mtl_ids(mesh.materials.size() + 1, -1);  // [0]: triangles without a material
+    // [0]: triangles without a material
+    std::vector<int> mtl_ids((gltf ? model->materials.size() : mesh.materials.size()) + 1, -1);
     auto material_of = [&](int m) -> cs_uint {
       if (override_material) return shape_material;
       int& id = mtl_ids[static_cast<size_t>(m + 1)];
       if (id < 0) {
-        Material mat = m < 0 ? default_material()
-                             : mesh_material(ctx_, mesh.materials[static_cast<size_t>(m)], mesh_dir, file_path);
+        Material mat = gltf ? (m < 0 ? gltf_default_material() : model->materials[static_cast<size_t>(m)])
+                       : m < 0 ? default_material()
+                               : mesh_material(ctx_, mesh.materials[static_cast<size_t>(m)], mesh_dir, file_path);
         // A shape-level texture applies to every part of the mesh.
         if (const json* t = Reader::find(s, "texture")) mat.texture = read_texture(ctx_, *t, path + "/texture");
         id = static_cast<int>(ctx_.materials.add(mat));
@@ -344,7 +374,8 @@ class ShapeReader {
         ++dropped;
         continue;
       }
-      const bool known = tri.material >= 0 && tri.material < static_cast<int>(mesh.materials.size());
+      const size_t material_count = gltf ? model->materials.size() : mesh.materials.size();
+      const bool known = tri.material >= 0 && tri.material < static_cast<int>(material_count);
       const cs_uint m = material_of(known ? tri.material : -1);
       if (tri.has_normals) {
         add_triangle(p, m, uv, n);

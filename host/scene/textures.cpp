@@ -351,35 +351,47 @@ int TextureLibrary::image(const std::string& written, const std::string& scene_d
     } else {
       LinearImage img;
       reason = read_image(path, img);
-      if (reason.empty() && (img.width <= 0 || img.height <= 0)) reason = "empty image";
-      const size_t first = scene_.texels.size() / 4;
-      if (reason.empty() && first + static_cast<size_t>(img.width) * img.height > 0xFFFFFFFFull)
-        reason = "the scene's texel buffer would exceed 2^32 texels";
-      if (reason.empty()) {
-        scene_.texels.reserve(scene_.texels.size() + static_cast<size_t>(img.width) * img.height * 4);
-        const uint16_t one = glm::packHalf1x16(1.0f);
-        for (size_t t = 0; t < static_cast<size_t>(img.width) * img.height; ++t) {
-          for (int c = 0; c < 3; ++c) scene_.texels.push_back(to_half(img.rgb[t * 3 + c]));
-          scene_.texels.push_back(one);
-        }
-        Texture tex{};
-        tex.kind = TEXTURE_IMAGE;
-        tex.offset = static_cast<cs_uint>(first);
-        tex.width = static_cast<cs_uint>(img.width);
-        tex.height = static_cast<cs_uint>(img.height);
-        tex.scale = 1.0f;
-        scene_.textures.push_back(tex);
-        const int index = static_cast<int>(scene_.textures.size() - 1);
-        by_path_[path] = index;
-        return index;
-      }
+      int index = -1;
+      if (reason.empty()) reason = add_image(path, img, &index);
+      if (reason.empty()) return index;
       failed_[path] = reason;
     }
     warnings.push_back(context + ": texture \"" + written + "\" (" + path + ") cannot be read: " + reason +
                        "; using a magenta/black checker");
   }
+  return fallback();
+}
+
+int TextureLibrary::fallback() {
   if (fallback_ < 0) fallback_ = checker(glm::vec3(1.0f, 0.0f, 1.0f), glm::vec3(0.0f), 8.0f);
   return fallback_;
+}
+
+std::string TextureLibrary::add_image(const std::string& key, const LinearImage& img, int* index) {
+  if (auto it = by_path_.find(key); it != by_path_.end()) {
+    *index = it->second;
+    return "";
+  }
+  if (img.width <= 0 || img.height <= 0) return "empty image";
+  const size_t first = scene_.texels.size() / 4;
+  const size_t count = static_cast<size_t>(img.width) * img.height;
+  if (first + count > 0xFFFFFFFFull) return "the scene's texel buffer would exceed 2^32 texels";
+  scene_.texels.reserve(scene_.texels.size() + count * 4);
+  const uint16_t one = glm::packHalf1x16(1.0f);
+  for (size_t t = 0; t < count; ++t) {
+    for (int c = 0; c < 3; ++c) scene_.texels.push_back(to_half(img.rgb[t * 3 + c]));
+    scene_.texels.push_back(one);
+  }
+  Texture tex{};
+  tex.kind = TEXTURE_IMAGE;
+  tex.offset = static_cast<cs_uint>(first);
+  tex.width = static_cast<cs_uint>(img.width);
+  tex.height = static_cast<cs_uint>(img.height);
+  tex.scale = 1.0f;
+  scene_.textures.push_back(tex);
+  *index = static_cast<int>(scene_.textures.size() - 1);
+  by_path_[key] = *index;
+  return "";
 }
 
 int TextureLibrary::checker(const glm::vec3& color1, const glm::vec3& color2, float scale) {

@@ -52,6 +52,12 @@ class TextureLibrary {
   int image(const std::string& written, const std::string& scene_dir, const std::string& context,
             std::vector<std::string>& warnings);
   int checker(const glm::vec3& color1, const glm::vec3& color2, float scale);
+  // An image decoded elsewhere (a glTF file's embedded images), stored once
+  // per `key`. Returns "" and its index in *index, or why it cannot be
+  // stored (the texel buffer's 2^32 limit; an empty image).
+  std::string add_image(const std::string& key, const LinearImage& image, int* index);
+  // The visible stand-in for a texture that cannot be read: a magenta/black checker.
+  int fallback();
 
  private:
   Scene& scene_;

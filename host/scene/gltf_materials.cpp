@@ -1,0 +1,192 @@
+// glTF materials onto ours (Material, kernels/lib/material.h; the table is
+// in scenes/FORMAT.md, "glTF 2.0 files"): pbrMetallicRoughness becomes the
+// coated-diffuse plastic moved toward a conductor by `metallic` (F0 from the
+// index of refraction, 0.04 by default; GGX alpha = roughness^2);
+// KHR_materials_pbrSpecularGlossiness, where a file has it, takes precedence
+// (diffuse and specular colours map one to one); KHR_materials_transmission
+// makes a dielectric of KHR_materials_ior's index; emissiveFactor times
+// KHR_materials_emissive_strength is the emission, values above 1 honoured.
+// Our materials carry one texture (the diffuse colour): the
+// metallicRoughness, specularGlossiness and emissive textures are reduced to
+// their mean, with a warning saying so.
+#include <algorithm>
+#include <cmath>
+
+#include "host/scene/gltf_internal.h"
+#include "host/scene/scene_reader.h"
+
+namespace caustica::gltf_detail {
+
+namespace {
+
+class MaterialMapper {
+ public:
+  explicit MaterialMapper(Context& ctx) : ctx_(ctx), m_(ctx.model) {}
+
+  Material map(size_t i) {
+    const tinygltf::Material& in = m_.materials[i];
+    const std::string mp = "/materials/" + std::to_string(i);
+    Material out = scene_detail::default_material();
+    const tinygltf::PbrMetallicRoughness& pbr = in.pbrMetallicRoughness;
+    const double ior = extension_number(in, "KHR_materials_ior", "ior", 1.5, mp);
+    if (!(ior >= 1.0 && ior < 10.0)) ctx_.fail(mp + "/extensions/KHR_materials_ior/ior", "expected an index in [1, 10)");
+    const double f0 = std::pow((ior - 1.0) / (ior + 1.0), 2.0);
+    glm::vec4 base;
+    double roughness;
+    auto sg = in.extensions.find("KHR_materials_pbrSpecularGlossiness");
+    if (sg != in.extensions.end() && sg->second.IsObject()) {
+      const std::string sp = mp + "/extensions/KHR_materials_pbrSpecularGlossiness";
+      const tinygltf::Value& v = sg->second;
+      base = colour(v, "diffuseFactor", 4, glm::vec4(1.0f), sp);
+      out.specular = to_float4(glm::vec3(colour(v, "specularFactor", 3, glm::vec4(1.0f), sp)), 1.0f);
+      roughness = 1.0 - number(v, "glossinessFactor", 1.0, sp);
+      if (v.Has("diffuseTexture") && v.Get("diffuseTexture").IsObject() && v.Get("diffuseTexture").Has("index"))
+        out.texture = texture_of_value(v.Get("diffuseTexture"), sp + "/diffuseTexture");
+      if (v.Has("specularGlossinessTexture"))
+        ctx_.warn_once("specgloss texture", sp + "/specularGlossinessTexture",
+                       "specularGlossinessTexture is not supported (one texture per material); the factors are used");
+    } else {
+      base = vec4_of(pbr.baseColorFactor, mp + "/pbrMetallicRoughness/baseColorFactor");
+      double metallic = unit(pbr.metallicFactor, mp + "/pbrMetallicRoughness/metallicFactor");
+      roughness = unit(pbr.roughnessFactor, mp + "/pbrMetallicRoughness/roughnessFactor");
+      if (pbr.baseColorTexture.index >= 0)
+        out.texture = texture(pbr.baseColorTexture, mp + "/pbrMetallicRoughness/baseColorTexture");
+      if (pbr.metallicRoughnessTexture.index >= 0) {
+        const std::string tp = mp + "/pbrMetallicRoughness/metallicRoughnessTexture";
+        const glm::vec3 mean = mean_of(pbr.metallicRoughnessTexture.index, tp, /*linear_data=*/true);
+        roughness *= mean.y;
+        metallic *= mean.z;
+        ctx_.warn_once("metallicRoughnessTexture", tp,
+                       "per-texel metallic and roughness are not supported (one texture per material); the "
+                       "texture's mean (roughness x" + std::to_string(mean.y) + ", metallic x" +
+                           std::to_string(mean.z) + ") scales the factors");
+      }
+      out.specular = to_float4(glm::vec3(1.0f), static_cast<float>(f0));
+      out.metallic = static_cast<float>(metallic);
+    }
+    if (!(roughness >= 0.0 && roughness <= 1.0)) ctx_.fail(mp, "expected a roughness (1 - glossiness) in [0, 1]");
+    const float alpha = static_cast<float>(roughness * roughness);
+    out.roughness = alpha;
+    // Phong's exponent for the same lobe width (material.h's inverse map).
+    out.specular_exponent = alpha > 0.0f ? std::min(2.0f / (alpha * alpha) - 2.0f, 1e4f) : 1e4f;
+    out.diffuse = to_float4(glm::vec3(base), 1.0f);
+    if (base.w < 1.0f || in.alphaMode != "OPAQUE")
+      ctx_.warn_once("alpha", mp + "/alphaMode", "transparency by alpha (alphaMode " + in.alphaMode +
+                                                     ", base colour alpha) is not supported; rendered opaque");
+    if (in.doubleSided) out.flags |= MATERIAL_TWO_SIDED;
+
+    const double transmission = extension_number(in, "KHR_materials_transmission", "transmissionFactor", 0.0, mp);
+    if (transmission > 0.0) {
+      out.flags |= MATERIAL_REFRACTIVE;
+      out.ior = static_cast<float>(ior);
+      if (transmission < 1.0 || glm::any(glm::lessThan(glm::vec3(base), glm::vec3(1.0f))))
+        ctx_.warn_once("partial transmission", mp + "/extensions/KHR_materials_transmission",
+                       "partial or tinted transmission is not supported; rendered as clear glass of index " +
+                           std::to_string(ior));
+    }
+    emission(in, out, mp);
+    for (const auto& [name, value] : in.extensions) {
+      (void)value;
+      if (name != "KHR_materials_ior" && name != "KHR_materials_transmission" &&
+          name != "KHR_materials_emissive_strength" && name != "KHR_materials_pbrSpecularGlossiness")
+        ctx_.warn_once("material " + name, mp + "/extensions/" + name, "material extension " + name +
+                                                                            " is not supported; ignored");
+    }
+    if (in.normalTexture.index >= 0)
+      ctx_.warn_once("normalTexture", mp + "/normalTexture", "normal maps are not supported; ignored");
+    if (in.occlusionTexture.index >= 0)
+      ctx_.warn_once("occlusionTexture", mp + "/occlusionTexture",
+                     "occlusion maps are not supported (a path tracer computes occlusion); ignored");
+    return out;
+  }
+
+ private:
+  void emission(const tinygltf::Material& in, Material& out, const std::string& mp) {
+    glm::vec3 e(0.0f);
+    if (!in.emissiveFactor.empty()) {
+      const std::string ep = mp + "/emissiveFactor";
+      if (in.emissiveFactor.size() != 3) ctx_.fail(ep, "expected 3 numbers");
+      for (int c = 0; c < 3; ++c) e[c] = static_cast<float>(in.emissiveFactor[size_t(c)]);
+      // Above glTF's [0, 1]: assimp writes an OBJ's Ke there (17 for the
+      // Cornell box's light); honoured, so a converted scene stays lit.
+      if (!(e.x >= 0.0f && e.y >= 0.0f && e.z >= 0.0f && std::isfinite(e.x + e.y + e.z)))
+        ctx_.fail(ep, "expected non-negative finite numbers");
+    }
+    e *= static_cast<float>(extension_number(in, "KHR_materials_emissive_strength", "emissiveStrength", 1.0, mp));
+    if (in.emissiveTexture.index >= 0 && glm::any(glm::greaterThan(e, glm::vec3(0.0f)))) {
+      const std::string tp = mp + "/emissiveTexture";
+      const glm::vec3 mean = mean_of(in.emissiveTexture.index, tp, /*linear_data=*/false);
+      e *= mean;
+      ctx_.warn_once("emissiveTexture", tp, "per-texel emission is not supported; the texture's mean colour (" +
+                                                std::to_string(mean.x) + ", " + std::to_string(mean.y) + ", " +
+                                                std::to_string(mean.z) + ") scales emissiveFactor");
+    }
+    if (!std::isfinite(e.x + e.y + e.z)) ctx_.fail(mp, "emission (emissiveFactor x emissiveStrength) overflows");
+    out.emission = to_float4(e);
+  }
+
+  double number(const tinygltf::Value& obj, const char* key, double fallback, const std::string& pointer) {
+    if (!obj.IsObject() || !obj.Has(key)) return fallback;
+    const tinygltf::Value& v = obj.Get(key);
+    const double d = v.IsNumber() ? v.GetNumberAsDouble() : NAN;
+    if (!std::isfinite(d) || d < 0.0) ctx_.fail(pointer + "/" + key, "expected a non-negative number");
+    return d;
+  }
+
+  double extension_number(const tinygltf::Material& in, const char* ext, const char* key, double fallback,
+                          const std::string& mp) {
+    auto it = in.extensions.find(ext);
+    return it == in.extensions.end() ? fallback : number(it->second, key, fallback, mp + "/extensions/" + ext);
+  }
+
+  double unit(double v, const std::string& pointer) {
+    if (!(v >= 0.0 && v <= 1.0)) ctx_.fail(pointer, "expected a number in [0, 1], got " + std::to_string(v));
+    return v;
+  }
+
+  glm::vec4 vec4_of(const std::vector<double>& v, const std::string& pointer) {
+    if (v.size() != 4) ctx_.fail(pointer, "expected 4 numbers");
+    glm::vec4 out;
+    for (int c = 0; c < 4; ++c) out[c] = static_cast<float>(unit(v[size_t(c)], pointer + "/" + std::to_string(c)));
+    return out;
+  }
+
+  glm::vec4 colour(const tinygltf::Value& obj, const char* key, int n, glm::vec4 fallback, const std::string& sp) {
+    if (!obj.Has(key)) return fallback;
+    const tinygltf::Value& v = obj.Get(key);
+    const std::string p = sp + "/" + key;
+    if (!v.IsArray() || v.ArrayLen() != size_t(n)) ctx_.fail(p, "expected " + std::to_string(n) + " numbers");
+    for (int c = 0; c < n; ++c) {
+      const tinygltf::Value& e = v.Get(c);
+      fallback[c] = static_cast<float>(unit(e.IsNumber() ? e.GetNumberAsDouble() : NAN, p + "/" + std::to_string(c)));
+    }
+    return fallback;
+  }
+
+  int texture_of_value(const tinygltf::Value& info, const std::string& pointer) {
+    tinygltf::TextureInfo t;
+    const tinygltf::Value& i = info.Get("index");
+    t.index = i.IsNumber() && std::fabs(i.GetNumberAsDouble()) < 1e9 ? int(i.GetNumberAsDouble()) : -1;
+    if (info.Has("texCoord") && info.Get("texCoord").IsNumber()) t.texCoord = int(info.Get("texCoord").GetNumberAsDouble());
+    return texture(t, pointer);
+  }
+
+  int texture(const tinygltf::TextureInfo& info, const std::string& pointer) {
+    return image_texture(ctx_, info, pointer);
+  }
+  glm::vec3 mean_of(int texture, const std::string& pointer, bool linear_data) {
+    return texture_mean(ctx_, texture, pointer, linear_data);
+  }
+
+  Context& ctx_;
+  const tinygltf::Model& m_;
+};
+
+}  // namespace
+
+void convert_materials(Context& ctx) {
+  MaterialMapper mapper(ctx);
+  for (size_t i = 0; i < ctx.model.materials.size(); ++i) ctx.out.materials.push_back(mapper.map(i));
+}
+
+}  // namespace caustica::gltf_detail

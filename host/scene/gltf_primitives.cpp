@@ -1,0 +1,145 @@
+// Mesh primitives to triangles: TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN,
+// indexed or not (points and lines are skipped with a warning). Positions,
+// NORMAL and TEXCOORD_0 are read through the checked accessors
+// (gltf_accessors.cpp); the node's world transform is applied here, with
+// normals by its inverse transpose and the winding swapped under a
+// mirroring transform so that front faces stay front faces.
+#include <cmath>
+
+#include "host/limits.h"
+#include "host/scene/gltf_internal.h"
+#include "host/scene/mesh_internal.h"
+
+namespace caustica::gltf_detail {
+
+namespace {
+
+const char* mode_name(int mode) {
+  switch (mode) {
+    case TINYGLTF_MODE_POINTS: return "POINTS (0)";
+    case TINYGLTF_MODE_LINE: return "LINES (1)";
+    case TINYGLTF_MODE_LINE_LOOP: return "LINE_LOOP (2)";
+    case TINYGLTF_MODE_LINE_STRIP: return "LINE_STRIP (3)";
+    default: return nullptr;
+  }
+}
+
+// Corner indices (three per triangle) of `n` vertices in `mode`.
+std::vector<uint32_t> triangle_corners(int mode, const std::vector<uint32_t>& v) {
+  std::vector<uint32_t> out;
+  const size_t n = v.size();
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    out.assign(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n - n % 3));
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+    // Every other triangle reversed so that all keep the first one's winding.
+    for (size_t i = 0; i + 2 < n; ++i)
+      out.insert(out.end(), i % 2 ? std::initializer_list<uint32_t>{v[i + 1], v[i], v[i + 2]}
+                                  : std::initializer_list<uint32_t>{v[i], v[i + 1], v[i + 2]});
+  } else {  // TRIANGLE_FAN
+    for (size_t i = 1; i + 1 < n; ++i) out.insert(out.end(), {v[0], v[i], v[i + 1]});
+  }
+  return out;
+}
+
+void warn_unused_attributes(Context& ctx, const tinygltf::Primitive& prim, const std::string& pp) {
+  for (const auto& [name, accessor] : prim.attributes) {
+    (void)accessor;
+    if (name == "POSITION" || name == "NORMAL" || name == "TEXCOORD_0" || name == "TANGENT") continue;
+    const std::string group = name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0 ? "skin attributes"
+                                                                                               : "attribute " + name;
+    ctx.warn_once(group, pp + "/attributes/" + name,
+                  "vertex attribute " + name + " is not supported; ignored" +
+                      (name.rfind("COLOR_", 0) == 0 ? " (vertex colours do not tint the base colour)" : ""));
+  }
+  if (!prim.targets.empty())
+    ctx.warn_once("morph targets", pp + "/targets", "morph targets are not supported; the base mesh is rendered");
+}
+
+// A mesh's primitives as read from their accessors, once per mesh however
+// many nodes place it: instancing costs a transform per triangle, not a
+// re-read (a graph placing a big mesh 2^20 times must not read it as often).
+const std::vector<DecodedPrimitive>& decoded_mesh(Context& ctx, size_t mi) {
+  auto cached = ctx.decoded_meshes.find(mi);
+  if (cached != ctx.decoded_meshes.end()) return cached->second;
+  std::vector<DecodedPrimitive>& out = ctx.decoded_meshes[mi];
+  const tinygltf::Mesh& mesh = ctx.model.meshes[mi];
+  for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
+    const tinygltf::Primitive& prim = mesh.primitives[pi];
+    const std::string pp = "/meshes/" + std::to_string(mi) + "/primitives/" + std::to_string(pi);
+    if (const char* name = mode_name(prim.mode)) {
+      ctx.warn_once(std::string("mode ") + name, pp + "/mode",
+                    std::string("primitive mode ") + name + " is not supported (only triangles); skipped");
+      continue;
+    }
+    if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        prim.mode != TINYGLTF_MODE_TRIANGLE_FAN)
+      ctx.fail(pp + "/mode", "expected a primitive mode from 0 to 6, got " + std::to_string(prim.mode));
+    const auto position = prim.attributes.find("POSITION");
+    if (position == prim.attributes.end()) {
+      ctx.warn_once("no position", pp + "/attributes", "primitive without POSITION; skipped");
+      continue;
+    }
+    warn_unused_attributes(ctx, prim, pp);
+    DecodedPrimitive d;
+    d.material = prim.material < 0 ? -1 : static_cast<int>(checked_index(ctx, prim.material, ctx.model.materials.size(),
+                                                                       pp + "/material", "materials"));
+    d.p = read_vec3_accessor(ctx, position->second, pp + "/attributes/POSITION");
+    auto same_count = [&](size_t count, const char* name) {
+      if (count != d.p.size())
+        ctx.fail(pp + "/attributes/" + name, "expected as many elements as POSITION (" + std::to_string(d.p.size()) +
+                                                 "), got " + std::to_string(count));
+    };
+    if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
+      d.n = read_vec3_accessor(ctx, it->second, pp + "/attributes/NORMAL");
+      same_count(d.n.size(), "NORMAL");
+    }
+    if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
+      d.uv = read_texcoord_accessor(ctx, it->second, pp + "/attributes/TEXCOORD_0");
+      same_count(d.uv.size(), "TEXCOORD_0");
+    }
+    std::vector<uint32_t> vertices;
+    if (prim.indices >= 0) {
+      vertices = read_index_accessor(ctx, prim.indices, d.p.size(), pp + "/indices");
+    } else {
+      vertices.resize(d.p.size());
+      for (size_t i = 0; i < d.p.size(); ++i) vertices[i] = static_cast<uint32_t>(i);
+    }
+    if (prim.mode == TINYGLTF_MODE_TRIANGLES && vertices.size() % 3 != 0)
+      ctx.warn_once("partial triangle", pp, std::to_string(vertices.size()) +
+                                                " vertices is not a multiple of 3; the last " +
+                                                std::to_string(vertices.size() % 3) + " ignored");
+    d.corners = triangle_corners(prim.mode, vertices);
+    d.pointer = pp;
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+}  // namespace
+
+void add_mesh_instance(Context& ctx, size_t mi, const glm::dmat4& world) {
+  const glm::dmat3 linear(world);
+  const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
+  const bool mirrored = glm::determinant(linear) < 0.0;
+  Mesh& out = ctx.out.mesh;
+  for (const DecodedPrimitive& d : decoded_mesh(ctx, mi)) {
+    // Counted before degenerate ones are dropped: the work, not the result.
+    if (out.source_faces + d.corners.size() / 3 > limits::kMaxGltfTriangles)
+      ctx.fail(d.pointer, "the file's mesh instances add more than " + std::to_string(limits::kMaxGltfTriangles) +
+                              " triangles (the limit)");
+    out.source_faces += d.corners.size() / 3;
+    for (size_t t = 0; t + 2 < d.corners.size(); t += 3) {
+      glm::vec3 tp[3], tn[3];
+      glm::vec2 tuv[3];
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = d.corners[t + size_t(mirrored && k > 0 ? 3 - k : k)];
+        tp[k] = glm::vec3(world * glm::dvec4(d.p[v], 1.0));
+        if (!d.n.empty()) tn[k] = glm::vec3(normal_matrix * glm::dvec3(d.n[v]));
+        if (!d.uv.empty()) tuv[k] = d.uv[v];
+      }
+      mesh_internal::add_triangle(out, tp, d.n.empty() ? nullptr : tn, d.uv.empty() ? nullptr : tuv, d.material);
+    }
+  }
+}
+
+}  // namespace caustica::gltf_detail
