@@ -347,9 +347,9 @@ TEST(RenderState, DamagedFilesAreRefusedWithAPreciseError) {
   EXPECT_TRUE(Contains(test::error_of([&] { read_render_state(spew(dir + "/flip.cst", flipped)); }),
                        {"flip.cst: checksum mismatch", "the file is damaged"}));
   std::string version = saved.bytes;
-  version[16] = 2;  // the version follows the 16-byte magic
-  EXPECT_TRUE(Contains(test::error_of([&] { read_render_state(spew(dir + "/v2.cst", version)); }),
-                       {"v2.cst: state file version 2, this caustica reads version 1"}));
+  version[16] = 1;  // the version follows the 16-byte magic: version 1 had no pass set
+  EXPECT_TRUE(Contains(test::error_of([&] { read_render_state(spew(dir + "/v1.cst", version)); }),
+                       {"v1.cst: state file version 1, this caustica reads version 2"}));
   EXPECT_TRUE(Contains(test::error_of([&] { read_render_state(spew(dir + "/long.cst", saved.bytes + "xyz")); }),
                        {"long.cst: 3 bytes after the state's end"}));
   const std::string scene_file = test::write_scene("other.json", kPathScene);

@@ -51,7 +51,8 @@ struct RenderState {
   std::string integrator;  // Integrator::state(): the photon pass's (empty without it)
 };
 
-inline constexpr uint32_t kRenderStateVersion = 1;
+// 2: the film's pass set (absolute pass indices) follows its pass count.
+inline constexpr uint32_t kRenderStateVersion = 2;
 
 // FNV-1a 64 of the scene file's bytes, then each mesh file's bytes (in load
 // order), then the decoded texels (which cover the texture files). Throws
