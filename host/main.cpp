@@ -1,4 +1,4 @@
-// caustica command line: render, devices, bench, generate, diff, plot.
+// caustica command line: render, merge, devices, bench, generate, diff, plot.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -17,6 +17,7 @@
 #include "host/app/bench.h"
 #include "host/app/render_command.h"
 #include "host/app/diff.h"
+#include "host/app/merge_command.h"
 #include "host/app/plot.h"
 #include "host/app/session.h"
 #include "host/error.h"
@@ -51,6 +52,8 @@ int main(int argc, char** argv) {
   RenderArgs render;
   CLI::App* render_cmd = add_render_command(app, render);
   app.add_subcommand("devices", "list OpenCL platforms and devices");
+  MergeArgs merge;
+  CLI::App* merge_cmd = add_merge_command(app, merge);
 
   BenchArgs bench;
   auto* bench_cmd = app.add_subcommand("bench", "time BVH build, kernel build, ray throughput and rendering");
@@ -101,6 +104,7 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
     if (app.got_subcommand(render_cmd)) return run_render(render);
     if (app.got_subcommand("devices")) return run_devices();
+    if (app.got_subcommand(merge_cmd)) return run_merge(merge);
     if (app.got_subcommand(bench_cmd)) return run_bench(bench);
     if (app.got_subcommand(diff_cmd)) return run_diff(diff);
     if (app.got_subcommand(plot_cmd)) {

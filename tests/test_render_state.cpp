@@ -437,7 +437,7 @@ TEST(RenderState, TheCliRefusesWhatItCannotResume) {
   EXPECT_EQ(r.output, "caustica: error: " + state + ": width 32 in the state, 16 asked\n");
   r = test::run_cli(render_args(scene, 16, true) + " -q --resume '" + state + "' -o '" + dir + "/b.pfm'");
   EXPECT_EQ(r.status, 1);
-  EXPECT_EQ(r.output, "caustica: error: " + state + ": holds 32 spp, more than the 16 asked (--spp)\n");
+  EXPECT_EQ(r.output, "caustica: error: " + state + ": holds passes [0, 32), past the 16 asked (--spp)\n");
   r = test::run_cli(render_args(scene, 32, true) + " -q --seed 3 --resume '" + state + "' -o '" + dir + "/b.pfm'");
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.output, "caustica: error: " + state + ": seed 0 in the state, 3 asked\n");

@@ -147,6 +147,24 @@ float parse_number_option(const std::string& option, const std::string& text, do
   return static_cast<float>(d);
 }
 
+}  // namespace
+
+std::pair<int, int> parse_pass_range(const std::string& text) {
+  const size_t colon = text.find(':');
+  auto whole = [&](const std::string& part, long long& value) {
+    char* end = nullptr;
+    value = part.empty() || !std::isdigit(static_cast<unsigned char>(part[0])) ? -1 : std::strtoll(part.c_str(), &end, 10);
+    return value >= 0 && end && *end == '\0' && value <= std::numeric_limits<int32_t>::max();
+  };
+  long long first = 0, end = 0;
+  if (colon == std::string::npos || !whole(text.substr(0, colon), first) || !whole(text.substr(colon + 1), end) ||
+      end <= first)
+    throw Error("--passes '" + text + "': expected START:END, whole numbers with 0 <= START < END (passes [START, END))");
+  return {int(first), int(end)};
+}
+
+namespace {
+
 // Where an output will go must exist before the render starts.
 void check_output_dir(const std::string& option, const std::string& path) {
   const std::filesystem::path dir = std::filesystem::path(path).parent_path();
@@ -248,6 +266,9 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option("--resume", a.resume,
                          "continue the render saved in FILE by --checkpoint, up to --spp (or for --time); the scene "
                          "and every setting that changes the image must match it");
+  render_cmd->add_option("--passes", a.passes,
+                         "path: render passes START:END only (absolute pass indices: the same samples as those "
+                         "passes of a full render), for `caustica merge`; needs --no-adaptive and no photon pass");
   render_cmd->add_flag("--adaptive,!--no-adaptive", a.session.adaptive,
                        "path: adaptive sampling, the default: after 16 spp, each wave's samples go where the "
                        "estimated error is (--no-adaptive: every pixel alike)");
@@ -287,6 +308,17 @@ int run_render(RenderArgs& a) {
   if (a.checkpoint_every_s && a.checkpoint.empty())
     throw Error("--checkpoint-every needs --checkpoint (the file the state is written to)");
   if (!a.checkpoint.empty()) check_output_dir("--checkpoint", a.checkpoint);
+  if (!a.passes.empty()) {
+    const auto [first, end] = parse_pass_range(a.passes);
+    if (a.session.spp > 0) throw Error("--passes " + a.passes + " and --spp: give one (--passes ends at END)");
+    if (a.session.time_limit_s > 0.0 || a.target_error > 0.0)
+      throw Error("--passes " + a.passes + ": a render of a fixed set of passes takes no --time or --target-error");
+    if (a.session.adaptive)
+      throw Error("--passes " + a.passes + ": adaptive sampling plans each wave from the error of the whole film, "
+                  "which a render of some of its passes does not hold: add --no-adaptive");
+    a.session.first_pass = first;
+    a.session.spp = end;
+  }
   // A state that cannot be read, or is damaged, fails before the scene is read.
   std::optional<RenderState> resume;
   if (!a.resume.empty()) resume = read_render_state(a.resume);
@@ -313,6 +345,14 @@ int run_render(RenderArgs& a) {
     throw Error("--target-error: only path mode is stochastic; binary and phong images are exact after one pass");
   if (!a.spp_map.empty() && session->mode != RenderMode::Path)
     throw Error("--spp-map: only path mode takes several samples a pixel");
+  if (!a.passes.empty()) {
+    if (session->mode != RenderMode::Path)
+      throw Error("--passes " + a.passes + ": only path mode takes several passes (binary and phong take one)");
+    if (session->settings.caustics)
+      throw Error("--passes " + a.passes + ": the photon pass (--caustics " +
+                  std::string(a.session.caustics == CausticsMode::On ? "on" : "auto, which found caustics here") +
+                  ") keeps per-pixel statistics that are not sums of passes: add --caustics off");
+  }
   // The state's identity: what a resumed state must match, and what a
   // checkpoint records.
   StateIdentity identity;
@@ -327,8 +367,8 @@ int run_render(RenderArgs& a) {
     } catch (const Error& e) {
       throw Error(a.resume + ": " + e.what());
     }
-    if (resume->film.passes > session->settings.passes)
-      throw Error(a.resume + ": holds " + std::to_string(resume->film.passes) + " spp, more than the " +
+    if (resume->film.held.end() > session->settings.passes)
+      throw Error(a.resume + ": holds " + resume->film.held.describe() + ", past the " +
                   std::to_string(session->settings.passes) + " asked" +
                   (session->mode == RenderMode::Path ? " (--spp)" : " (phong and binary take one pass)"));
   }

@@ -9,6 +9,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "host/app/session.h"
 
@@ -29,6 +30,9 @@ struct RenderArgs {
   // checkpoint_every_s seconds (between waves) and at the end; resumed from.
   std::string checkpoint, resume;
   std::optional<double> checkpoint_every_s;  // default kDefaultCheckpointSeconds
+  // --passes START:END: a render of passes [START, END) only, with their
+  // absolute indices (its state merges with others': `caustica merge`).
+  std::string passes;
 };
 
 inline constexpr double kDefaultCheckpointSeconds = 60.0;
@@ -36,5 +40,7 @@ inline constexpr double kDefaultCheckpointSeconds = 60.0;
 // The `render` subcommand's options, bound to `args`.
 CLI::App* add_render_command(CLI::App& app, RenderArgs& args);
 int run_render(RenderArgs& args);
+// "START:END" (--passes): [START, END), 0 <= START < END; throws caustica::Error.
+std::pair<int, int> parse_pass_range(const std::string& text);
 
 }  // namespace caustica

@@ -38,7 +38,7 @@ void check_mergeable(const NamedState& first, const NamedState& named) {
     if (name == "scene hash")
       throw Error(path + ": made for scene hash " + value + ", " + first.path + " for " + want[i].second +
                   " (another scene, or the scene file, its meshes or textures changed)");
-    throw Error(path + ": " + name + " " + value + ", " + first.path + " has " + want[i].second);
+    throw Error(path + ": " + name + " " + value + ", " + first.path + " has " + name + " " + want[i].second);
   }
   const FilmState &a = first.state.film, &b = s.film;
   if (a.spp.size() != b.spp.size() || a.accumulated.size() != b.accumulated.size() ||
