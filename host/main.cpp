@@ -24,6 +24,9 @@
 #include "host/image/image_io.h"
 #include "host/image/tonemap.h"
 #include "host/scene/generate.h"
+#ifdef CAUSTICA_WITH_MPI
+#include "host/mpi/mpi_ranks.h"
+#endif
 
 using namespace caustica;
 
@@ -41,6 +44,12 @@ int run_devices() {
                 d.global_mem_bytes / 1073741824.0, d.index == chosen.index ? "  (default)" : "");
   }
   return 0;
+}
+
+// "rank 1 of 3: " under mpirun with several ranks, else "".
+std::string rank_prefix(const RankGroup* ranks) {
+  if (!ranks || ranks->size() <= 1) return "";
+  return "rank " + std::to_string(ranks->rank()) + " of " + std::to_string(ranks->size()) + ": ";
 }
 
 }  // namespace
@@ -97,6 +106,26 @@ int main(int argc, char** argv) {
   plot_cmd->add_option("reports", plot_reports, "error report CSV files")->required();
   plot_cmd->add_option("-o,--output", plot_out, "output figure (.png or .svg)")->required();
 
+  // Under mpirun: the ranks (MPI starts here, and only under a launcher).
+  std::unique_ptr<RankGroup> ranks;
+#ifdef CAUSTICA_WITH_MPI
+  try {
+    ranks = MpiRanks::if_launched(&argc, &argv);
+  } catch (const Error& e) {
+    std::fprintf(stderr, "caustica: error: %s\n", e.what());
+    return 1;
+  }
+#endif
+  render.ranks = ranks.get();
+  // A rank that fails ends the others (MPI_Abort): none waits forever in a
+  // collective for it.
+  auto failed = [&ranks]() -> int {
+    if (ranks && ranks->size() > 1) {
+      std::fflush(stderr);
+      ranks->abort(1);
+    }
+    return 1;
+  };
   // Parsing runs inside the try: option callbacks (--bvh, --exposure...)
   // throw caustica::Error for values they refuse, and an exception escaping
   // main would abort with "terminate called" instead of a message.
@@ -120,18 +149,20 @@ int main(int argc, char** argv) {
       return 0;
     }
   } catch (const Error& e) {
-    std::fprintf(stderr, "caustica: error: %s\n", e.what());
-    return 1;
+    std::fprintf(stderr, "caustica: error: %s%s\n", rank_prefix(ranks.get()).c_str(), e.what());
+    return failed();
   } catch (const cl::Error& e) {
-    std::fprintf(stderr, "caustica: OpenCL error: %s (%s)\n", e.what(), cl_error_name(e.err()).c_str());
-    return 1;
+    std::fprintf(stderr, "caustica: OpenCL error: %s%s (%s)\n", rank_prefix(ranks.get()).c_str(), e.what(),
+                 cl_error_name(e.err()).c_str());
+    return failed();
   } catch (const std::bad_alloc&) {
     // Every input size is bounded (host/limits.h); this is the machine's own limit.
-    std::fprintf(stderr, "caustica: error: out of memory (std::bad_alloc): this machine cannot hold the request\n");
-    return 1;
+    std::fprintf(stderr, "caustica: error: %sout of memory (std::bad_alloc): this machine cannot hold the request\n",
+                 rank_prefix(ranks.get()).c_str());
+    return failed();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "caustica: error: %s\n", e.what());
-    return 1;
+    std::fprintf(stderr, "caustica: error: %s%s\n", rank_prefix(ranks.get()).c_str(), e.what());
+    return failed();
   }
   return 0;
 }

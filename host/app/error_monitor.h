@@ -43,6 +43,11 @@ class ErrorMonitor {
   // After every pass (the film holds film.passes()); `seconds` since the
   // first sample. False: the target error is reached, stop.
   bool on_pass(const Film& film, double seconds);
+  // Whether on_pass would measure a film of `passes` passes (a distributed
+  // render sums the ranks' films only then).
+  bool wants_measurement(int passes) const {
+    return passes >= next_power_ || (next_target_check_ > 0 && passes >= next_target_check_);
+  }
   // After the last pass: measures it unless just done, writes the report and
   // the plot.
   void finish(const Film& film, double seconds);

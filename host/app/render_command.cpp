@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "host/app/distributed_render.h"
 #include "host/app/error_monitor.h"
 #include "host/error.h"
 #include "host/image/image_io.h"
@@ -145,6 +146,50 @@ float parse_number_option(const std::string& option, const std::string& text, do
   if (text.empty() || *end != '\0' || !std::isfinite(d) || d < lo || d > hi)
     throw Error(option + " '" + text + "': expected " + what);
   return static_cast<float>(d);
+}
+
+// "mpirun with N ranks", for errors.
+std::string ranks_text(const RenderArgs& a) {
+  return "mpirun with " + std::to_string(a.ranks->size()) + " ranks";
+}
+
+// What a distributed render does not do (yet), refused before anything is
+// read; and each rank's device and voice.
+void check_distributed_options(RenderArgs& a) {
+  const std::string ranks = ranks_text(a);
+  auto refuse = [&](bool given, const std::string& option, const std::string& why) {
+    if (given) throw Error(ranks + ": " + option + " " + why + " (docs/distributed.md)");
+  };
+  refuse(!a.checkpoint.empty() || !a.resume.empty(), "--checkpoint/--resume",
+         "is not supported yet: render the ranks' parts with --passes and --checkpoint, then `caustica merge`");
+  refuse(!a.passes.empty(), "--passes", "is for one process: the ranks split the passes themselves");
+  refuse(a.write_every_s > 0.0, "--write-every", "is not supported yet (it would sum the films at every write)");
+  refuse(!a.spp_map.empty(), "--spp-map", "draws adaptive sampling's counts: ranks sample uniformly");
+  if (a.session.caustics == CausticsMode::On)
+    throw Error(ranks + ": the photon pass (--caustics on) keeps per-pixel statistics that are not sums of passes, "
+                "so ranks cannot add them: add --caustics off (docs/distributed.md)");
+  if (a.session.adaptive && !a.no_error_estimate)
+    throw Error(ranks + ": adaptive sampling plans each wave from the error of the whole film, which no rank holds: "
+                "add --no-adaptive (docs/distributed.md)");
+  // --device A,B,...: rank with local rank L takes entry L mod count.
+  const std::string& spec = a.session.device;
+  if (spec.find(',') != std::string::npos) {
+    std::vector<std::string> entries;
+    for (size_t at = 0;;) {
+      const size_t comma = spec.find(',', at);
+      entries.push_back(spec.substr(at, comma - at));
+      if (comma == std::string::npos) break;
+      at = comma + 1;
+    }
+    a.session.device = entries[size_t(a.ranks->local_rank()) % entries.size()];
+  }
+  // Progress, the report and every message come from rank 0 only.
+  if (a.ranks->rank() != 0) {
+    a.quiet = true;
+    a.verbose = false;
+    a.report.clear();
+    a.plot.clear();
+  }
 }
 
 }  // namespace
@@ -319,11 +364,14 @@ int run_render(RenderArgs& a) {
     a.session.first_pass = first;
     a.session.spp = end;
   }
+  const bool distributed = a.ranks && a.ranks->size() > 1;
+  if (distributed) check_distributed_options(a);
   // A state that cannot be read, or is damaged, fails before the scene is read.
   std::optional<RenderState> resume;
   if (!a.resume.empty()) resume = read_render_state(a.resume);
   // A bad reference fails before anything is built or rendered.
   std::optional<ImageF> reference;
+  const bool reference_given = !a.reference.empty();
   if (!a.reference.empty()) {
     if (!is_hdr_path(a.reference))
       throw Error("--reference " + a.reference + ": expected a linear .pfm or .exr image");
@@ -345,6 +393,11 @@ int run_render(RenderArgs& a) {
     throw Error("--target-error: only path mode is stochastic; binary and phong images are exact after one pass");
   if (!a.spp_map.empty() && session->mode != RenderMode::Path)
     throw Error("--spp-map: only path mode takes several samples a pixel");
+  if (distributed && session->settings.caustics)
+    throw Error(ranks_text(a) + ": the photon pass (--caustics " +
+                std::string(a.session.caustics == CausticsMode::On ? "on" : "auto, which found caustics here") +
+                ") keeps per-pixel statistics that are not sums of passes, so ranks cannot add them: add --caustics "
+                "off (docs/distributed.md)");
   if (!a.passes.empty()) {
     if (session->mode != RenderMode::Path)
       throw Error("--passes " + a.passes + ": only path mode takes several passes (binary and phong take one)");
@@ -442,7 +495,25 @@ int run_render(RenderArgs& a) {
       write_spp_heatmap(a.spp_map, film.width(), film.height(), film.pixel_spp(), title);
     }
   };
-  const ImageF image = session->renderer->render(
+  Renderer* shown = session->renderer.get();  // the renderer whose film is written
+  DistributedResult summed;
+  if (distributed) {
+    // The monitor is rank 0's, and rounds wait for its decisions only when
+    // it has something to decide.
+    const bool monitored = !a.report.empty() || reference_given || a.target_error > 0.0;
+    summed = render_distributed(*session, *a.ranks, &stats,
+                                a.ranks->rank() == 0 ? ProgressCallback([&](const PassProgress& p) { progress.update(p); })
+                                                     : ProgressCallback{},
+                                a.ranks->rank() == 0 && monitored ? &monitor : nullptr);
+    if (a.ranks->rank() != 0) return 0;
+    shown = summed.summed.get();
+    render_seconds = summed.seconds;
+    stats.render_ms = summed.seconds * 1e3;
+    if (a.verbose)
+      std::fprintf(stderr, "[caustica] %d ranks: %s summed on rank 0 in %d reductions, %.3f s\n", a.ranks->size(),
+                   shown->film().held().describe().c_str(), summed.reductions, summed.reduction_seconds);
+  }
+  const ImageF image = distributed ? summed.image : session->renderer->render(
       &stats, [&](const PassProgress& p) { progress.update(p); },
       [&](const Film& film, double seconds) {
         render_seconds = seconds;
@@ -460,9 +531,9 @@ int run_render(RenderArgs& a) {
       },
       resume ? &*resume : nullptr);
   progress.finish();
-  write_outputs(image, session->renderer->film());
+  write_outputs(image, shown->film());
   if (!a.checkpoint.empty()) write_checkpoint();
-  monitor.finish(session->renderer->film(), render_seconds);
+  monitor.finish(shown->film(), render_seconds);
   if (a.verbose) {
     std::fprintf(stderr,
                  "[caustica] render: %.1f ms, %dx%d, %llu camera + %llu secondary + %llu shadow + %llu photon rays "
@@ -476,7 +547,7 @@ int run_render(RenderArgs& a) {
                  "(non-blocking); film scale 2^%d\n",
                  (unsigned long long)stats.launches, (unsigned long long)stats.blocking_transfers,
                  (unsigned long long)stats.count_reads,
-                 int(std::log2(session->renderer->film().params().scale)));
+                 int(std::log2(shown->film().params().scale)));
     std::fprintf(stderr, "[caustica] film: %d passes; dropped %llu NaN/Inf and %llu negative contributions, clamped %llu\n",
                  stats.passes, (unsigned long long)stats.film.nonfinite, (unsigned long long)stats.film.negative,
                  (unsigned long long)stats.film.clamped);
@@ -510,11 +581,11 @@ int run_render(RenderArgs& a) {
     std::string resumed;
     if (resume) resumed = ", resumed from " + std::to_string(resumed_passes) + " spp in " + a.resume;
     std::fprintf(stderr, "[caustica] wrote %s (%dx%d, %d spp%s) in %.2f s%s\n", a.output.c_str(), image.width,
-                 image.height, session->renderer->film().passes(), resumed.c_str(), stats.render_ms / 1e3,
+                 image.height, shown->film().passes(), resumed.c_str(), stats.render_ms / 1e3,
                  accuracy.c_str());
     if (!a.checkpoint.empty())
       std::fprintf(stderr, "[caustica] wrote %s (the render's state at %d spp)\n", a.checkpoint.c_str(),
-                   session->renderer->film().passes());
+                   shown->film().passes());
     if (!a.report.empty())
       std::fprintf(stderr, "[caustica] wrote %s (%d measurements, %.1f ms measuring = %.2f%% of the render)%s%s\n",
                    a.report.c_str(), monitor.measurements(), monitor.measurement_seconds() * 1e3,

@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "host/app/rank_group.h"
 #include "host/app/session.h"
 
 namespace caustica {
@@ -33,6 +34,9 @@ struct RenderArgs {
   // --passes START:END: a render of passes [START, END) only, with their
   // absolute indices (its state merges with others': `caustica merge`).
   std::string passes;
+  // Under mpirun (host/main.cpp): the ranks; nullptr or one rank: a
+  // single-process render.
+  RankGroup* ranks = nullptr;
 };
 
 inline constexpr double kDefaultCheckpointSeconds = 60.0;

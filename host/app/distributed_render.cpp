@@ -1,0 +1,132 @@
+#include "host/app/distributed_render.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+
+#include "host/error.h"
+#include "host/render/state_merge.h"
+
+namespace caustica {
+
+FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine) {
+  // The pass sets first: rank 0 forms the union (refusing overlaps: a
+  // schedule bug must not double passes silently) and tells every rank its
+  // last pass, which decides whose half buffer belongs to the union's.
+  std::vector<int32_t> ranges;
+  for (const auto& [b, e] : mine.held.ranges()) ranges.insert(ranges.end(), {b, e});
+  const std::vector<std::vector<int32_t>> all = ranks.gather_to_root(ranges);
+  PassSet held;
+  for (size_t r = 0; r < all.size(); ++r)
+    for (size_t i = 0; i + 1 < all[r].size(); i += 2) {
+      const PassSet part = PassSet::range(all[r][i], all[r][i + 1]);
+      if (held.overlaps(part))
+        throw Error("rank " + std::to_string(r) + " traced pass " + std::to_string(held.first_common(part)) +
+                    ", which another rank traced too");
+      held.add(part);
+    }
+  const int last = ranks.broadcast(held.last());
+  const size_t values = mine.spp.size() * 3;
+  if (mine.accumulated.size() == 4 * values && !half_is_in_union(mine.held, last))
+    std::fill(mine.accumulated.begin() + std::ptrdiff_t(2 * values), mine.accumulated.end(), 0u);
+  ranks.sum128_to_root(mine.accumulated);
+  ranks.sum_to_root(mine.spp);
+  ranks.sum_to_root(mine.pixel_rays);
+  ranks.sum_to_root(mine.counters);
+  if (ranks.rank() != 0) return mine;
+  mine.held = held;
+  mine.passes = held.count();
+  mine.per_pixel = false;
+  const int half = held.half_count();
+  mine.half_start.assign(mine.spp.size(), half > 0 ? uint32_t(mine.passes - half) : 0u);
+  return mine;
+}
+
+namespace {
+
+// CAUSTICA_TEST_DIE_RANK=R (tests only): rank R exits with status 3 after
+// its first round, as a crashed rank would, without telling the others.
+void maybe_die_for_test(const RankGroup& ranks) {
+  const char* die = std::getenv("CAUSTICA_TEST_DIE_RANK");
+  if (!die || std::atoi(die) != ranks.rank()) return;
+  std::fprintf(stderr, "caustica: rank %d: exiting as CAUSTICA_TEST_DIE_RANK asks\n", ranks.rank());
+  std::fflush(stderr);
+  std::_Exit(3);
+}
+
+}  // namespace
+
+DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderStats* stats,
+                                     const ProgressCallback& progress, ErrorMonitor* monitor) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  const RenderSettings& settings = session.settings;
+  Renderer& renderer = *session.renderer;
+  const int rank = ranks.rank(), size = ranks.size();
+  DistributedResult out;
+  if (rank == 0)
+    out.summed = std::make_unique<Renderer>(*session.runtime, *session.device_scene, session.mode,
+                                            session.program.program, settings);
+  // Sums every rank's film into rank 0's `summed` renderer.
+  auto reduce = [&] {
+    const auto r0 = std::chrono::steady_clock::now();
+    RenderState state;
+    state.film = reduce_film_to_root(ranks, renderer.state().film);
+    if (rank == 0) out.summed->begin(&state);
+    ++out.reductions;
+    out.reduction_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
+  };
+  const int end = settings.passes;  // INT_MAX: open (a time limit or a target error ends it)
+  const double limit = settings.time_limit_s;
+  // Rank 0 decides after each round (a time limit, or its error monitor);
+  // with --spp alone the ranks talk once, at the end.
+  const bool decided = ranks.broadcast(rank == 0 && (limit > 0.0 || monitor) ? 1 : 0) != 0;
+  const int most_block = std::max(1, renderer.integrator().wave_passes(renderer.film()));
+  const double tolerance = limit > 0.0 ? time_limit_tolerance(limit) : 0.0;
+  renderer.begin();
+  // Rank 0's progress as the whole group's: its passes times the ranks.
+  ProgressCallback shown;
+  if (progress)
+    shown = [&](const PassProgress& p) {
+      PassProgress q = p;
+      q.pass = int(std::min<int64_t>(int64_t(end) - 1, int64_t(p.pass) * size));
+      q.passes = end;
+      q.first_pass = 0;
+      progress(q);
+    };
+  double round_s = 0.0;
+  for (int done = 0; done < end;) {
+    const double start = seconds();
+    const int block = std::clamp(done / size, 1, most_block);
+    const int64_t first = int64_t(done) + int64_t(rank) * block;
+    const int64_t last = std::min<int64_t>(end, first + block);
+    if (first < last) {
+      StopConditions stop;
+      stop.first_pass = int(first);
+      stop.passes = int(last);
+      renderer.run(stop, stats, rank == 0 ? shown : ProgressCallback{});
+    }
+    done = int(std::min<int64_t>(end, int64_t(done) + int64_t(size) * block));
+    maybe_die_for_test(ranks);
+    if (!decided) continue;
+    round_s = seconds() - start;
+    // Rank 0 decides: measure now (every rank sums its film), then go on?
+    const bool measure = rank == 0 && monitor && monitor->wants_measurement(done);
+    if (ranks.broadcast(measure ? 1 : 0)) reduce();
+    int go = 1;
+    if (rank == 0) {
+      const double now = seconds();
+      if (measure && !monitor->on_pass(out.summed->film(), now)) go = 0;
+      if (limit > 0.0 && (now >= limit || now + round_s > limit + 0.75 * tolerance)) go = 0;
+    }
+    if (!ranks.broadcast(go)) break;
+  }
+  reduce();
+  out.seconds = seconds();
+  if (rank == 0) out.image = out.summed->finish(stats);
+  return out;
+}
+
+}  // namespace caustica

@@ -1,0 +1,48 @@
+// `mpirun -np N caustica render ...` (issue 23): the passes split across
+// ranks, the films summed on rank 0.
+//
+// Rules. Passes are traced in rounds: round j covers global passes
+// [g, g + N b) and rank r traces [g + r b, g + (r + 1) b) (b grows with the
+// passes done, as a single render's waves do, up to the integrator's wave
+// size), so every rank works to the end and, after any whole round, the
+// ranks together hold passes [0, g). Each rank's passes keep their absolute
+// indices (pass_set.h), so its samples are those a one-rank render takes;
+// the films are summed on rank 0 as 128-bit integers (state_merge.h's
+// rules for the half buffer), so the image is bit-identical to a one-rank
+// render of the same passes. With --spp the ranks talk once, at the end.
+// With --time, --target-error, --report or --reference rank 0 decides
+// after each round whether to go on and broadcasts it (the time limit's
+// prediction uses the latest round's duration), and the error estimate is
+// taken from the ranks' summed film (reduced when the error monitor
+// measures: after 1, 2, 4, ... passes and where the target is projected).
+// Adaptive sampling and the photon pass are refused before this is called
+// (render_command.cpp says why). Progress comes from rank 0 only.
+#pragma once
+
+#include <memory>
+
+#include "host/app/error_monitor.h"
+#include "host/app/rank_group.h"
+#include "host/app/session.h"
+#include "host/render/renderer.h"
+
+namespace caustica {
+
+struct DistributedResult {
+  ImageF image;                      // rank 0: the summed film's mean; elsewhere empty
+  std::unique_ptr<Renderer> summed;  // rank 0: a renderer holding the summed film
+  double seconds = 0.0;              // render time (rank 0's)
+  int reductions = 0;                // film reductions to rank 0
+  double reduction_seconds = 0.0;    // rank 0's time in them (film reads, MPI, restore)
+};
+
+// `monitor` and `progress` are rank 0's (nullptr / empty elsewhere).
+DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderStats* stats,
+                                     const ProgressCallback& progress, ErrorMonitor* monitor);
+
+// Every rank's film, summed on rank 0 (the union of their passes; on
+// other ranks the returned state is their own, unchanged in meaning).
+// Collective.
+FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine);
+
+}  // namespace caustica
