@@ -2,8 +2,9 @@
 // host/mpi/mpi_ranks.h): 2 and 3 ranks give the same bits as one process
 // at the same spp; a time limit and a target error decided by rank 0 end
 // on a whole number of rounds, whose passes [0, N) a one-process render of
-// N spp reproduces bit for bit; a rank that dies ends the job with a clear
-// message instead of a hang; what ranks cannot do is refused. Skipped
+// N spp reproduces bit for bit; rank 0's checkpoints are one process's
+// states and resume after a rank died; a rank that dies ends the job with
+// a clear message instead of a hang; what ranks cannot do is refused. Skipped
 // where caustica was built without MPI. Small images, few spp: a second
 // or two each (mpirun's start included), under a timeout.
 #include <gtest/gtest.h>
@@ -118,8 +119,8 @@ TEST(MpiRender, ARankThatDiesEndsTheJobWithAClearMessage) {
   SKIP_WITHOUT_MPI();
   const std::string dir = test::temp_dir();
   const auto t0 = std::chrono::steady_clock::now();
-  // Rank 1 exits after its first round; rank 0 would wait for it at the
-  // end (--spp) and, with a time limit, after every round.
+  // Rank 1 exits after the round that reaches 16 passes; rank 0 would wait
+  // for it at the end (--spp) and, with a time limit, after every round.
   for (const std::string stop : {"--spp 100000", "--time 60"}) {
     const test::CliResult r =
         run_mpi(2, render_args(stop + " -q -o '" + dir + "/x.pfm'"), "CAUSTICA_TEST_DIE_RANK=1");
@@ -130,6 +131,32 @@ TEST(MpiRender, ARankThatDiesEndsTheJobWithAClearMessage) {
         << r.output;
   }
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 60.0);
+}
+
+// Rank 0 writes the summed film's state: the bytes one process writes at
+// the same spp. A rank that dies leaves the latest checkpoint, which 2 or
+// 3 ranks resume to the bits of an uninterrupted render.
+TEST(MpiRender, CheckpointsOfRanksAreOneProcesssStatesAndResumeAfterARankDied) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  ASSERT_EQ(test::run_cli(render_args("--spp 12 -q --checkpoint '" + dir + "/one.cst' -o '" + dir + "/a.pfm'")).status,
+            0);
+  test::CliResult r = run_mpi(2, render_args("--spp 12 -q --checkpoint '" + dir + "/two.cst' -o '" + dir + "/b.pfm'"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(slurp(dir + "/one.cst") == slurp(dir + "/two.cst")) << "2 ranks' state differs from one process's";
+  ASSERT_EQ(test::run_cli(render_args("--spp 40 -q -o '" + dir + "/whole.pfm'")).status, 0);
+  // Rank 1 dies after the round that reaches 16 passes; the checkpoint
+  // after every round before it holds 8.
+  r = run_mpi(2, render_args("--spp 40 -v --checkpoint '" + dir + "/died.cst' --checkpoint-every 0.001 -o '" + dir +
+                             "/died.pfm'"),
+              "CAUSTICA_TEST_DIE_RANK=1");
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_TRUE(Contains(r.output, {"checkpoint " + dir + "/died.cst at 8 spp"})) << r.output;
+  for (int ranks : {3, 1}) {
+    r = run_mpi(ranks, render_args("--spp 40 -q --resume '" + dir + "/died.cst' -o '" + dir + "/resumed.pfm'"));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(slurp(dir + "/resumed.pfm") == slurp(dir + "/whole.pfm")) << ranks << " ranks resumed differ";
+  }
 }
 
 TEST(MpiRender, WhatRanksCannotDoIsRefused) {
@@ -144,9 +171,8 @@ TEST(MpiRender, WhatRanksCannotDoIsRefused) {
   r = run_mpi(2, scene + "--caustics on --no-adaptive");
   EXPECT_TRUE(Contains(r.output, {"mpirun with 2 ranks: the photon pass (--caustics on)", "add --caustics off"}))
       << r.output;
-  r = run_mpi(2, scene + "--caustics off --no-adaptive --checkpoint '" + dir + "/s.cst'");
-  EXPECT_TRUE(Contains(r.output, {"mpirun with 2 ranks: --checkpoint/--resume is not supported yet", "caustica merge"}))
-      << r.output;
+  r = run_mpi(2, scene + "--caustics off --no-adaptive --passes 0:4");
+  EXPECT_TRUE(Contains(r.output, {"mpirun with 2 ranks: --passes is for one process"})) << r.output;
 }
 
 }  // namespace

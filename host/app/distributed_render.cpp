@@ -47,10 +47,11 @@ FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine) {
 namespace {
 
 // CAUSTICA_TEST_DIE_RANK=R (tests only): rank R exits with status 3 after
-// its first round, as a crashed rank would, without telling the others.
-void maybe_die_for_test(const RankGroup& ranks) {
+// the round that reaches 16 passes, as a crashed rank would, without
+// telling the others (checkpoints of the rounds before stay).
+void maybe_die_for_test(const RankGroup& ranks, int done) {
   const char* die = std::getenv("CAUSTICA_TEST_DIE_RANK");
-  if (!die || std::atoi(die) != ranks.rank()) return;
+  if (!die || std::atoi(die) != ranks.rank() || done < 16) return;
   std::fprintf(stderr, "caustica: rank %d: exiting as CAUSTICA_TEST_DIE_RANK asks\n", ranks.rank());
   std::fflush(stderr);
   std::_Exit(3);
@@ -59,7 +60,8 @@ void maybe_die_for_test(const RankGroup& ranks) {
 }  // namespace
 
 DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderStats* stats,
-                                     const ProgressCallback& progress, ErrorMonitor* monitor) {
+                                     const ProgressCallback& progress, ErrorMonitor* monitor,
+                                     const RenderState* resume, const DistributedCheckpoint& checkpoint) {
   const auto t0 = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   const RenderSettings& settings = session.settings;
@@ -82,10 +84,17 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
   const double limit = settings.time_limit_s;
   // Rank 0 decides after each round (a time limit, or its error monitor);
   // with --spp alone the ranks talk once, at the end.
-  const bool decided = ranks.broadcast(rank == 0 && (limit > 0.0 || monitor) ? 1 : 0) != 0;
+  const bool checkpoints = rank == 0 && checkpoint.write != nullptr;
+  const bool decided = ranks.broadcast(rank == 0 && (limit > 0.0 || monitor || checkpoints) ? 1 : 0) != 0;
   const int most_block = std::max(1, renderer.integrator().wave_passes(renderer.film()));
   const double tolerance = limit > 0.0 ? time_limit_tolerance(limit) : 0.0;
-  renderer.begin();
+  if (resume && !resume->film.held.is_prefix())
+    throw Error("a state of " + resume->film.held.describe() + " resumes in one process only (ranks go on from "
+                "passes [0, N))");
+  renderer.begin(rank == 0 ? resume : nullptr);
+  // The ranks go on from the resumed passes [0, N): rank 0 holds them.
+  const int resumed = ranks.broadcast(rank == 0 && resume ? resume->film.held.end() : 0);
+  double last_checkpoint = 0.0;
   // Rank 0's progress as the whole group's: its passes times the ranks.
   ProgressCallback shown;
   if (progress)
@@ -97,7 +106,7 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
       progress(q);
     };
   double round_s = 0.0;
-  for (int done = 0; done < end;) {
+  for (int done = resumed; done < end;) {
     const double start = seconds();
     const int block = std::clamp(done / size, 1, most_block);
     const int64_t first = int64_t(done) + int64_t(rank) * block;
@@ -109,12 +118,18 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
       renderer.run(stop, stats, rank == 0 ? shown : ProgressCallback{});
     }
     done = int(std::min<int64_t>(end, int64_t(done) + int64_t(size) * block));
-    maybe_die_for_test(ranks);
+    maybe_die_for_test(ranks, done);
     if (!decided) continue;
     round_s = seconds() - start;
-    // Rank 0 decides: measure now (every rank sums its film), then go on?
+    // Rank 0 decides: measure or checkpoint now (every rank sums its
+    // film), then go on?
     const bool measure = rank == 0 && monitor && monitor->wants_measurement(done);
-    if (ranks.broadcast(measure ? 1 : 0)) reduce();
+    const bool save = checkpoints && seconds() - last_checkpoint >= checkpoint.every_s;
+    if (ranks.broadcast(measure || save ? 1 : 0)) reduce();
+    if (save) {
+      last_checkpoint = seconds();
+      checkpoint.write(*out.summed);
+    }
     int go = 1;
     if (rank == 0) {
       const double now = seconds();

@@ -10,15 +10,19 @@
 // the films are summed on rank 0 as 128-bit integers (state_merge.h's
 // rules for the half buffer), so the image is bit-identical to a one-rank
 // render of the same passes. With --spp the ranks talk once, at the end.
-// With --time, --target-error, --report or --reference rank 0 decides
+// With --time, --target-error, --report, --reference or --checkpoint
+// rank 0 decides
 // after each round whether to go on and broadcasts it (the time limit's
 // prediction uses the latest round's duration), and the error estimate is
 // taken from the ranks' summed film (reduced when the error monitor
-// measures: after 1, 2, 4, ... passes and where the target is projected).
+// measures: after 1, 2, 4, ... passes and where the target is projected);
+// rank 0 alone reads a resumed state and writes checkpoints, of the
+// summed film (passes [0, g) after a whole round: a state like any).
 // Adaptive sampling and the photon pass are refused before this is called
 // (render_command.cpp says why). Progress comes from rank 0 only.
 #pragma once
 
+#include <functional>
 #include <memory>
 
 #include "host/app/error_monitor.h"
@@ -36,9 +40,20 @@ struct DistributedResult {
   double reduction_seconds = 0.0;    // rank 0's time in them (film reads, MPI, restore)
 };
 
-// `monitor` and `progress` are rank 0's (nullptr / empty elsewhere).
+// Rank 0's checkpoints: `write` gets the summed film's renderer every
+// `every_s` seconds (after a round; the ranks' films are summed for it).
+struct DistributedCheckpoint {
+  double every_s = 0.0;
+  std::function<void(const Renderer&)> write;  // empty: none
+};
+
+// `monitor`, `progress`, `resume` and `checkpoint` are rank 0's (nullptr /
+// empty elsewhere). A resumed state (passes [0, N) only) is rank 0's film
+// at the start; the rounds go on from N.
 DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderStats* stats,
-                                     const ProgressCallback& progress, ErrorMonitor* monitor);
+                                     const ProgressCallback& progress, ErrorMonitor* monitor,
+                                     const RenderState* resume = nullptr,
+                                     const DistributedCheckpoint& checkpoint = {});
 
 // Every rank's film, summed on rank 0 (the union of their passes; on
 // other ranks the returned state is their own, unchanged in meaning).

@@ -160,8 +160,6 @@ void check_distributed_options(RenderArgs& a) {
   auto refuse = [&](bool given, const std::string& option, const std::string& why) {
     if (given) throw Error(ranks + ": " + option + " " + why + " (docs/distributed.md)");
   };
-  refuse(!a.checkpoint.empty() || !a.resume.empty(), "--checkpoint/--resume",
-         "is not supported yet: render the ranks' parts with --passes and --checkpoint, then `caustica merge`");
   refuse(!a.passes.empty(), "--passes", "is for one process: the ranks split the passes themselves");
   refuse(a.write_every_s > 0.0, "--write-every", "is not supported yet (it would sum the films at every write)");
   refuse(!a.spp_map.empty(), "--spp-map", "draws adaptive sampling's counts: ranks sample uniformly");
@@ -184,7 +182,12 @@ void check_distributed_options(RenderArgs& a) {
     a.session.device = entries[size_t(a.ranks->local_rank()) % entries.size()];
   }
   // Progress, the report and every message come from rank 0 only.
+  // Rank 0 alone reads a resumed state and writes checkpoints (of the
+  // summed film).
   if (a.ranks->rank() != 0) {
+    a.checkpoint.clear();
+    a.checkpoint_every_s.reset();
+    a.resume.clear();
     a.quiet = true;
     a.verbose = false;
     a.report.clear();
@@ -353,6 +356,8 @@ int run_render(RenderArgs& a) {
   if (a.checkpoint_every_s && a.checkpoint.empty())
     throw Error("--checkpoint-every needs --checkpoint (the file the state is written to)");
   if (!a.checkpoint.empty()) check_output_dir("--checkpoint", a.checkpoint);
+  const bool distributed = a.ranks && a.ranks->size() > 1;
+  if (distributed) check_distributed_options(a);
   if (!a.passes.empty()) {
     const auto [first, end] = parse_pass_range(a.passes);
     if (a.session.spp > 0) throw Error("--passes " + a.passes + " and --spp: give one (--passes ends at END)");
@@ -364,8 +369,6 @@ int run_render(RenderArgs& a) {
     a.session.first_pass = first;
     a.session.spp = end;
   }
-  const bool distributed = a.ranks && a.ranks->size() > 1;
-  if (distributed) check_distributed_options(a);
   // A state that cannot be read, or is damaged, fails before the scene is read.
   std::optional<RenderState> resume;
   if (!a.resume.empty()) resume = read_render_state(a.resume);
@@ -470,15 +473,17 @@ int run_render(RenderArgs& a) {
   double last_write = 0.0, render_seconds = 0.0, last_checkpoint = 0.0;
   const double checkpoint_every = a.checkpoint_every_s.value_or(kDefaultCheckpointSeconds);
   int checkpoint_passes = -1;  // the latest checkpoint's
-  auto write_checkpoint = [&] {
-    if (session->renderer->film().passes() == checkpoint_passes) return;  // the same state again
-    RenderState state = session->renderer->state();
+  Renderer* shown = session->renderer.get();  // the renderer whose film is written
+  auto write_checkpoint_of = [&](const Renderer& renderer) {
+    if (renderer.film().passes() == checkpoint_passes) return;  // the same state again
+    RenderState state = renderer.state();
     state.identity = identity;
     write_render_state(a.checkpoint, state);
     checkpoint_passes = state.film.passes;
     if (a.verbose)
       std::fprintf(stderr, "[caustica] checkpoint %s at %d spp\n", a.checkpoint.c_str(), state.film.passes);
   };
+  auto write_checkpoint = [&] { write_checkpoint_of(*shown); };
   const bool path = session->mode == RenderMode::Path;
   // The image, with its per-pixel sample counts where they can go: an .exr
   // output's "spp" channel, and the --spp-map heatmap.
@@ -495,7 +500,6 @@ int run_render(RenderArgs& a) {
       write_spp_heatmap(a.spp_map, film.width(), film.height(), film.pixel_spp(), title);
     }
   };
-  Renderer* shown = session->renderer.get();  // the renderer whose film is written
   DistributedResult summed;
   if (distributed) {
     // The monitor is rank 0's, and rounds wait for its decisions only when
@@ -504,7 +508,10 @@ int run_render(RenderArgs& a) {
     summed = render_distributed(*session, *a.ranks, &stats,
                                 a.ranks->rank() == 0 ? ProgressCallback([&](const PassProgress& p) { progress.update(p); })
                                                      : ProgressCallback{},
-                                a.ranks->rank() == 0 && monitored ? &monitor : nullptr);
+                                a.ranks->rank() == 0 && monitored ? &monitor : nullptr, resume ? &*resume : nullptr,
+                                DistributedCheckpoint{checkpoint_every, a.checkpoint.empty()
+                                                                            ? std::function<void(const Renderer&)>()
+                                                                            : write_checkpoint_of});
     if (a.ranks->rank() != 0) return 0;
     shown = summed.summed.get();
     render_seconds = summed.seconds;

@@ -44,6 +44,7 @@ class Renderer {
 
   Integrator& integrator() { return *integrator_; }
   Film& film() { return *film_; }
+  const Film& film() const { return *film_; }
   const RenderSettings& settings() const { return settings_; }
 
  private:
