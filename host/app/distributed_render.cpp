@@ -73,12 +73,24 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
                                             session.program.program, settings);
   // Sums every rank's film into rank 0's `summed` renderer.
   auto reduce = [&] {
-    const auto r0 = std::chrono::steady_clock::now();
+    using Clock = std::chrono::steady_clock;
+    auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+    const auto r0 = Clock::now();
+    FilmState mine = renderer.state().film;
+    out.read_seconds += since(r0);
+    // The ranks' rounds end apart: the wait is the imbalance, not MPI's cost.
+    const auto waited = Clock::now();
+    ranks.barrier();
+    out.wait_seconds += since(waited);
+    const auto r1 = Clock::now();
     RenderState state;
-    state.film = reduce_film_to_root(ranks, renderer.state().film);
+    state.film = reduce_film_to_root(ranks, std::move(mine));
+    out.mpi_seconds += since(r1);
+    const auto r2 = Clock::now();
     if (rank == 0) out.summed->begin(&state);
+    out.restore_seconds += since(r2);
     ++out.reductions;
-    out.reduction_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
+    out.reduction_seconds += since(r0);
   };
   const int end = settings.passes;  // INT_MAX: open (a time limit or a target error ends it)
   const double limit = settings.time_limit_s;

@@ -37,7 +37,10 @@ struct DistributedResult {
   std::unique_ptr<Renderer> summed;  // rank 0: a renderer holding the summed film
   double seconds = 0.0;              // render time (rank 0's)
   int reductions = 0;                // film reductions to rank 0
-  double reduction_seconds = 0.0;    // rank 0's time in them (film reads, MPI, restore)
+  double reduction_seconds = 0.0;    // rank 0's time in them: film reads, MPI and restore together
+  // ... and apart: reading the film, waiting for the slowest rank, the
+  // MPI calls, restoring the sum on rank 0.
+  double read_seconds = 0.0, wait_seconds = 0.0, mpi_seconds = 0.0, restore_seconds = 0.0;
 };
 
 // Rank 0's checkpoints: `write` gets the summed film's renderer every

@@ -21,6 +21,8 @@ class RankGroup {
   virtual int rank() const = 0;
   virtual int size() const = 0;
   virtual int local_rank() const = 0;  // among the ranks on this machine (picks a device)
+  // Returns once every rank has called it.
+  virtual void barrier() = 0;
   // Rank 0's `value`, on every rank.
   virtual int broadcast(int value) = 0;
   // On rank 0 the sum over ranks; elsewhere unchanged. `sums128` holds

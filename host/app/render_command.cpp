@@ -517,8 +517,12 @@ int run_render(RenderArgs& a) {
     render_seconds = summed.seconds;
     stats.render_ms = summed.seconds * 1e3;
     if (a.verbose)
-      std::fprintf(stderr, "[caustica] %d ranks: %s summed on rank 0 in %d reductions, %.3f s\n", a.ranks->size(),
-                   shown->film().held().describe().c_str(), summed.reductions, summed.reduction_seconds);
+      std::fprintf(stderr,
+                   "[caustica] %d ranks: %s summed on rank 0 in %d reductions, %.3f s (film reads %.3f s, waiting for "
+                   "ranks %.3f s, MPI %.3f s, restore %.3f s)\n",
+                   a.ranks->size(), shown->film().held().describe().c_str(), summed.reductions,
+                   summed.reduction_seconds, summed.read_seconds, summed.wait_seconds, summed.mpi_seconds,
+                   summed.restore_seconds);
   }
   const ImageF image = distributed ? summed.image : session->renderer->render(
       &stats, [&](const PassProgress& p) { progress.update(p); },

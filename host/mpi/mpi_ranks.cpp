@@ -56,6 +56,8 @@ MpiRanks::MpiRanks(int* argc, char*** argv) {
 
 MpiRanks::~MpiRanks() { MPI_Finalize(); }
 
+void MpiRanks::barrier() { check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier"); }
+
 int MpiRanks::broadcast(int value) {
   check(MPI_Bcast(&value, 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Bcast");
   return value;

@@ -27,6 +27,7 @@ class MpiRanks final : public RankGroup {
   int rank() const override { return rank_; }
   int size() const override { return size_; }
   int local_rank() const override { return local_rank_; }
+  void barrier() override;
   int broadcast(int value) override;
   void sum128_to_root(std::vector<uint64_t>& sums128) override;
   void sum_to_root(std::vector<uint64_t>& values) override;
