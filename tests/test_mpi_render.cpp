@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -79,9 +80,13 @@ TEST(MpiRender, TwoAndThreeRanksGiveTheBitsOfOneProcess) {
   ASSERT_EQ(one.status, 0) << one.output;
   const std::string bits = slurp(dir + "/one.pfm");
   ASSERT_FALSE(bits.empty());
-  for (int ranks : {2, 3}) {
+  // 3 ranks twice: the sums' low words through MPI's own 64-bit sum (they
+  // fit), and through the 128-bit op (CAUSTICA_TEST_REDUCE128).
+  for (int ranks : {2, 3, -3}) {
     const std::string out = dir + "/ranks" + std::to_string(ranks) + ".pfm";
-    const test::CliResult r = run_mpi(ranks, render_args("--spp 37 -v -o '" + out + "'"));
+    const test::CliResult r = run_mpi(std::abs(ranks), render_args("--spp 37 -v -o '" + out + "'"),
+                                      ranks < 0 ? "CAUSTICA_TEST_REDUCE128=1" : "");
+    ranks = std::abs(ranks);
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(Contains(r.output, {std::to_string(ranks) + " ranks: passes [0, 37) summed on rank 0"})) << r.output;
     // Rank 0 alone speaks: one "wrote" line.

@@ -11,6 +11,37 @@
 
 namespace caustica {
 
+namespace {
+
+// The film's 128-bit sums, summed on rank 0. Their high words are zero
+// unless a sum reached 2^64 (2^40 in radiance at the finest scale, 2^24):
+// when every rank's are, and no rank's low word exceeds (2^64 - 1) / ranks,
+// the low words alone add without overflow, and MPI's own 64-bit sum moves
+// half the bytes; otherwise the 128-bit op. Exact either way.
+void sum_film_sums_to_root(RankGroup& ranks, std::vector<uint64_t>& sums) {
+  std::vector<uint64_t> bounds = {0, 0};  // the largest low word, any high word
+  for (size_t i = 0; i + 1 < sums.size(); i += 2) {
+    bounds[0] = std::max(bounds[0], sums[i]);
+    bounds[1] |= sums[i + 1];
+  }
+  ranks.max_to_all(bounds);
+  // CAUSTICA_TEST_REDUCE128 (tests only): the 128-bit op always.
+  if (std::getenv("CAUSTICA_TEST_REDUCE128") || bounds[1] != 0 || bounds[0] > std::numeric_limits<uint64_t>::max() / uint64_t(ranks.size())) {
+    ranks.sum128_to_root(sums);
+    return;
+  }
+  std::vector<uint64_t> low(sums.size() / 2);
+  for (size_t i = 0; i < low.size(); ++i) low[i] = sums[2 * i];
+  ranks.sum_to_root(low);
+  if (ranks.rank() != 0) return;
+  for (size_t i = 0; i < low.size(); ++i) {
+    sums[2 * i] = low[i];
+    sums[2 * i + 1] = 0;
+  }
+}
+
+}  // namespace
+
 FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine) {
   // The pass sets first: rank 0 forms the union (refusing overlaps: a
   // schedule bug must not double passes silently) and tells every rank its
@@ -31,7 +62,7 @@ FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine) {
   const size_t values = mine.spp.size() * 3;
   if (mine.accumulated.size() == 4 * values && !half_is_in_union(mine.held, last))
     std::fill(mine.accumulated.begin() + std::ptrdiff_t(2 * values), mine.accumulated.end(), 0u);
-  ranks.sum128_to_root(mine.accumulated);
+  sum_film_sums_to_root(ranks, mine.accumulated);
   ranks.sum_to_root(mine.spp);
   ranks.sum_to_root(mine.pixel_rays);
   ranks.sum_to_root(mine.counters);
@@ -118,9 +149,13 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
       progress(q);
     };
   double round_s = 0.0;
+  // Rounds end where rank 0 decides next: its error monitor's next
+  // measurement (a round must not run far past a target error).
+  int decide_at = end;
   for (int done = resumed; done < end;) {
     const double start = seconds();
-    const int block = std::clamp(done / size, 1, most_block);
+    const int until_decision = int(std::max<int64_t>(1, (int64_t(decide_at) - done + size - 1) / size));
+    const int block = std::clamp(std::min(done / size, until_decision), 1, most_block);
     const int64_t first = int64_t(done) + int64_t(rank) * block;
     const int64_t last = std::min<int64_t>(end, first + block);
     if (first < last) {
@@ -148,7 +183,10 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
       if (measure && !monitor->on_pass(out.summed->film(), now)) go = 0;
       if (limit > 0.0 && (now >= limit || now + round_s > limit + 0.75 * tolerance)) go = 0;
     }
-    if (!ranks.broadcast(go)) break;
+    // 0: stop; else where to decide next.
+    const int next = rank == 0 && go ? (monitor ? std::max(done + 1, monitor->next_measurement()) : end) : 0;
+    decide_at = ranks.broadcast(next);
+    if (decide_at == 0) break;
   }
   reduce();
   out.seconds = seconds();

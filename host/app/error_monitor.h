@@ -15,6 +15,7 @@
 // measuring, which the rows' wall seconds include.
 #pragma once
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <utility>
@@ -43,6 +44,10 @@ class ErrorMonitor {
   // After every pass (the film holds film.passes()); `seconds` since the
   // first sample. False: the target error is reached, stop.
   bool on_pass(const Film& film, double seconds);
+  // The pass count at which on_pass measures next.
+  int next_measurement() const {
+    return next_target_check_ > 0 ? std::min(next_power_, next_target_check_) : next_power_;
+  }
   // Whether on_pass would measure a film of `passes` passes (a distributed
   // render sums the ranks' films only then).
   bool wants_measurement(int passes) const {
