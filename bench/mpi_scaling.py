@@ -122,19 +122,30 @@ def reduction_cost():
     return r
 
 
-def model(red, imbalance_s):
-    print("\n### Modelled efficiency, 1920x1080, one minute\n")
-    print("| ranks | t_reduce s | efficiency, --spp/--time (1 reduction) | efficiency, --target-error "
-          "(k reductions) |")
-    print("|---|---|---|---|")
-    for ranks in (2, 16, 64):
-        t = red["read_s"] + math.ceil(math.log2(ranks)) * red["mpi_s"] + red["restore_s"]
-        # A minute of 1080p on a rank: passes P ~ 60 / (pass time); with a
-        # target error the monitor measures at 1, 2, 4, ... passes of the sum.
-        k = int(math.log2(max(2, ranks * 60 / max(imbalance_s, 1e-3)))) + 1
-        e1 = 60 / (60 + t + imbalance_s)
-        ek = 60 / (60 + k * t + imbalance_s)
-        print(f"| {ranks} | {t:.3f} | {e1:.3f} | {ek:.3f} (k = {k}) |")
+def model(red, pass_s):
+    """Efficiency of a one-minute 1920x1080 render on R ranks (docs/distributed.md).
+
+    t_reduce: tree = every level of a binomial tree moves the whole film
+    (pessimistic); pipelined = a segmented reduce (Open MPI's choice for
+    large messages) costs about one transfer plus a segment per level, taken
+    as t_mpi(2). Imbalance: the last round leaves ranks idle for at most one
+    block (one pass at 1080p): this CPU's measured 1-thread pass, and an
+    assumed 0.1 s (a GPU). k: reductions, 1 for --spp/--time; for a target
+    error one per monitor measurement, log2(passes) + 1."""
+    for label, imbalance in ((f"this CPU's 1-thread 1080p pass, {pass_s:.2f} s (measured)", pass_s),
+                             ("a 0.1 s 1080p pass (a GPU; assumed)", 0.1)):
+        print(f"\n### Modelled efficiency, 1920x1080, one minute; imbalance: {label}\n")
+        print("| ranks | t_reduce s, tree / pipelined | --spp or --time (1 reduction), tree / pipelined | "
+              "--target-error (k reductions), tree / pipelined |")
+        print("|---|---|---|---|")
+        for ranks in (2, 16, 64):
+            fixed = red["read_s"] + red["restore_s"]
+            tree = fixed + math.ceil(math.log2(ranks)) * red["mpi_s"]
+            pipe = fixed + red["mpi_s"]
+            k = int(math.log2(max(2.0, ranks * 60 / imbalance))) + 1
+            eff = lambda n, t: 60 / (60 + n * t + imbalance)
+            print(f"| {ranks} | {tree:.3f} / {pipe:.3f} | {eff(1, tree):.3f} / {eff(1, pipe):.3f} | "
+                  f"{eff(k, tree):.3f} / {eff(k, pipe):.3f} (k = {k}) |")
 
 
 def main():
