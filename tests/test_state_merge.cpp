@@ -167,10 +167,13 @@ TEST(StateMerge, TheCliMergesPassSubsetsToTheBitsOfOneRender) {
                              test::device_spec() + "'";
   const std::string scene = "'" + cornell() + "'";
   auto render = [&](const std::string& args) { return test::run_cli("render " + scene + common + " " + args); };
-  ASSERT_EQ(render("--spp 24 -o '" + dir + "/whole.pfm'").status, 0);
+  ASSERT_EQ(render("--spp 24 --checkpoint '" + dir + "/whole.cst' -o '" + dir + "/whole.pfm'").status, 0);
   test::CliResult r = render("--passes 0:9 --checkpoint '" + dir + "/a.cst' -o '" + dir + "/a.pfm'");
   ASSERT_EQ(r.status, 0) << r.output;
-  r = render("--passes 9:24 --checkpoint '" + dir + "/b.cst' -o '" + dir + "/b.pfm'");
+  // The second part in two runs: a part resumes like any render.
+  r = render("--passes 9:15 --checkpoint '" + dir + "/b.cst' -o '" + dir + "/b.pfm'");
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = render("--passes 9:24 --resume '" + dir + "/b.cst' --checkpoint '" + dir + "/b.cst' -o '" + dir + "/b.pfm'");
   ASSERT_EQ(r.status, 0) << r.output;
   r = test::run_cli("merge -q '" + dir + "/a.cst' '" + dir + "/b.cst' -o '" + dir + "/merged.pfm' --state '" + dir +
                     "/merged.cst'");
@@ -182,6 +185,7 @@ TEST(StateMerge, TheCliMergesPassSubsetsToTheBitsOfOneRender) {
   const std::string whole = slurp(dir + "/whole.pfm");
   ASSERT_FALSE(whole.empty());
   EXPECT_TRUE(slurp(dir + "/merged.pfm") == whole) << "merged image differs from one render's";
+  EXPECT_TRUE(slurp(dir + "/merged.cst") == slurp(dir + "/whole.cst")) << "merged state differs from one render's";
   r = render("--spp 24 --resume '" + dir + "/merged.cst' -o '" + dir + "/resumed.pfm'");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(slurp(dir + "/resumed.pfm") == whole) << "the merged state resumed differs from one render";
