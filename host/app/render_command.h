@@ -46,5 +46,10 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& args);
 int run_render(RenderArgs& args);
 // "START:END" (--passes): [START, END), 0 <= START < END; throws caustica::Error.
 std::pair<int, int> parse_pass_range(const std::string& text);
+// Under mpirun with several ranks (render_parts.cpp): refuses what ranks
+// do not do, before anything is read; picks this rank's --device entry;
+// silences every rank but 0. "mpirun with N ranks", for messages.
+void check_distributed_options(RenderArgs& args);
+std::string ranks_text(const RenderArgs& args);
 
 }  // namespace caustica
