@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -113,6 +114,14 @@ int main(int argc, char** argv) {
     ranks = MpiRanks::if_launched(&argc, &argv);
   } catch (const Error& e) {
     std::fprintf(stderr, "caustica: error: %s\n", e.what());
+    return 1;
+  }
+#else
+  // Started by mpirun without MPI built in, every rank would render the
+  // whole image and write the same files.
+  if (const char* size = std::getenv("OMPI_COMM_WORLD_SIZE"); size && std::atoi(size) > 1) {
+    std::fprintf(stderr, "caustica: error: started by mpirun with %s ranks, but this caustica was built without MPI "
+                         "(install libopenmpi-dev and build again: docs/distributed.md)\n", size);
     return 1;
   }
 #endif
