@@ -95,6 +95,20 @@ TEST(MpiRender, TwoAndThreeRanksGiveTheBitsOfOneProcess) {
   }
 }
 
+// Binary and phong: one pass, which rank 0 traces; the others hold none.
+TEST(MpiRender, BinaryAndPhongGiveTheBitsOfOneProcess) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  for (const std::string mode : {"binary", "phong"}) {
+    const std::string args = "render '" + test::source_dir() + "/scenes/simple_phong.json' --mode " + mode +
+                             " --width 48 -q --device '" + test::device_spec() + "' -o '" + dir + "/" + mode;
+    ASSERT_EQ(test::run_cli(args + "1.pfm'").status, 0);
+    const test::CliResult r = run_mpi(2, args + "2.pfm'");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(slurp(dir + "/" + mode + "1.pfm") == slurp(dir + "/" + mode + "2.pfm")) << mode;
+  }
+}
+
 // Rank 0 decides when to stop; the ranks then hold passes [0, N) between
 // them, and one process rendering N spp has the same bits.
 TEST(MpiRender, TimeLimitAndTargetErrorAreDecidedForAllRanks) {

@@ -331,6 +331,10 @@ int run_render(RenderArgs& a) {
     throw Error("--target-error: only path mode is stochastic; binary and phong images are exact after one pass");
   if (!a.spp_map.empty() && session->mode != RenderMode::Path)
     throw Error("--spp-map: only path mode takes several samples a pixel");
+  // Path mode only: binary and phong have no adaptive sampling.
+  if (distributed && session->settings.adaptive)
+    throw Error(ranks_text(a) + ": adaptive sampling plans each wave from the error of the whole film, which no "
+                "rank holds: add --no-adaptive (docs/distributed.md)");
   if (distributed && session->settings.caustics)
     throw Error(ranks_text(a) + ": the photon pass (--caustics " +
                 std::string(a.session.caustics == CausticsMode::On ? "on" : "auto, which found caustics here") +

@@ -46,9 +46,6 @@ void check_distributed_options(RenderArgs& a) {
   if (a.session.caustics == CausticsMode::On)
     throw Error(ranks + ": the photon pass (--caustics on) keeps per-pixel statistics that are not sums of passes, "
                 "so ranks cannot add them: add --caustics off (docs/distributed.md)");
-  if (a.session.adaptive && !a.no_error_estimate)
-    throw Error(ranks + ": adaptive sampling plans each wave from the error of the whole film, which no rank holds: "
-                "add --no-adaptive (docs/distributed.md)");
   // --device A,B,...: rank with local rank L takes entry L mod count.
   const std::string& spec = a.session.device;
   if (spec.find(',') != std::string::npos) {
