@@ -183,9 +183,10 @@ TEST(MpiRender, WhatRanksCannotDoIsRefused) {
   const std::string dir = test::temp_dir();
   const std::string scene = "render '" + test::source_dir() + "/scenes/cornell_box.json' --width 32 --spp 4 -o '" +
                             dir + "/x.pfm' ";
+  // Every rank refuses; the first to get there ends the job, naming itself.
   test::CliResult r = run_mpi(2, scene + "--caustics off --adaptive");
   EXPECT_NE(r.status, 0);
-  EXPECT_TRUE(Contains(r.output, {"rank 0 of 2: mpirun with 2 ranks: adaptive sampling plans each wave", "--no-adaptive"}))
+  EXPECT_TRUE(Contains(r.output, {" of 2: mpirun with 2 ranks: adaptive sampling plans each wave", "--no-adaptive"}))
       << r.output;
   r = run_mpi(2, scene + "--caustics on --no-adaptive");
   EXPECT_TRUE(Contains(r.output, {"mpirun with 2 ranks: the photon pass (--caustics on)", "add --caustics off"}))

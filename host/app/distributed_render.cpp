@@ -138,14 +138,15 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
   // The ranks go on from the resumed passes [0, N): rank 0 holds them.
   const int resumed = ranks.broadcast(rank == 0 && resume ? resume->film.held.end() : 0);
   double last_checkpoint = 0.0;
-  // Rank 0's progress as the whole group's: its passes times the ranks.
+  // Rank 0's progress as the whole group's: its passes since the start
+  // (a resumed state's are its own) times the ranks.
   ProgressCallback shown;
   if (progress)
     shown = [&](const PassProgress& p) {
       PassProgress q = p;
-      q.pass = int(std::min<int64_t>(int64_t(end) - 1, int64_t(p.pass) * size));
+      q.pass = int(std::min<int64_t>(int64_t(end) - 1, resumed + int64_t(p.pass - resumed) * size));
       q.passes = end;
-      q.first_pass = 0;
+      q.first_pass = resumed;
       progress(q);
     };
   double round_s = 0.0;
