@@ -1,4 +1,4 @@
-// caustica command line: render, devices, bench, generate, diff, plot.
+// caustica command line: render, merge, devices, bench, generate, diff, plot.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -17,12 +18,16 @@
 #include "host/app/bench.h"
 #include "host/app/render_command.h"
 #include "host/app/diff.h"
+#include "host/app/merge_command.h"
 #include "host/app/plot.h"
 #include "host/app/session.h"
 #include "host/error.h"
 #include "host/image/image_io.h"
 #include "host/image/tonemap.h"
 #include "host/scene/generate.h"
+#ifdef CAUSTICA_WITH_MPI
+#include "host/mpi/mpi_ranks.h"
+#endif
 
 using namespace caustica;
 
@@ -42,6 +47,12 @@ int run_devices() {
   return 0;
 }
 
+// "rank 1 of 3: " under mpirun with several ranks, else "".
+std::string rank_prefix(const RankGroup* ranks) {
+  if (!ranks || ranks->size() <= 1) return "";
+  return "rank " + std::to_string(ranks->rank()) + " of " + std::to_string(ranks->size()) + ": ";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -51,6 +62,8 @@ int main(int argc, char** argv) {
   RenderArgs render;
   CLI::App* render_cmd = add_render_command(app, render);
   app.add_subcommand("devices", "list OpenCL platforms and devices");
+  MergeArgs merge;
+  CLI::App* merge_cmd = add_merge_command(app, merge);
 
   BenchArgs bench;
   auto* bench_cmd = app.add_subcommand("bench", "time BVH build, kernel build, ray throughput and rendering");
@@ -94,6 +107,34 @@ int main(int argc, char** argv) {
   plot_cmd->add_option("reports", plot_reports, "error report CSV files")->required();
   plot_cmd->add_option("-o,--output", plot_out, "output figure (.png or .svg)")->required();
 
+  // Under mpirun: the ranks (MPI starts here, and only under a launcher).
+  std::unique_ptr<RankGroup> ranks;
+#ifdef CAUSTICA_WITH_MPI
+  try {
+    ranks = MpiRanks::if_launched(&argc, &argv);
+  } catch (const Error& e) {
+    std::fprintf(stderr, "caustica: error: %s\n", e.what());
+    return 1;
+  }
+#else
+  // Started by mpirun without MPI built in, every rank would render the
+  // whole image and write the same files.
+  if (const char* size = std::getenv("OMPI_COMM_WORLD_SIZE"); size && std::atoi(size) > 1) {
+    std::fprintf(stderr, "caustica: error: started by mpirun with %s ranks, but this caustica was built without MPI "
+                         "(install libopenmpi-dev and build again: docs/distributed.md)\n", size);
+    return 1;
+  }
+#endif
+  render.ranks = ranks.get();
+  // A rank that fails ends the others (MPI_Abort): none waits forever in a
+  // collective for it.
+  auto failed = [&ranks]() -> int {
+    if (ranks && ranks->size() > 1) {
+      std::fflush(stderr);
+      ranks->abort(1);
+    }
+    return 1;
+  };
   // Parsing runs inside the try: option callbacks (--bvh, --exposure...)
   // throw caustica::Error for values they refuse, and an exception escaping
   // main would abort with "terminate called" instead of a message.
@@ -101,6 +142,7 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
     if (app.got_subcommand(render_cmd)) return run_render(render);
     if (app.got_subcommand("devices")) return run_devices();
+    if (app.got_subcommand(merge_cmd)) return run_merge(merge);
     if (app.got_subcommand(bench_cmd)) return run_bench(bench);
     if (app.got_subcommand(diff_cmd)) return run_diff(diff);
     if (app.got_subcommand(plot_cmd)) {
@@ -116,18 +158,20 @@ int main(int argc, char** argv) {
       return 0;
     }
   } catch (const Error& e) {
-    std::fprintf(stderr, "caustica: error: %s\n", e.what());
-    return 1;
+    std::fprintf(stderr, "caustica: error: %s%s\n", rank_prefix(ranks.get()).c_str(), e.what());
+    return failed();
   } catch (const cl::Error& e) {
-    std::fprintf(stderr, "caustica: OpenCL error: %s (%s)\n", e.what(), cl_error_name(e.err()).c_str());
-    return 1;
+    std::fprintf(stderr, "caustica: OpenCL error: %s%s (%s)\n", rank_prefix(ranks.get()).c_str(), e.what(),
+                 cl_error_name(e.err()).c_str());
+    return failed();
   } catch (const std::bad_alloc&) {
     // Every input size is bounded (host/limits.h); this is the machine's own limit.
-    std::fprintf(stderr, "caustica: error: out of memory (std::bad_alloc): this machine cannot hold the request\n");
-    return 1;
+    std::fprintf(stderr, "caustica: error: %sout of memory (std::bad_alloc): this machine cannot hold the request\n",
+                 rank_prefix(ranks.get()).c_str());
+    return failed();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "caustica: error: %s\n", e.what());
-    return 1;
+    std::fprintf(stderr, "caustica: error: %s%s\n", rank_prefix(ranks.get()).c_str(), e.what());
+    return failed();
   }
   return 0;
 }

@@ -10,6 +10,7 @@ packages=(
   libglm-dev libstb-dev nlohmann-json3-dev libcli11-dev libtinyexr-dev libtinyobjloader-dev libtinygltf-dev
   libgtest-dev libbenchmark-dev
   gnuplot-nox
+  openmpi-bin libopenmpi-dev
 )
 # tools/fuzz.sh: clang with its libFuzzer and sanitizer runtimes (Debian's
 # clang-14; libclang_rt.fuzzer-x86_64.a is in libclang-rt-14-dev).

@@ -15,6 +15,7 @@
 // measuring, which the rows' wall seconds include.
 #pragma once
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <utility>
@@ -43,6 +44,15 @@ class ErrorMonitor {
   // After every pass (the film holds film.passes()); `seconds` since the
   // first sample. False: the target error is reached, stop.
   bool on_pass(const Film& film, double seconds);
+  // The pass count at which on_pass measures next.
+  int next_measurement() const {
+    return next_target_check_ > 0 ? std::min(next_power_, next_target_check_) : next_power_;
+  }
+  // Whether on_pass would measure a film of `passes` passes (a distributed
+  // render sums the ranks' films only then).
+  bool wants_measurement(int passes) const {
+    return passes >= next_power_ || (next_target_check_ > 0 && passes >= next_target_check_);
+  }
   // After the last pass: measures it unless just done, writes the report and
   // the plot.
   void finish(const Film& film, double seconds);

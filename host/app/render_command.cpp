@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "host/app/distributed_render.h"
 #include "host/app/error_monitor.h"
 #include "host/error.h"
 #include "host/image/image_io.h"
@@ -251,6 +252,9 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option("--resume", a.resume,
                          "continue the render saved in FILE by --checkpoint, up to --spp (or for --time); the scene "
                          "and every setting that changes the image must match it");
+  render_cmd->add_option("--passes", a.passes,
+                         "path: render passes START:END only (absolute pass indices: the same samples as those "
+                         "passes of a full render), for `caustica merge`; needs --no-adaptive and no photon pass");
   render_cmd->add_flag("--adaptive,!--no-adaptive", a.session.adaptive,
                        "path: adaptive sampling, the default: after 16 spp, each wave's samples go where the "
                        "estimated error is (--no-adaptive: every pixel alike)");
@@ -290,11 +294,25 @@ int run_render(RenderArgs& a) {
   if (a.checkpoint_every_s && a.checkpoint.empty())
     throw Error("--checkpoint-every needs --checkpoint (the file the state is written to)");
   if (!a.checkpoint.empty()) check_output_dir("--checkpoint", a.checkpoint);
+  const bool distributed = a.ranks && a.ranks->size() > 1;
+  if (distributed) check_distributed_options(a);
+  if (!a.passes.empty()) {
+    const auto [first, end] = parse_pass_range(a.passes);
+    if (a.session.spp > 0) throw Error("--passes " + a.passes + " and --spp: give one (--passes ends at END)");
+    if (a.session.time_limit_s > 0.0 || a.target_error > 0.0)
+      throw Error("--passes " + a.passes + ": a render of a fixed set of passes takes no --time or --target-error");
+    if (a.session.adaptive)
+      throw Error("--passes " + a.passes + ": adaptive sampling plans each wave from the error of the whole film, "
+                  "which a render of some of its passes does not hold: add --no-adaptive");
+    a.session.first_pass = first;
+    a.session.spp = end;
+  }
   // A state that cannot be read, or is damaged, fails before the scene is read.
   std::optional<RenderState> resume;
   if (!a.resume.empty()) resume = read_render_state(a.resume);
   // A bad reference fails before anything is built or rendered.
   std::optional<ImageF> reference;
+  const bool reference_given = !a.reference.empty();
   if (!a.reference.empty()) {
     if (!is_hdr_path(a.reference))
       throw Error("--reference " + a.reference + ": expected a linear .pfm or .exr image");
@@ -316,6 +334,23 @@ int run_render(RenderArgs& a) {
     throw Error("--target-error: only path mode is stochastic; binary and phong images are exact after one pass");
   if (!a.spp_map.empty() && session->mode != RenderMode::Path)
     throw Error("--spp-map: only path mode takes several samples a pixel");
+  // Path mode only: binary and phong have no adaptive sampling.
+  if (distributed && session->settings.adaptive)
+    throw Error(ranks_text(a) + ": adaptive sampling plans each wave from the error of the whole film, which no "
+                "rank holds: add --no-adaptive (docs/distributed.md)");
+  if (distributed && session->settings.caustics)
+    throw Error(ranks_text(a) + ": the photon pass (--caustics " +
+                std::string(a.session.caustics == CausticsMode::On ? "on" : "auto, which found caustics here") +
+                ") keeps per-pixel statistics that are not sums of passes, so ranks cannot add them: add --caustics "
+                "off (docs/distributed.md)");
+  if (!a.passes.empty()) {
+    if (session->mode != RenderMode::Path)
+      throw Error("--passes " + a.passes + ": only path mode takes several passes (binary and phong take one)");
+    if (session->settings.caustics)
+      throw Error("--passes " + a.passes + ": the photon pass (--caustics " +
+                  std::string(a.session.caustics == CausticsMode::On ? "on" : "auto, which found caustics here") +
+                  ") keeps per-pixel statistics that are not sums of passes: add --caustics off");
+  }
   // The state's identity: what a resumed state must match, and what a
   // checkpoint records.
   StateIdentity identity;
@@ -330,8 +365,8 @@ int run_render(RenderArgs& a) {
     } catch (const Error& e) {
       throw Error(a.resume + ": " + e.what());
     }
-    if (resume->film.passes > session->settings.passes)
-      throw Error(a.resume + ": holds " + std::to_string(resume->film.passes) + " spp, more than the " +
+    if (resume->film.held.end() > session->settings.passes)
+      throw Error(a.resume + ": holds " + resume->film.held.describe() + ", past the " +
                   std::to_string(session->settings.passes) + " asked" +
                   (session->mode == RenderMode::Path ? " (--spp)" : " (phong and binary take one pass)"));
   }
@@ -380,15 +415,17 @@ int run_render(RenderArgs& a) {
   double last_write = 0.0, render_seconds = 0.0, last_checkpoint = 0.0;
   const double checkpoint_every = a.checkpoint_every_s.value_or(kDefaultCheckpointSeconds);
   int checkpoint_passes = -1;  // the latest checkpoint's
-  auto write_checkpoint = [&] {
-    if (session->renderer->film().passes() == checkpoint_passes) return;  // the same state again
-    RenderState state = session->renderer->state();
+  Renderer* shown = session->renderer.get();  // the renderer whose film is written
+  auto write_checkpoint_of = [&](const Renderer& renderer) {
+    if (renderer.film().passes() == checkpoint_passes) return;  // the same state again
+    RenderState state = renderer.state();
     state.identity = identity;
     write_render_state(a.checkpoint, state);
     checkpoint_passes = state.film.passes;
     if (a.verbose)
       std::fprintf(stderr, "[caustica] checkpoint %s at %d spp\n", a.checkpoint.c_str(), state.film.passes);
   };
+  auto write_checkpoint = [&] { write_checkpoint_of(*shown); };
   const bool path = session->mode == RenderMode::Path;
   // The image, with its per-pixel sample counts where they can go: an .exr
   // output's "spp" channel, and the --spp-map heatmap.
@@ -405,7 +442,31 @@ int run_render(RenderArgs& a) {
       write_spp_heatmap(a.spp_map, film.width(), film.height(), film.pixel_spp(), title);
     }
   };
-  const ImageF image = session->renderer->render(
+  DistributedResult summed;
+  if (distributed) {
+    // The monitor is rank 0's, and rounds wait for its decisions only when
+    // it has something to decide.
+    const bool monitored = !a.report.empty() || reference_given || a.target_error > 0.0;
+    summed = render_distributed(*session, *a.ranks, &stats,
+                                a.ranks->rank() == 0 ? ProgressCallback([&](const PassProgress& p) { progress.update(p); })
+                                                     : ProgressCallback{},
+                                a.ranks->rank() == 0 && monitored ? &monitor : nullptr, resume ? &*resume : nullptr,
+                                DistributedCheckpoint{checkpoint_every, a.checkpoint.empty()
+                                                                            ? std::function<void(const Renderer&)>()
+                                                                            : write_checkpoint_of});
+    if (a.ranks->rank() != 0) return 0;
+    shown = summed.summed.get();
+    render_seconds = summed.seconds;
+    stats.render_ms = summed.seconds * 1e3;
+    if (a.verbose)
+      std::fprintf(stderr,
+                   "[caustica] %d ranks: %s summed on rank 0 in %d reductions, %.3f s (film reads %.3f s, waiting for "
+                   "ranks %.3f s, MPI %.3f s, restore %.3f s)\n",
+                   a.ranks->size(), shown->film().held().describe().c_str(), summed.reductions,
+                   summed.reduction_seconds, summed.read_seconds, summed.wait_seconds, summed.mpi_seconds,
+                   summed.restore_seconds);
+  }
+  const ImageF image = distributed ? summed.image : session->renderer->render(
       &stats, [&](const PassProgress& p) { progress.update(p); },
       [&](const Film& film, double seconds) {
         render_seconds = seconds;
@@ -423,9 +484,9 @@ int run_render(RenderArgs& a) {
       },
       resume ? &*resume : nullptr);
   progress.finish();
-  write_outputs(image, session->renderer->film());
+  write_outputs(image, shown->film());
   if (!a.checkpoint.empty()) write_checkpoint();
-  monitor.finish(session->renderer->film(), render_seconds);
+  monitor.finish(shown->film(), render_seconds);
   if (a.verbose) {
     std::fprintf(stderr,
                  "[caustica] render: %.1f ms, %dx%d, %llu camera + %llu secondary + %llu shadow + %llu photon rays "
@@ -484,11 +545,11 @@ int run_render(RenderArgs& a) {
     std::string resumed;
     if (resume) resumed = ", resumed from " + std::to_string(resumed_passes) + " spp in " + a.resume;
     std::fprintf(stderr, "[caustica] wrote %s (%dx%d, %d spp%s) in %.2f s%s\n", a.output.c_str(), image.width,
-                 image.height, session->renderer->film().passes(), resumed.c_str(), stats.render_ms / 1e3,
+                 image.height, shown->film().passes(), resumed.c_str(), stats.render_ms / 1e3,
                  accuracy.c_str());
     if (!a.checkpoint.empty())
       std::fprintf(stderr, "[caustica] wrote %s (the render's state at %d spp)\n", a.checkpoint.c_str(),
-                   session->renderer->film().passes());
+                   shown->film().passes());
     if (!a.report.empty())
       std::fprintf(stderr, "[caustica] wrote %s (%d measurements, %.1f ms measuring = %.2f%% of the render)%s%s\n",
                    a.report.c_str(), monitor.measurements(), monitor.measurement_seconds() * 1e3,

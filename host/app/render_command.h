@@ -9,7 +9,9 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 
+#include "host/app/rank_group.h"
 #include "host/app/session.h"
 
 namespace caustica {
@@ -29,6 +31,12 @@ struct RenderArgs {
   // checkpoint_every_s seconds (between waves) and at the end; resumed from.
   std::string checkpoint, resume;
   std::optional<double> checkpoint_every_s;  // default kDefaultCheckpointSeconds
+  // --passes START:END: a render of passes [START, END) only, with their
+  // absolute indices (its state merges with others': `caustica merge`).
+  std::string passes;
+  // Under mpirun (host/main.cpp): the ranks; nullptr or one rank: a
+  // single-process render.
+  RankGroup* ranks = nullptr;
 };
 
 inline constexpr double kDefaultCheckpointSeconds = 60.0;
@@ -36,5 +44,12 @@ inline constexpr double kDefaultCheckpointSeconds = 60.0;
 // The `render` subcommand's options, bound to `args`.
 CLI::App* add_render_command(CLI::App& app, RenderArgs& args);
 int run_render(RenderArgs& args);
+// "START:END" (--passes): [START, END), 0 <= START < END; throws caustica::Error.
+std::pair<int, int> parse_pass_range(const std::string& text);
+// Under mpirun with several ranks (render_parts.cpp): refuses what ranks
+// do not do, before anything is read; picks this rank's --device entry;
+// silences every rank but 0. "mpirun with N ranks", for messages.
+void check_distributed_options(RenderArgs& args);
+std::string ranks_text(const RenderArgs& args);
 
 }  // namespace caustica

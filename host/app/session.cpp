@@ -165,6 +165,7 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   const bool progressive = path || session->features.caustics;
   session->settings.passes = progressive ? (options.spp > 0 ? options.spp : default_spp) : 1;
   session->settings.time_limit_s = progressive ? options.time_limit_s : 0.0;
+  session->settings.first_pass = progressive ? options.first_pass : 0;
   session->settings.seed = options.seed;
   session->settings.sampler = options.independent_samples ? SAMPLER_INDEPENDENT : SAMPLER_SOBOL_BURLEY;
   t0 = std::chrono::steady_clock::now();

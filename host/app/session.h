@@ -37,6 +37,7 @@ struct SessionOptions {
   size_t local_size = 64;  // work-group size of the stage launches
   bool profile_stages = false;  // device time per stage kernel in RenderStats::stage_ms (bench)
   int spp = 0;                  // path: samples per pixel (passes); 0: the default (kDefaultPathSpp)
+  int first_pass = 0;           // path: --passes START:END renders passes [first_pass, spp) only
   double time_limit_s = 0.0;    // path: stop at this wall time (with --spp: whichever first); 0: none
   uint32_t seed = 0;            // path: sample sequence seed
   bool independent_samples = false;  // path: independent uniforms instead of Sobol-Burley (comparisons)

@@ -45,6 +45,8 @@ void Film::clear() {
   runtime_.fill(counters_, cl_uint(0), 0, FILM_COUNTERS * sizeof(cl_uint));
   runtime_.fill(pixel_rays_, cl_ulong(0), 0, pixel_count() * sizeof(cl_ulong));
   passes_ = 0;
+  held_ = PassSet();
+  wave_first_ = -1;
   per_pixel_ = false;
   spp_.assign(pixel_count(), 0u);
   half_start_.assign(pixel_count(), 0u);
@@ -67,6 +69,7 @@ FilmState Film::state() const {
   if (planned_passes_ != 0) throw Error("film: its state is taken between waves, not with a wave planned");
   FilmState s;
   s.passes = passes_;
+  s.held = held_;
   s.per_pixel = per_pixel_;
   s.spp = spp_;
   s.half_start = half_start_;
@@ -99,6 +102,12 @@ void Film::check_state(const FilmState& s) const {
   if (total != uint64_t(s.passes) * pixels)
     throw Error("film: a state whose pixels hold " + std::to_string(total) + " samples, not " +
                 std::to_string(s.passes) + " passes of " + std::to_string(pixels) + " pixels");
+  if (s.held.count() != s.passes)
+    throw Error("film: a state of " + std::to_string(s.passes) + " passes that lists " + s.held.describe());
+  // Adaptive waves are planned from the whole film: only a film of passes
+  // [0, N) has them.
+  if (s.per_pixel && !s.held.is_prefix())
+    throw Error("film: an adaptive (uneven) state of " + s.held.describe() + ", not of passes [0, N)");
 }
 
 void Film::restore(const FilmState& s) {
@@ -109,17 +118,26 @@ void Film::restore(const FilmState& s) {
   q.enqueueWriteBuffer(counters_, CL_TRUE, 0, s.counters.size() * sizeof(cl_uint), s.counters.data());
   q.enqueueWriteBuffer(pixel_rays_, CL_TRUE, 0, s.pixel_rays.size() * sizeof(cl_ulong), s.pixel_rays.data());
   passes_ = s.passes;
+  held_ = s.held;
   spp_ = s.spp;
   half_start_ = s.half_start;
   // The per-pixel buffers' contents are uploaded by every plan_wave.
   if (s.per_pixel) allocate_per_pixel_buffers();
 }
 
-void Film::plan_wave(int pass_count, std::vector<uint32_t> samples) {
+void Film::plan_wave(int pass_count, std::vector<uint32_t> samples, int first_pass) {
   if (pass_count < 1 || pass_count > kMostWavePasses)
     throw Error("film: a wave of " + std::to_string(pass_count) + " passes (1 to " + std::to_string(kMostWavePasses) +
                 ")");
+  if (first_pass < 0) first_pass = held_.end();
+  if (first_pass < held_.end())
+    throw Error("film: a wave at pass " + std::to_string(first_pass) + " planned after " + held_.describe() +
+                " (waves are added in pass order)");
+  if ((per_pixel_ || !samples.empty()) && first_pass != passes_)
+    throw Error("film: an uneven wave at pass " + std::to_string(first_pass) + " after " + held_.describe() +
+                " (adaptive waves continue passes [0, N))");
   planned_passes_ = pass_count;
+  wave_first_ = first_pass;
   wave_spp_.clear();
   if (samples.empty() && !per_pixel_) return;
   const size_t pixels = pixel_count();
@@ -175,6 +193,7 @@ KernelArgs& Film::bind_wave_allocation(KernelArgs& args) const {
 }
 
 std::vector<uint32_t> Film::half_counts() const {
+  if (!per_pixel_) return std::vector<uint32_t>(spp_.size(), uint32_t(held_.half_count()));
   std::vector<uint32_t> h(spp_.size(), 0u);
   for (size_t p = 0; p < h.size(); ++p) h[p] = half_start_[p] > 0 ? spp_[p] - half_start_[p] : 0u;
   return h;
@@ -193,6 +212,7 @@ void Film::clear_pass_range(size_t first_pixel, size_t count) {
 void Film::abandon_wave() {
   clear_pass_range(0, pixel_count());
   planned_passes_ = 0;
+  wave_first_ = -1;
   wave_spp_.clear();
 }
 
@@ -216,15 +236,22 @@ void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats, int pass
                 ")");
   // While every pixel is alike the half buffer restarts at each power of
   // two: a wave may start there but not cross one.
-  const int next_restart = next_half_restart(passes_);
-  if (!per_pixel_ && passes_ + pass_count > next_restart)
-    throw Error("film: a wave of passes [" + std::to_string(passes_) + ", " + std::to_string(passes_ + pass_count) +
+  const int first = wave_first_pass();
+  const int next_restart = next_half_restart(first);
+  if (!per_pixel_ && first + pass_count > next_restart)
+    throw Error("film: a wave of passes [" + std::to_string(first) + ", " + std::to_string(first + pass_count) +
                 ") crosses the half buffer's restart at " + std::to_string(next_restart));
   FilmAccumulate a{};
   a.value_count = cl_uint(pixel_count() * 3);
   a.half_offset = cl_uint(half_offset_);
-  a.pass_index = cl_uint(passes_);
-  a.pass_count = cl_uint(pass_count);
+  // The half restarts when a power of two lies in [the end of the held
+  // passes, the wave's last pass]: the passes skipped (another rank's, or
+  // another subset's) count as if held, so the half stays the held passes
+  // from the largest power of two at most the last (PassSet::half_count).
+  // For passes [0, N) this is [N, N + k): the kernel's rule as it was.
+  const int from = held_.empty() ? first : held_.end();
+  a.pass_index = cl_uint(from);
+  a.pass_count = cl_uint(first + pass_count - from);
   a.per_pixel = per_pixel_ ? 1u : 0u;
   KernelArgs(*accumulate_)
       .arg("film", pass_)
@@ -234,13 +261,19 @@ void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats, int pass
       .arg("wave_spp", wave_spp_buffer_)
       .finish();
   launcher.launch(*accumulate_, a.value_count, stats);
+  held_.add(first, first + pass_count);
+  passes_ += pass_count;
+  // Every pixel alike: the half is the held passes' (PassSet); for passes
+  // [0, N) that is the per-pixel rule below.
+  const int half = held_.half_count();
   for (size_t p = 0; p < spp_.size(); ++p) {
     const uint32_t n = spp_[p], k = per_pixel_ ? wave_spp_[p] : uint32_t(pass_count);
-    if (film_half_restarts(n, k)) half_start_[p] = n;
+    if (per_pixel_ && film_half_restarts(n, k)) half_start_[p] = n;
+    if (!per_pixel_) half_start_[p] = half > 0 ? uint32_t(passes_ - half) : 0u;
     spp_[p] = n + k;
   }
-  passes_ += pass_count;
   planned_passes_ = 0;
+  wave_first_ = -1;
   wave_spp_.clear();
 }
 
@@ -286,12 +319,7 @@ ImageF Film::mean() const {
   return image;
 }
 
-int Film::half_passes() const {
-  if (passes_ < 2) return 0;
-  int first = 1;
-  while (first <= (passes_ - 1) / 2) first *= 2;
-  return passes_ - first;
-}
+int Film::half_passes() const { return held_.half_count(); }
 
 ImageF Film::half_mean() const {
   if (!options_.half_buffer) throw Error("film: no half buffer was asked for");

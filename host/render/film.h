@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "host/image/image.h"
+#include "host/render/pass_set.h"
 #include "kernels/shared/types.h"
 
 namespace caustica {
@@ -55,9 +56,12 @@ struct FilmCounts {
 // (host/render/render_state.h writes it to a file): the accumulated sums
 // (the combined sum, then the half buffer's when kept), every pixel's
 // samples, half start and traced rays (adaptive sampling reads them), and
-// the film's counters. The pass in progress is empty between waves.
+// the film's counters, and which passes it holds (absolute indices: a
+// render of a subset of passes, pass_set.h). The pass in progress is empty
+// between waves.
 struct FilmState {
-  int passes = 0;
+  int passes = 0;  // held.count()
+  PassSet held;
   bool per_pixel = false;  // an uneven wave was accumulated (Film::uniform() is false)
   std::vector<uint32_t> spp, half_start;
   std::vector<uint64_t> pixel_rays;
@@ -90,6 +94,12 @@ class Film {
   // Accumulated so far, in mean samples per pixel: while every pixel has
   // the same count (uniform()), the sample index of every pixel's next pass.
   int passes() const { return passes_; }
+  // The passes accumulated, by absolute index: [0, passes()) unless a wave
+  // was planned at another first pass (a render of a subset of passes).
+  const PassSet& held() const { return held_; }
+  // The absolute index of the planned wave's first pass (the sample index
+  // its samples take): plan_wave's first_pass; without a plan, held().end().
+  int wave_first_pass() const { return wave_first_ >= 0 ? wave_first_ : held_.end(); }
   bool has_half_buffer() const { return options_.half_buffer; }
   // Every pixel has passes() samples (no allocation was planned yet).
   bool uniform() const { return !per_pixel_; }
@@ -104,12 +114,15 @@ class Film {
   KernelArgs& bind(KernelArgs& args) const;
 
   // Before a wave of `pass_count` passes: `samples` (one count per pixel,
-  // each at most most_samples_per_pixel(), summing to pass_count x pixels) spreads
+  // each at most kMostSamplesPerPixel, summing to pass_count x pixels) spreads
   // them unevenly; empty: pass_count for every pixel. From the first uneven
   // wave on, the film lists every wave's pixels for the stages
   // (bind_wave_allocation, wave_entries) and keeps per-pixel counts on the
-  // device.
-  void plan_wave(int pass_count, std::vector<uint32_t> samples = {});
+  // device. `first_pass`: the wave's absolute first pass (-1: held().end());
+  // waves are added in increasing pass order, an even one may not cross a
+  // power of two (most_passes_from), and an uneven one (or any once the
+  // film is uneven) must continue [0, passes()).
+  void plan_wave(int pass_count, std::vector<uint32_t> samples = {}, int first_pass = -1);
   // WAVE_ALLOCATION_PARAMS: the planned wave's pixels (those with samples,
   // in pixel order), their first wave sample (an exclusive prefix sum, one
   // more entry than pixels) and every pixel's samples before the wave.
@@ -150,8 +163,9 @@ class Film {
   // Adds `estimate` to every image read from now on (nullptr: none).
   void set_separate_estimate(const SeparateEstimate* estimate) { separate_ = estimate; }
   ImageF mean() const;       // combined sum / passes
-  // The passes in the half buffer while uniform(): [P, N) for N = passes()
-  // >= 2, P the largest power of two below N. half_mean: each pixel's half's
+  // The passes in the half buffer while uniform(): those held from P on, P
+  // the largest power of two at most the last held pass ([P, N) for passes
+  // [0, N), N >= 2; PassSet::half_count). half_mean: each pixel's half's
   // mean (needs half_buffer; a pixel with an empty half gets its mean).
   int half_passes() const;
   ImageF half_mean() const;
@@ -180,6 +194,8 @@ class Film {
   Runtime& runtime_;
   FilmOptions options_;
   int passes_ = 0;
+  PassSet held_;
+  int wave_first_ = -1;  // the planned wave's first pass (-1: none planned)
   bool per_pixel_ = false;
   std::vector<uint32_t> spp_, half_start_;  // per pixel: samples, and where the half starts
   std::vector<uint32_t> wave_spp_;          // the planned wave's (empty: pass_count each)

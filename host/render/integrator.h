@@ -42,7 +42,8 @@ struct RenderSettings {
   // Phong: ray queue capacity = factor x chunk. 2 holds any single wave;
   // deeper Fresnel trees overflow and their chunk is traced again in halves.
   float queue_capacity_factor = 2.0f;
-  int passes = 1;            // samples per pixel (one pass each)
+  int passes = 1;            // samples per pixel (one pass each): the render's passes end here
+  int first_pass = 0;        // ... and begin here (absolute indices: a render of passes [first_pass, passes))
   double time_limit_s = 0.0;  // stop after the pass that reaches this wall time; 0: none
   bool half_buffer = false;  // film keeps the half buffer: passes [P, N), P the last power of two
   // Path: adaptive sampling (host/render/adaptive_sampling.h; the film then

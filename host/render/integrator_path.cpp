@@ -249,7 +249,7 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
   params.light_count = cl_uint(light_count_);
   params.max_depth = cl_uint(std::max(0, scene.nbounces));
   params.ray_capacity = cl_uint(slots_);
-  params.first_pass = cl_uint(film.passes());
+  params.first_pass = cl_uint(film.wave_first_pass());
   params.seed = settings_.seed;
   params.strategy = settings_.path_strategy;
   params.rr_depth = kRouletteDepth;

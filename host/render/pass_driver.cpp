@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <map>
 
 #include "host/error.h"
@@ -30,13 +31,18 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
   const double tolerance = timed ? time_limit_tolerance(stop.seconds) : 0.0;
   std::map<int, double> latest_pass_s;  // seconds a pass, by kind (of the latest wave of that kind)
   double longest_pass_s = 0.0;
-  // The waves depend on the film's pass count only (without a time limit),
-  // so a resumed run traces the waves an uninterrupted one would have.
-  const int first_pass = film_.passes();
+  // The waves depend on the absolute pass index only (without a time
+  // limit), so a resumed run traces the waves an uninterrupted one would
+  // have, and a run of a subset of passes those passes' waves.
+  const int first_pass = std::max(stop.first_pass, film_.held().end());
+  const int first_count = film_.passes();
+  // Progress counts the film's passes: the target is the count at the end.
+  const bool open_ended = stop.passes == std::numeric_limits<int>::max();
+  const int target = open_ended ? stop.passes : first_count + std::max(0, stop.passes - first_pass);
   for (int pass = first_pass; pass < stop.passes;) {
     const int kind = integrator_.next_pass_kind(film_);
     const double start = seconds();
-    int wave = Film::most_passes_from(film_.passes(), std::min(integrator_.wave_passes(film_), stop.passes - pass));
+    int wave = Film::most_passes_from(pass, std::min(integrator_.wave_passes(film_), stop.passes - pass));
     if (timed && pass > first_pass) {
       const auto known = latest_pass_s.find(kind);
       const double predicted = known != latest_pass_s.end() ? known->second : longest_pass_s;
@@ -46,9 +52,9 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
     }
     if (adaptive_ && film_.has_half_buffer() && film_.passes() >= int(adaptive_->options().min_spp) &&
         integrator_.wave_may_be_uneven(film_))
-      film_.plan_wave(wave, adaptive_->plan(film_, wave));
+      film_.plan_wave(wave, adaptive_->plan(film_, wave), pass);
     else
-      film_.plan_wave(wave);
+      film_.plan_wave(wave, {}, pass);
     integrator_.begin_pass(film_, stats);
     bool abandoned = false;
     for (size_t first = 0; first < pixels; first += chunk) {
@@ -58,8 +64,8 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
       }
       trace_chunk(first, std::min(chunk, pixels - first), wave, stats);
       if (progress)
-        progress(PassProgress{pass + wave - 1, stop.passes, seconds(), stop.seconds, std::min(pixels, first + chunk),
-                              pixels, stats, first_pass});
+        progress(PassProgress{film_.passes() + wave - 1, target, seconds(), stop.seconds,
+                              std::min(pixels, first + chunk), pixels, stats, first_count});
     }
     if (abandoned) {
       film_.abandon_wave();

@@ -52,7 +52,11 @@ using PassDoneCallback = std::function<bool(const Film& film, double seconds)>;
 
 // The driver stops at whichever comes first.
 struct StopConditions {
-  int passes = 1;  // the film's passes at the end (a resumed film counts those it holds)
+  // Absolute pass indices: the run adds passes [max(first_pass, the end of
+  // the film's held passes), passes), so a film of [0, N) resumed goes on
+  // from N, and a render of a subset of passes traces [first_pass, passes).
+  int passes = 1;
+  int first_pass = 0;
   double seconds = 0.0;  // wall-time limit (above; at least one pass runs); 0: none
 };
 

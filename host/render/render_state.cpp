@@ -129,6 +129,11 @@ std::string encode_render_state(const RenderState& state) {
   }
   const FilmState& f = state.film;
   payload.put(int32_t(f.passes));
+  payload.put(uint32_t(f.held.ranges().size()));
+  for (const auto& [begin, end] : f.held.ranges()) {
+    payload.put(int32_t(begin));
+    payload.put(int32_t(end));
+  }
   payload.put(uint8_t(f.per_pixel ? 1 : 0));
   payload.array(f.spp);
   payload.array(f.half_start);
@@ -188,6 +193,13 @@ RenderState decode_render_state(const std::string& bytes, const std::string& pat
   }
   FilmState& f = state.film;
   f.passes = in.get<int32_t>("film");
+  const uint32_t ranges = in.get<uint32_t>("pass set");
+  std::vector<PassSet::Range> held;
+  for (uint32_t i = 0; i < ranges; ++i) {
+    const int32_t begin = in.get<int32_t>("pass set");
+    held.emplace_back(begin, in.get<int32_t>("pass set"));
+  }
+  f.held = PassSet::from_ranges(std::move(held), path);
   f.per_pixel = in.get<uint8_t>("film") != 0;
   f.spp = in.array<uint32_t>("per-pixel samples");
   f.half_start = in.array<uint32_t>("half starts");

@@ -51,6 +51,8 @@ struct RenderState {
   std::string integrator;  // Integrator::state(): the photon pass's (empty without it)
 };
 
+// 2: the film's pass set (absolute pass indices) follows its pass count,
+// and the film has one fixed point (2^-44) and four counters.
 inline constexpr uint32_t kRenderStateVersion = 2;
 
 // FNV-1a 64 of the scene file's bytes, then each mesh file's bytes (in load

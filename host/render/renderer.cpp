@@ -48,34 +48,57 @@ RenderState Renderer::state() const {
 ImageF Renderer::render(RenderStats* stats, const ProgressCallback& progress, const PassDoneCallback& pass_done,
                         const RenderState* resume) {
   const auto t0 = std::chrono::steady_clock::now();
+  begin(resume);
+  StopConditions stop;
+  stop.passes = settings_.passes;
+  stop.first_pass = settings_.first_pass;
+  stop.seconds = settings_.time_limit_s;
+  run(stop, stats, progress, pass_done);
+  ImageF image = finish(stats);
+  if (stats)
+    stats->render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return image;
+}
+
+template <typename F>
+auto Renderer::on_device(F&& f) -> decltype(f()) {
   try {
-    if (resume) check_state(*resume);
-    StopConditions stop;
-    stop.passes = settings_.passes;
-    stop.seconds = settings_.time_limit_s;
-    driver_ = std::make_unique<PassDriver>(*integrator_, *film_, launcher_);
-    PassDriver& driver = *driver_;
-    if (settings_.adaptive) driver.set_adaptive(settings_.adaptive_options);
-    if (resume) {
-      film_->restore(resume->film);
-      if (resume->adaptive) driver.adaptive()->restore(*resume->adaptive);
-      integrator_->restore_state(*film_, resume->integrator, "render state");
-    } else {
-      film_->clear();
-    }
-    driver.run(stop, stats, progress, pass_done);
-    ImageF image = film_->mean();
-    launcher_.collect(stats);
-    integrator_->collect(stats);
-    if (stats) {
-      stats->film = film_->counts();
-      stats->render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    }
-    return image;
+    return f();
   } catch (const cl::Error& e) {
     throw Error(std::string("render failed on ") + runtime_.device_info().name + ": " + e.what() + " (" +
                 cl_error_name(e.err()) + ")");
   }
+}
+
+void Renderer::begin(const RenderState* resume) {
+  on_device([&] {
+    if (resume) check_state(*resume);
+    driver_ = std::make_unique<PassDriver>(*integrator_, *film_, launcher_);
+    if (settings_.adaptive) driver_->set_adaptive(settings_.adaptive_options);
+    if (resume) {
+      film_->restore(resume->film);
+      if (resume->adaptive) driver_->adaptive()->restore(*resume->adaptive);
+      integrator_->restore_state(*film_, resume->integrator, "render state");
+    } else {
+      film_->clear();
+    }
+  });
+}
+
+void Renderer::run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress,
+                   const PassDoneCallback& pass_done) {
+  if (!driver_) throw Error("render: run before begin");
+  on_device([&] { driver_->run(stop, stats, progress, pass_done); });
+}
+
+ImageF Renderer::finish(RenderStats* stats) {
+  return on_device([&] {
+    ImageF image = film_->mean();
+    launcher_.collect(stats);
+    integrator_->collect(stats);
+    if (stats) stats->film = film_->counts();
+    return image;
+  });
 }
 
 }  // namespace caustica

@@ -25,6 +25,14 @@ class Renderer {
   // passes (or until settings.time_limit_s), returns the mean.
   ImageF render(RenderStats* stats, const ProgressCallback& progress = {}, const PassDoneCallback& pass_done = {},
                 const RenderState* resume = nullptr);
+  // render() in steps, for a caller that runs the passes in pieces (MPI
+  // ranks, host/app/mpi_render.h): begin clears the film (or restores
+  // `resume`), run adds passes (PassDriver::run: absolute pass indices,
+  // the film is not cleared), finish reads the mean and collects stats.
+  void begin(const RenderState* resume = nullptr);
+  void run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress = {},
+           const PassDoneCallback& pass_done = {});
+  ImageF finish(RenderStats* stats);
   // The film's, the adaptive sampler's and the integrator's state (the
   // photon pass's), between waves; its identity is left to the caller
   // (render_identity).
@@ -36,6 +44,7 @@ class Renderer {
 
   Integrator& integrator() { return *integrator_; }
   Film& film() { return *film_; }
+  const Film& film() const { return *film_; }
   const RenderSettings& settings() const { return settings_; }
 
  private:
@@ -45,6 +54,10 @@ class Renderer {
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<Film> film_;
   std::unique_ptr<PassDriver> driver_;  // the latest render's
+
+  // Runs f, turning OpenCL errors into caustica::Error naming the device.
+  template <typename F>
+  auto on_device(F&& f) -> decltype(f());
 };
 
 }  // namespace caustica

@@ -1,0 +1,170 @@
+#!/usr/bin/env python3
+"""Distributed rendering's scaling (issue 23; results for docs/distributed.md;
+not part of the tests or CI).
+
+Time to reach a target error with 1, 2 and 3 MPI ranks of one PoCL thread
+each (POCL_MAX_PTHREAD_COUNT=1 per rank), against one process of 1, 2 and 3
+PoCL threads: the Cornell box at 512x512 and the showcase
+(scenes/showcase_path.json: glass and metal spheres; with ranks the photon
+pass is off, so every run here renders with --caustics off and the
+showcase's caustics are path traced), uniform sampling (--no-adaptive: the
+ranks sample uniformly). Each run renders with --target-error E (the
+film's own relMSE estimate, taken on rank 0 from the ranks' summed film)
+and reports its render time (rank 0's, reductions included), the spp
+reached and the estimate there. Runs stop at slightly different spp (ranks
+stop after whole rounds), so each time is normalised to the target: the
+error falls as 1 / spp, so t_norm = t * estimate / target is the time the
+run would have taken to reach exactly E. Efficiency at N = t_norm(1) /
+(N * t_norm(N)) (1: perfect).
+
+Then the cost of one reduction (the ranks' films summed on rank 0: each
+rank reads its film from the device, the 128-bit sums and the half buffer
+go through MPI_Reduce with an integer op, rank 0 restores the sum) for a
+1920x1080 film on 2 ranks, measured from a 2 spp render, and the model of
+efficiency at 16 and 64 ranks for a 1920x1080 render of one minute
+(docs/distributed.md derives it):
+
+    t_reduce(R) = t_read + ceil(log2 R) * t_mpi(2) + t_restore
+    (t_mpi measured after a barrier: the wait for the slowest rank is apart)
+    efficiency(R) = 60 / (60 + k * t_reduce(R) + t_imbalance)
+
+k reductions (1 with --spp or --time; log2 of the passes + 1 with a
+target error or a report, the error monitor's measurements), t_imbalance
+at most one block of passes per rank (the last round).
+
+    cmake --build build --target caustica    # caustica built with MPI
+    bench/mpi_scaling.py                     # defaults: --target 0.005 0.01
+
+Keep the machine otherwise idle: the ranks and threads share its cores.
+It takes about 3 to 5 minutes on 2 cores. Progress goes to stderr, the
+Markdown tables to stdout.
+"""
+import argparse
+import math
+import os
+import re
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BINARY = os.path.join(ROOT, "build", "caustica")
+SCENES = [("cornell box 512x512", "scenes/cornell_box.json", ["--width", "512", "--height", "512"]),
+          ("showcase 480x270", "scenes/showcase_path.json", ["--width", "480", "--height", "270"])]
+MPI_ENV = {"OMPI_MCA_btl": "self,vader", "OMPI_MCA_btl_vader_single_copy_mechanism": "none"}
+
+
+def mpirun(ranks):
+    args = ["mpirun", "--oversubscribe", "-np", str(ranks)]
+    if os.geteuid() == 0:
+        args.insert(1, "--allow-run-as-root")
+    return args
+
+
+def run(cmd, threads, out):
+    env = dict(os.environ, POCL_MAX_PTHREAD_COUNT=str(threads), **MPI_ENV)
+    t0 = time.monotonic()
+    p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
+    wall = time.monotonic() - t0
+    text = p.stdout + p.stderr
+    if p.returncode != 0:
+        sys.exit(f"failed ({p.returncode}): {' '.join(cmd)}\n{text}")
+    m = re.search(r"wrote \S+ \(\d+x\d+, (\d+) spp\) in ([0-9.]+) s, estimated relMSE ([0-9.e+-]+)", text)
+    if not m:
+        sys.exit(f"no result line in: {' '.join(cmd)}\n{text}")
+    r = re.search(r"summed on rank 0 in (\d+) reductions, ([0-9.]+) s \(film reads ([0-9.]+) s, waiting for ranks "
+                  r"([0-9.]+) s, MPI ([0-9.]+) s, restore ([0-9.]+) s\)", text)
+    return {"spp": int(m.group(1)), "seconds": float(m.group(2)), "estimate": float(m.group(3)), "wall": wall,
+            "reductions": int(r.group(1)) if r else 0, "reduce_s": float(r.group(2)) if r else 0.0,
+            "read_s": float(r.group(3)) if r else 0.0, "wait_s": float(r.group(4)) if r else 0.0,
+            "mpi_s": float(r.group(5)) if r else 0.0, "restore_s": float(r.group(6)) if r else 0.0}
+
+
+def render_cmd(scene, size, extra):
+    return [BINARY, "render", os.path.join(ROOT, scene), "--mode", "path", "--caustics", "off", "--no-adaptive",
+            "-v", "-o", "/tmp/caustica_mpi_scaling.pfm"] + size + extra
+
+
+def scaling(name, scene, size, target):
+    rows = []
+    for kind, n in [("process", 1), ("ranks", 2), ("threads", 2), ("ranks", 3), ("threads", 3)]:
+        base = render_cmd(scene, size, ["--target-error", str(target)])
+        cmd = mpirun(n) + base if kind == "ranks" else base
+        threads = 1 if kind == "ranks" else n
+        print(f"[mpi_scaling] {name}: {n} {kind} ...", file=sys.stderr, flush=True)
+        r = run(cmd, threads, None)
+        r["kind"], r["n"] = kind, n
+        r["t_norm"] = r["seconds"] * r["estimate"] / target
+        rows.append(r)
+    one = rows[0]["t_norm"]
+    print(f"\n### {name}, target relMSE {target}\n")
+    print("| run | spp | estimated relMSE | render s | wall s | normalised s | efficiency | reductions (s) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        label = "1 process, 1 thread" if r["kind"] == "process" else (
+            f"{r['n']} ranks x 1 thread" if r["kind"] == "ranks" else f"1 process, {r['n']} threads")
+        eff = one / (r["n"] * r["t_norm"])
+        red = f"{r['reductions']} ({r['reduce_s']:.3f})" if r["reductions"] else "-"
+        print(f"| {label} | {r['spp']} | {r['estimate']:.4g} | {r['seconds']:.2f} | {r['wall']:.2f} | "
+              f"{r['t_norm']:.2f} | {eff:.2f} | {red} |")
+    return rows
+
+
+def reduction_cost():
+    print("[mpi_scaling] 1920x1080 reduction on 2 ranks ...", file=sys.stderr, flush=True)
+    cmd = mpirun(2) + render_cmd("scenes/cornell_box.json", ["--width", "1920", "--height", "1080"], ["--spp", "2"])
+    r = run(cmd, 1, None)
+    film_mb = 1920 * 1080 * 3 * 16 * 2 / 1e6  # 128-bit sums, the combined sum and the half
+    print(f"\n### One reduction of a 1920x1080 film ({film_mb:.0f} MB of sums) on 2 ranks\n")
+    print("| film reads s | waiting for the other rank s | MPI s | restore s | total s |")
+    print("|---|---|---|---|---|")
+    print(f"| {r['read_s']:.3f} | {r['wait_s']:.3f} | {r['mpi_s']:.3f} | {r['restore_s']:.3f} | {r['reduce_s']:.3f} |")
+    return r
+
+
+def model(red, pass_s):
+    """Efficiency of a one-minute 1920x1080 render on R ranks (docs/distributed.md).
+
+    t_reduce: tree = every level of a binomial tree moves the whole film
+    (pessimistic); pipelined = a segmented reduce (Open MPI's choice for
+    large messages) costs about one transfer plus a segment per level, taken
+    as t_mpi(2). Imbalance: the last round leaves ranks idle for at most one
+    block (one pass at 1080p): this CPU's measured 1-thread pass, and an
+    assumed 0.1 s (a GPU). k: reductions, 1 for --spp/--time; for a target
+    error one per monitor measurement, log2(passes) + 1."""
+    for label, imbalance in ((f"this CPU's 1-thread 1080p pass, {pass_s:.2f} s (measured)", pass_s),
+                             ("a 0.1 s 1080p pass (a GPU; assumed)", 0.1)):
+        print(f"\n### Modelled efficiency, 1920x1080, one minute; imbalance: {label}\n")
+        print("| ranks | t_reduce s, tree / pipelined | --spp or --time (1 reduction), tree / pipelined | "
+              "--target-error (k reductions), tree / pipelined |")
+        print("|---|---|---|---|")
+        for ranks in (2, 16, 64):
+            fixed = red["read_s"] + red["restore_s"]
+            tree = fixed + math.ceil(math.log2(ranks)) * red["mpi_s"]
+            pipe = fixed + red["mpi_s"]
+            k = int(math.log2(max(2.0, ranks * 60 / imbalance))) + 1
+            eff = lambda n, t: 60 / (60 + n * t + imbalance)
+            print(f"| {ranks} | {tree:.3f} / {pipe:.3f} | {eff(1, tree):.3f} / {eff(1, pipe):.3f} | "
+                  f"{eff(k, tree):.3f} / {eff(k, pipe):.3f} (k = {k}) |")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--target", type=float, nargs=2, default=[0.005, 0.01],
+                    help="target relMSE of the Cornell box and the showcase")
+    ap.add_argument("--skip-scaling", action="store_true", help="only the reduction cost and the model")
+    args = ap.parse_args()
+    if not os.path.exists(BINARY):
+        sys.exit(f"{BINARY}: build caustica first (with MPI: libopenmpi-dev)")
+    if not args.skip_scaling:
+        for (name, scene, size), target in zip(SCENES, args.target):
+            scaling(name, scene, size, target)
+    red = reduction_cost()
+    # The last round's imbalance: one block of passes on one rank; at
+    # 1920x1080 a block is one pass (the wave holds one pass of that many
+    # pixels), measured as the 2 spp render's time per pass on a rank.
+    model(red, max(1e-3, red["seconds"] - red["reduce_s"] + red["wait_s"]))
+
+
+if __name__ == "__main__":
+    main()

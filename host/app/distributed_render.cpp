@@ -1,0 +1,198 @@
+#include "host/app/distributed_render.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+
+#include "host/error.h"
+#include "host/render/state_merge.h"
+
+namespace caustica {
+
+namespace {
+
+// The film's 128-bit sums, summed on rank 0. Their high words are zero
+// unless a sum reached 2^64 (2^40 in radiance at the finest scale, 2^24):
+// when every rank's are, and no rank's low word exceeds (2^64 - 1) / ranks,
+// the low words alone add without overflow, and MPI's own 64-bit sum moves
+// half the bytes; otherwise the 128-bit op. Exact either way.
+void sum_film_sums_to_root(RankGroup& ranks, std::vector<uint64_t>& sums) {
+  std::vector<uint64_t> bounds = {0, 0};  // the largest low word, any high word
+  for (size_t i = 0; i + 1 < sums.size(); i += 2) {
+    bounds[0] = std::max(bounds[0], sums[i]);
+    bounds[1] |= sums[i + 1];
+  }
+  ranks.max_to_all(bounds);
+  // CAUSTICA_TEST_REDUCE128 (tests only): the 128-bit op always.
+  if (std::getenv("CAUSTICA_TEST_REDUCE128") || bounds[1] != 0 || bounds[0] > std::numeric_limits<uint64_t>::max() / uint64_t(ranks.size())) {
+    ranks.sum128_to_root(sums);
+    return;
+  }
+  std::vector<uint64_t> low(sums.size() / 2);
+  for (size_t i = 0; i < low.size(); ++i) low[i] = sums[2 * i];
+  ranks.sum_to_root(low);
+  if (ranks.rank() != 0) return;
+  for (size_t i = 0; i < low.size(); ++i) {
+    sums[2 * i] = low[i];
+    sums[2 * i + 1] = 0;
+  }
+}
+
+}  // namespace
+
+FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine) {
+  // The pass sets first: rank 0 forms the union (refusing overlaps: a
+  // schedule bug must not double passes silently) and tells every rank its
+  // last pass, which decides whose half buffer belongs to the union's.
+  std::vector<int32_t> ranges;
+  for (const auto& [b, e] : mine.held.ranges()) ranges.insert(ranges.end(), {b, e});
+  const std::vector<std::vector<int32_t>> all = ranks.gather_to_root(ranges);
+  PassSet held;
+  for (size_t r = 0; r < all.size(); ++r)
+    for (size_t i = 0; i + 1 < all[r].size(); i += 2) {
+      const PassSet part = PassSet::range(all[r][i], all[r][i + 1]);
+      if (held.overlaps(part))
+        throw Error("rank " + std::to_string(r) + " traced pass " + std::to_string(held.first_common(part)) +
+                    ", which another rank traced too");
+      held.add(part);
+    }
+  const int last = ranks.broadcast(held.last());
+  const size_t values = mine.spp.size() * 3;
+  if (mine.accumulated.size() == 4 * values && !half_is_in_union(mine.held, last))
+    std::fill(mine.accumulated.begin() + std::ptrdiff_t(2 * values), mine.accumulated.end(), 0u);
+  sum_film_sums_to_root(ranks, mine.accumulated);
+  ranks.sum_to_root(mine.spp);
+  ranks.sum_to_root(mine.pixel_rays);
+  ranks.sum_to_root(mine.counters);
+  if (ranks.rank() != 0) return mine;
+  mine.held = held;
+  mine.passes = held.count();
+  mine.per_pixel = false;
+  const int half = held.half_count();
+  mine.half_start.assign(mine.spp.size(), half > 0 ? uint32_t(mine.passes - half) : 0u);
+  return mine;
+}
+
+namespace {
+
+// CAUSTICA_TEST_DIE_RANK=R (tests only): rank R exits with status 3 after
+// the round that reaches 16 passes, as a crashed rank would, without
+// telling the others (checkpoints of the rounds before stay).
+void maybe_die_for_test(const RankGroup& ranks, int done) {
+  const char* die = std::getenv("CAUSTICA_TEST_DIE_RANK");
+  if (!die || std::atoi(die) != ranks.rank() || done < 16) return;
+  std::fprintf(stderr, "caustica: rank %d: exiting as CAUSTICA_TEST_DIE_RANK asks\n", ranks.rank());
+  std::fflush(stderr);
+  std::_Exit(3);
+}
+
+}  // namespace
+
+DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderStats* stats,
+                                     const ProgressCallback& progress, ErrorMonitor* monitor,
+                                     const RenderState* resume, const DistributedCheckpoint& checkpoint) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  const RenderSettings& settings = session.settings;
+  Renderer& renderer = *session.renderer;
+  const int rank = ranks.rank(), size = ranks.size();
+  DistributedResult out;
+  if (rank == 0)
+    out.summed = std::make_unique<Renderer>(*session.runtime, *session.device_scene, session.mode,
+                                            session.program.program, settings);
+  // Sums every rank's film into rank 0's `summed` renderer.
+  auto reduce = [&] {
+    using Clock = std::chrono::steady_clock;
+    auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+    const auto r0 = Clock::now();
+    FilmState mine = renderer.state().film;
+    out.read_seconds += since(r0);
+    // The ranks' rounds end apart: the wait is the imbalance, not MPI's cost.
+    const auto waited = Clock::now();
+    ranks.barrier();
+    out.wait_seconds += since(waited);
+    const auto r1 = Clock::now();
+    RenderState state;
+    state.film = reduce_film_to_root(ranks, std::move(mine));
+    out.mpi_seconds += since(r1);
+    const auto r2 = Clock::now();
+    if (rank == 0) out.summed->begin(&state);
+    out.restore_seconds += since(r2);
+    ++out.reductions;
+    out.reduction_seconds += since(r0);
+  };
+  const int end = settings.passes;  // INT_MAX: open (a time limit or a target error ends it)
+  const double limit = settings.time_limit_s;
+  // Rank 0 decides after each round (a time limit, or its error monitor);
+  // with --spp alone the ranks talk once, at the end.
+  const bool checkpoints = rank == 0 && checkpoint.write != nullptr;
+  const bool decided = ranks.broadcast(rank == 0 && (limit > 0.0 || monitor || checkpoints) ? 1 : 0) != 0;
+  const int most_block = std::max(1, renderer.integrator().wave_passes(renderer.film()));
+  const double tolerance = limit > 0.0 ? time_limit_tolerance(limit) : 0.0;
+  if (resume && !resume->film.held.is_prefix())
+    throw Error("a state of " + resume->film.held.describe() + " resumes in one process only (ranks go on from "
+                "passes [0, N))");
+  renderer.begin(rank == 0 ? resume : nullptr);
+  // The ranks go on from the resumed passes [0, N): rank 0 holds them.
+  const int resumed = ranks.broadcast(rank == 0 && resume ? resume->film.held.end() : 0);
+  double last_checkpoint = 0.0;
+  // Rank 0's progress as the whole group's: its passes since the start
+  // (a resumed state's are its own) times the ranks.
+  ProgressCallback shown;
+  if (progress)
+    shown = [&](const PassProgress& p) {
+      PassProgress q = p;
+      q.pass = int(std::min<int64_t>(int64_t(end) - 1, resumed + int64_t(p.pass - resumed) * size));
+      q.passes = end;
+      q.first_pass = resumed;
+      progress(q);
+    };
+  double round_s = 0.0;
+  // Rounds end where rank 0 decides next: its error monitor's next
+  // measurement (a round must not run far past a target error).
+  int decide_at = end;
+  for (int done = resumed; done < end;) {
+    const double start = seconds();
+    const int until_decision = int(std::max<int64_t>(1, (int64_t(decide_at) - done + size - 1) / size));
+    const int block = std::clamp(std::min(done / size, until_decision), 1, most_block);
+    const int64_t first = int64_t(done) + int64_t(rank) * block;
+    const int64_t last = std::min<int64_t>(end, first + block);
+    if (first < last) {
+      StopConditions stop;
+      stop.first_pass = int(first);
+      stop.passes = int(last);
+      renderer.run(stop, stats, rank == 0 ? shown : ProgressCallback{});
+    }
+    done = int(std::min<int64_t>(end, int64_t(done) + int64_t(size) * block));
+    maybe_die_for_test(ranks, done);
+    if (!decided) continue;
+    round_s = seconds() - start;
+    // Rank 0 decides: measure or checkpoint now (every rank sums its
+    // film), then go on?
+    const bool measure = rank == 0 && monitor && monitor->wants_measurement(done);
+    const bool save = checkpoints && seconds() - last_checkpoint >= checkpoint.every_s;
+    if (ranks.broadcast(measure || save ? 1 : 0)) reduce();
+    if (save) {
+      last_checkpoint = seconds();
+      checkpoint.write(*out.summed);
+    }
+    int go = 1;
+    if (rank == 0) {
+      const double now = seconds();
+      if (measure && !monitor->on_pass(out.summed->film(), now)) go = 0;
+      if (limit > 0.0 && (now >= limit || now + round_s > limit + 0.75 * tolerance)) go = 0;
+    }
+    // 0: stop; else where to decide next.
+    const int next = rank == 0 && go ? (monitor ? std::max(done + 1, monitor->next_measurement()) : end) : 0;
+    decide_at = ranks.broadcast(next);
+    if (decide_at == 0) break;
+  }
+  reduce();
+  out.seconds = seconds();
+  if (rank == 0) out.image = out.summed->finish(stats);
+  return out;
+}
+
+}  // namespace caustica

@@ -1,0 +1,126 @@
+#include "host/mpi/mpi_ranks.h"
+
+#include <mpi.h>
+
+#include <cstdlib>
+#include <limits>
+
+#include "host/error.h"
+
+namespace caustica {
+namespace {
+
+// inout[i] += in[i] for 128-bit integers (two uint64 words, low first).
+void add_sums128(void* in, void* inout, int* count, MPI_Datatype*) {
+  const uint64_t* a = static_cast<const uint64_t*>(in);
+  uint64_t* b = static_cast<uint64_t*>(inout);
+  for (int i = 0; i < *count; ++i) {
+    const uint64_t low = b[2 * i] + a[2 * i];
+    b[2 * i + 1] += a[2 * i + 1] + (low < a[2 * i] ? 1u : 0u);
+    b[2 * i] = low;
+  }
+}
+
+void check(int rc, const char* what) {
+  if (rc == MPI_SUCCESS) return;
+  char text[MPI_MAX_ERROR_STRING];
+  int length = 0;
+  MPI_Error_string(rc, text, &length);
+  throw Error(std::string("MPI: ") + what + " failed: " + std::string(text, size_t(length)));
+}
+
+int count_of(size_t n, const char* what) {
+  if (n > size_t(std::numeric_limits<int>::max())) throw Error(std::string("MPI: too many values in ") + what);
+  return int(n);
+}
+
+}  // namespace
+
+std::unique_ptr<MpiRanks> MpiRanks::if_launched(int* argc, char*** argv) {
+  if (!std::getenv("OMPI_COMM_WORLD_SIZE") && !std::getenv("PMI_SIZE") && !std::getenv("PMIX_RANK")) return nullptr;
+  return std::unique_ptr<MpiRanks>(new MpiRanks(argc, argv));
+}
+
+MpiRanks::MpiRanks(int* argc, char*** argv) {
+  check(MPI_Init(argc, argv), "MPI_Init");
+  // Errors come back as codes (thrown here, then abort()), not as aborts
+  // without a message.
+  MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  MPI_Comm local;
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &local);
+  MPI_Comm_rank(local, &local_rank_);
+  MPI_Comm_free(&local);
+}
+
+MpiRanks::~MpiRanks() { MPI_Finalize(); }
+
+void MpiRanks::barrier() { check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier"); }
+
+int MpiRanks::broadcast(int value) {
+  check(MPI_Bcast(&value, 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Bcast");
+  return value;
+}
+
+void MpiRanks::sum128_to_root(std::vector<uint64_t>& sums) {
+  MPI_Datatype pair;
+  MPI_Type_contiguous(2, MPI_UINT64_T, &pair);
+  MPI_Type_commit(&pair);
+  MPI_Op add;
+  MPI_Op_create(&add_sums128, /*commute=*/1, &add);
+  const int n = count_of(sums.size() / 2, "the film's sums");
+  const int rc = rank_ == 0 ? MPI_Reduce(MPI_IN_PLACE, sums.data(), n, pair, add, 0, MPI_COMM_WORLD)
+                            : MPI_Reduce(sums.data(), nullptr, n, pair, add, 0, MPI_COMM_WORLD);
+  MPI_Op_free(&add);
+  MPI_Type_free(&pair);
+  check(rc, "MPI_Reduce of the film's 128-bit sums");
+}
+
+void MpiRanks::sum_to_root(std::vector<uint64_t>& v) {
+  const int n = count_of(v.size(), "a sum");
+  check(rank_ == 0 ? MPI_Reduce(MPI_IN_PLACE, v.data(), n, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD)
+                   : MPI_Reduce(v.data(), nullptr, n, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD),
+        "MPI_Reduce");
+}
+
+void MpiRanks::sum_to_root(std::vector<uint32_t>& v) {
+  const int n = count_of(v.size(), "a sum");
+  check(rank_ == 0 ? MPI_Reduce(MPI_IN_PLACE, v.data(), n, MPI_UINT32_T, MPI_SUM, 0, MPI_COMM_WORLD)
+                   : MPI_Reduce(v.data(), nullptr, n, MPI_UINT32_T, MPI_SUM, 0, MPI_COMM_WORLD),
+        "MPI_Reduce");
+}
+
+void MpiRanks::max_to_all(std::vector<uint64_t>& v) {
+  check(MPI_Allreduce(MPI_IN_PLACE, v.data(), count_of(v.size(), "a maximum"), MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD),
+        "MPI_Allreduce");
+}
+
+std::vector<std::vector<int32_t>> MpiRanks::gather_to_root(const std::vector<int32_t>& values) {
+  int mine = count_of(values.size(), "a gather");
+  std::vector<int> counts(rank_ == 0 ? size_t(size_) : 0u), offsets;
+  check(MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
+  std::vector<int32_t> all;
+  if (rank_ == 0) {
+    int total = 0;
+    for (int c : counts) {
+      offsets.push_back(total);
+      total += c;
+    }
+    all.resize(size_t(total));
+  }
+  check(MPI_Gatherv(values.data(), mine, MPI_INT32_T, all.data(), counts.data(), offsets.data(), MPI_INT32_T, 0,
+                    MPI_COMM_WORLD),
+        "MPI_Gatherv");
+  std::vector<std::vector<int32_t>> out;
+  for (int r = 0; rank_ == 0 && r < size_; ++r)
+    out.emplace_back(all.begin() + offsets[size_t(r)], all.begin() + offsets[size_t(r)] + counts[size_t(r)]);
+  return out;
+}
+
+void MpiRanks::abort(int code) {
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::_Exit(code);
+}
+
+}  // namespace caustica

@@ -1,0 +1,199 @@
+// `mpirun -np N caustica render` (issue 23; host/app/distributed_render.h,
+// host/mpi/mpi_ranks.h): 2 and 3 ranks give the same bits as one process
+// at the same spp; a time limit and a target error decided by rank 0 end
+// on a whole number of rounds, whose passes [0, N) a one-process render of
+// N spp reproduces bit for bit; rank 0's checkpoints are one process's
+// states and resume after a rank died; a rank that dies ends the job with
+// a clear message instead of a hang; what ranks cannot do is refused. Skipped
+// where caustica was built without MPI. Small images, few spp: a second
+// or two each (mpirun's start included), under a timeout.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <regex>
+#include <string>
+
+#include "tests/support/test_support.h"
+
+namespace caustica {
+namespace {
+
+using test::Contains;
+
+#ifdef CAUSTICA_MPIEXEC
+constexpr const char* kMpiexec = CAUSTICA_MPIEXEC;
+#else
+constexpr const char* kMpiexec = "";
+#endif
+
+#define SKIP_WITHOUT_MPI() \
+  if (std::string(kMpiexec).empty()) GTEST_SKIP() << "caustica was built without MPI"
+
+// `ENV mpirun -np N caustica ARGS` through the shell, under a timeout (a
+// hang fails the test with status 124). In a container: as root, more
+// ranks than cores, shared memory only (no network).
+test::CliResult run_mpi(int ranks, const std::string& args, const std::string& env = "") {
+  const std::string cmd = "env OMPI_MCA_btl=self,vader OMPI_MCA_btl_vader_single_copy_mechanism=none " + env +
+                          " timeout 120 '" + kMpiexec + "' --oversubscribe" +
+                          (::geteuid() == 0 ? " --allow-run-as-root" : "") + " -np " + std::to_string(ranks) + " '" +
+                          test::binary_path() + "' " + args + " 2>&1";
+  test::CliResult r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+  const int status = pclose(p);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// The cornell box, 32 pixels wide, uniform, no photon pass.
+std::string render_args(const std::string& rest) {
+  return "render '" + test::source_dir() + "/scenes/cornell_box.json' --mode path --width 32 --caustics off "
+         "--no-adaptive --device '" + test::device_spec() + "' " + rest;
+}
+
+// "wrote X (32x32, N spp)": N.
+int spp_written(const std::string& output) {
+  std::smatch m;
+  if (!std::regex_search(output, m, std::regex(R"(\(\d+x\d+, (\d+) spp)"))) return -1;
+  return std::stoi(m[1]);
+}
+
+TEST(MpiRender, TwoAndThreeRanksGiveTheBitsOfOneProcess) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  // 37 passes: rounds of uneven size, and a last round some ranks sit out.
+  const test::CliResult one = test::run_cli(render_args("--spp 37 -q -o '" + dir + "/one.pfm'"));
+  ASSERT_EQ(one.status, 0) << one.output;
+  const std::string bits = slurp(dir + "/one.pfm");
+  ASSERT_FALSE(bits.empty());
+  // 3 ranks twice: the sums' low words through MPI's own 64-bit sum (they
+  // fit), and through the 128-bit op (CAUSTICA_TEST_REDUCE128).
+  for (int ranks : {2, 3, -3}) {
+    const std::string out = dir + "/ranks" + std::to_string(ranks) + ".pfm";
+    const test::CliResult r = run_mpi(std::abs(ranks), render_args("--spp 37 -v -o '" + out + "'"),
+                                      ranks < 0 ? "CAUSTICA_TEST_REDUCE128=1" : "");
+    ranks = std::abs(ranks);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(Contains(r.output, {std::to_string(ranks) + " ranks: passes [0, 37) summed on rank 0"})) << r.output;
+    // Rank 0 alone speaks: one "wrote" line.
+    EXPECT_EQ(r.output.find("wrote"), r.output.rfind("wrote")) << r.output;
+    EXPECT_TRUE(slurp(out) == bits) << ranks << " ranks differ from one process";
+  }
+}
+
+// Binary and phong: one pass, which rank 0 traces; the others hold none.
+TEST(MpiRender, BinaryAndPhongGiveTheBitsOfOneProcess) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  for (const std::string mode : {"binary", "phong"}) {
+    const std::string args = "render '" + test::source_dir() + "/scenes/simple_phong.json' --mode " + mode +
+                             " --width 48 -q --device '" + test::device_spec() + "' -o '" + dir + "/" + mode;
+    ASSERT_EQ(test::run_cli(args + "1.pfm'").status, 0);
+    const test::CliResult r = run_mpi(2, args + "2.pfm'");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(slurp(dir + "/" + mode + "1.pfm") == slurp(dir + "/" + mode + "2.pfm")) << mode;
+  }
+}
+
+// Rank 0 decides when to stop; the ranks then hold passes [0, N) between
+// them, and one process rendering N spp has the same bits.
+TEST(MpiRender, TimeLimitAndTargetErrorAreDecidedForAllRanks) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  for (const std::string stop : {"--time 0.5", "--target-error 0.02"}) {
+    SCOPED_TRACE(stop);
+    const test::CliResult r = run_mpi(2, render_args(stop + " -o '" + dir + "/mpi.pfm'"));
+    ASSERT_EQ(r.status, 0) << r.output;
+    const int spp = spp_written(r.output);
+    ASSERT_GT(spp, 1) << r.output;
+    const test::CliResult one =
+        test::run_cli(render_args("--spp " + std::to_string(spp) + " -o '" + dir + "/one.pfm'"));
+    ASSERT_EQ(one.status, 0) << one.output;
+    EXPECT_TRUE(slurp(dir + "/mpi.pfm") == slurp(dir + "/one.pfm"));
+    if (stop.find("target") != std::string::npos) {
+      // The estimate is the summed film's: the same as one process's.
+      std::smatch m;
+      ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(estimated relMSE ([0-9.e+-]+))"))) << r.output;
+      EXPECT_LE(std::stod(m[1]), 0.02);
+      EXPECT_TRUE(Contains(one.output, {"estimated relMSE " + std::string(m[1])})) << one.output;
+    }
+  }
+}
+
+TEST(MpiRender, ARankThatDiesEndsTheJobWithAClearMessage) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  const auto t0 = std::chrono::steady_clock::now();
+  // Rank 1 exits after the round that reaches 16 passes; rank 0 would wait
+  // for it at the end (--spp) and, with a time limit, after every round.
+  for (const std::string stop : {"--spp 100000", "--time 60"}) {
+    const test::CliResult r =
+        run_mpi(2, render_args(stop + " -q -o '" + dir + "/x.pfm'"), "CAUSTICA_TEST_DIE_RANK=1");
+    EXPECT_NE(r.status, 0) << r.output;
+    EXPECT_NE(r.status, 124) << "mpirun hung: " << r.output;
+    EXPECT_TRUE(Contains(r.output, {"rank 1: exiting as CAUSTICA_TEST_DIE_RANK asks",
+                                    "exited with non-zero status"}))
+        << r.output;
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 60.0);
+}
+
+// Rank 0 writes the summed film's state: the bytes one process writes at
+// the same spp. A rank that dies leaves the latest checkpoint, which 2 or
+// 3 ranks resume to the bits of an uninterrupted render.
+TEST(MpiRender, CheckpointsOfRanksAreOneProcesssStatesAndResumeAfterARankDied) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  ASSERT_EQ(test::run_cli(render_args("--spp 12 -q --checkpoint '" + dir + "/one.cst' -o '" + dir + "/a.pfm'")).status,
+            0);
+  test::CliResult r = run_mpi(2, render_args("--spp 12 -q --checkpoint '" + dir + "/two.cst' -o '" + dir + "/b.pfm'"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(slurp(dir + "/one.cst") == slurp(dir + "/two.cst")) << "2 ranks' state differs from one process's";
+  ASSERT_EQ(test::run_cli(render_args("--spp 40 -q -o '" + dir + "/whole.pfm'")).status, 0);
+  // Rank 1 dies after the round that reaches 16 passes; the checkpoint
+  // after every round before it holds 8.
+  r = run_mpi(2, render_args("--spp 40 -v --checkpoint '" + dir + "/died.cst' --checkpoint-every 0.001 -o '" + dir +
+                             "/died.pfm'"),
+              "CAUSTICA_TEST_DIE_RANK=1");
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_TRUE(Contains(r.output, {"checkpoint " + dir + "/died.cst at 8 spp"})) << r.output;
+  for (int ranks : {3, 1}) {
+    r = run_mpi(ranks, render_args("--spp 40 -q --resume '" + dir + "/died.cst' -o '" + dir + "/resumed.pfm'"));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(slurp(dir + "/resumed.pfm") == slurp(dir + "/whole.pfm")) << ranks << " ranks resumed differ";
+  }
+}
+
+TEST(MpiRender, WhatRanksCannotDoIsRefused) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  const std::string scene = "render '" + test::source_dir() + "/scenes/cornell_box.json' --width 32 --spp 4 -o '" +
+                            dir + "/x.pfm' ";
+  // Every rank refuses; the first to get there ends the job, naming itself.
+  test::CliResult r = run_mpi(2, scene + "--caustics off --adaptive");
+  EXPECT_NE(r.status, 0);
+  EXPECT_TRUE(Contains(r.output, {" of 2: mpirun with 2 ranks: adaptive sampling plans each wave", "--no-adaptive"}))
+      << r.output;
+  r = run_mpi(2, scene + "--caustics on --no-adaptive");
+  EXPECT_TRUE(Contains(r.output, {"mpirun with 2 ranks: the photon pass (--caustics on)", "add --caustics off"}))
+      << r.output;
+  r = run_mpi(2, scene + "--caustics off --no-adaptive --passes 0:4");
+  EXPECT_TRUE(Contains(r.output, {"mpirun with 2 ranks: --passes is for one process"})) << r.output;
+}
+
+}  // namespace
+}  // namespace caustica
