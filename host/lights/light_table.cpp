@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host/lights/environment_light.h"
 #include "host/lights/light_types.h"
 
 namespace caustica {
@@ -56,7 +57,7 @@ LightTable build_light_table(const Scene& scene) {
     // of radiance 1e12 left the film a resolution of 1/16 and rounded every
     // ordinary contribution to 0 (stiff_light_limits).
     float radiance = max3(to_vec3(l.emitted));
-    if (!type.delta) {
+    if (type.area) {
       const float d = std::max(1e-30f, glm::length(to_vec3(l.p0) - scene.camera.position));
       const float reference = 1e-6f * d * d;
       if (l.emitted.w < reference) radiance *= l.emitted.w / reference;
@@ -116,6 +117,7 @@ LightTable build_light_table(const Scene& scene) {
     add_shape(c.material, LIGHT_CYLINDER, c.center_radius, c.axis_half, {}, 4.0f * kPi * r * h + 2.0f * kPi * r * r,
               t.light_of_cylinder, i);
   }
+  if (scene.environment && add(environment_light(scene))) t.environment = uint32_t(t.lights.size() - 1);
   set_selection(t.lights, power);
   return t;
 }

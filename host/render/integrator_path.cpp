@@ -90,6 +90,7 @@ constexpr size_t kPathSlots = size_t(1) << 18;
 class PathIntegrator final : public Integrator {
   StageKernel generate_, intersect_, shade_, shadow_stage_;
   size_t light_count_ = 0;
+  uint32_t environment_light_ = LIGHT_NONE;  // its index in the light table (PathParams)
   size_t slots_ = 0;  // paths in flight
   cl::Buffer lights_, light_of_sphere_, light_of_cylinder_, light_of_triangle_, hits_;
   DeviceQueue rays_[2], shadow_;
@@ -232,6 +233,7 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
   // anything beyond 2^56 / scale is clamped and counted.
   const glm::vec3 bg = scene.scene().background;
   pass_bound_ = 1e6f * std::max(1.0f, std::max(table.max_radiance, std::max(bg.x, std::max(bg.y, bg.z))));
+  environment_light_ = table.environment;
   for (DeviceQueue& q : rays_) q = DeviceQueue(ctx, path_record_layout(), slots_);
   shadow_ = DeviceQueue(ctx, shadow_record_layout(), slots_);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, slots_ * sizeof(Hit));
@@ -264,6 +266,7 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
   // An uneven wave (adaptive sampling) covers the whole image: the film
   // lists its pixels.
   params.wave_entries = film.wave_entries();
+  params.environment_light = environment_light_;
   if (params.wave_entries > 0 && (first_pixel != 0 || pixel_count != film.pixel_count()))
     throw Error("path: an adaptive wave must cover the whole image");
   const CameraGPU camera = chunk_camera(first_pixel, pixel_count);

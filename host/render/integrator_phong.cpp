@@ -18,7 +18,7 @@
 #include <cstring>
 
 #include "host/cl/runtime.h"
-#include "host/lights/light_table.h"
+#include "host/lights/environment_light.h"
 #include "host/lights/light_table.h"
 #include "host/render/photon_pass.h"
 #include "host/render/state_bytes.h"
@@ -108,7 +108,8 @@ float phong_pass_bound(const Scene& scene, const std::vector<Light>& lights, int
     ambient = std::max(ambient, std::abs(m.ka) * ambient_scale * diffuse);
     local = std::max(local, std::abs(m.diffuse.w) * diffuse + std::abs(m.specular.w) * max3(m.specular));
   }
-  const float background = std::max(scene.background.x, std::max(scene.background.y, scene.background.z));
+  float background = std::max(scene.background.x, std::max(scene.background.y, scene.background.z));
+  if (scene.environment) background = std::max(background, environment_max_radiance(*scene.environment));
   const float per_ray = emission + std::max(background, ambient + light_sum * local);
   return std::max(1.0f, per_ray * float(std::max(0, max_depth) + 1));
 }

@@ -172,5 +172,8 @@ int image_texture(LoadContext& ctx, const std::string& written, const std::strin
 
 // scene_shapes.cpp
 void read_shapes(LoadContext& ctx, const json& scene_obj);
+// Degrees about x, then y, then z, about the world origin (right-handed):
+// R = Rz * Ry * Rx (meshes' "rotate", the environment's "rotate").
+glm::mat3 rotation_xyz(const glm::vec3& degrees);
 
 }  // namespace caustica::scene_detail

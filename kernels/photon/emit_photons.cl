@@ -25,7 +25,10 @@
  * lies in a cone, so every stored photon path keeps a non-zero density and
  * the photon map's expectation is unchanged; directions that miss every
  * cone would have ended unstored. A direction behind a one-sided emitter
- * carries no flux. */
+ * carries no flux. The environment's photons are never guided (they have
+ * no point to aim from): they start on a disk of the scene's bounding
+ * sphere, across the direction drawn from the map
+ * (lib/lights/environment_light.h). */
 
 #include "lib/caustics.h"
 #include "lib/lights.h"
@@ -86,7 +89,8 @@ inline float3 sample_toward_casters(__global const float4* restrict casters, uin
   return w;
 }
 
-__kernel void emit_photons(__global const Light* restrict lights, PhotonPassParams params,
+__kernel void emit_photons(__global const Light* restrict lights, __global const float* restrict environment,
+                           PhotonPassParams params,
                            __global const float4* restrict casters, uint caster_count, PHOTON_QUEUE_PARAMS(out),
                            __global uint* restrict next_count) {
   const uint i = get_global_id(0);
@@ -100,14 +104,14 @@ __kernel void emit_photons(__global const Light* restrict lights, PhotonPassPara
   const float2 u_point = (float2)(photon_random(i, params, 1u), photon_random(i, params, 2u));
   const float2 u_dir = (float2)(photon_random(i, params, 3u), photon_random(i, params, 4u));
   float3 p_error, n; /* the point's error bound, as sample_light's (spawn_ray_origin), and its normal */
-  const float3 point = light_emission_point(l, u_point, &p_error, &n);
+  const float3 point = light_emission_point(l, environment, u_point, &p_error, &n);
   float3 origin, dir, flux;
-  if (caster_count > 0u) {
+  if (caster_count > 0u && l->kind != LIGHT_ENVIRONMENT) { /* the sky has no point to aim from: unguided */
     float pdf;
     dir = sample_toward_casters(casters, caster_count, point, photon_random(i, params, 5u), u_dir, &pdf);
-    flux = light_emitted_toward(l, point, p_error, n, &dir, pdf, &origin);
+    flux = light_emitted_toward(l, environment, point, p_error, n, &dir, pdf, &origin);
   } else {
-    flux = light_emit(l, point, p_error, n, u_dir, photon_random(i, params, 5u), &origin, &dir);
+    flux = light_emit(l, environment, point, p_error, n, u_dir, photon_random(i, params, 5u), &origin, &dir);
   }
   PhotonRecord photon;
   photon.origin = (float4)(origin, 0.0f);
