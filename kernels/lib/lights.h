@@ -47,8 +47,16 @@ enum { LIGHT_TYPES(LIGHT_KIND_ENUM) LIGHT_KIND_COUNT };
  * scene has area lights, the environment only where the scene has one (the
  * constant false drops their code). */
 #define LIGHT_TYPE_SAMPLED_0 1
-#define LIGHT_TYPE_SAMPLED_1 HAS_AREA_LIGHTS
-#define LIGHT_TYPE_SAMPLED_2 HAS_ENVIRONMENT
+#if HAS_AREA_LIGHTS
+#define LIGHT_TYPE_SAMPLED_1 1
+#else
+#define LIGHT_TYPE_SAMPLED_1 0
+#endif
+#if HAS_ENVIRONMENT
+#define LIGHT_TYPE_SAMPLED_2 1
+#else
+#define LIGHT_TYPE_SAMPLED_2 0
+#endif
 #define LIGHT_TYPE_SAMPLED(cls) LIGHT_TYPE_SAMPLED_##cls
 /* The arguments a type's functions take before the light's own. */
 #define LIGHT_DATA_ARGS_0
