@@ -98,7 +98,9 @@ inline float3 environment_sample_direction(__global const float* env, float2 u, 
   const uint width = environment_width(env), height = environment_height(env);
   __global const float* marginal = env + ENV_HEADER_FLOATS + 4u * width * height;
   const uint y = environment_cdf_bin(marginal, height, u.y);
-  const float v = ((float)y + environment_within(marginal, y, u.y)) / (float)height;
+  /* (y + t) rounds to h for t just below 1 in the last row: v stays inside
+   * (0, 1), where sin t > 0 and the density is defined. */
+  const float v = clamp(((float)y + environment_within(marginal, y, u.y)) / (float)height, 1e-7f, 0.99999994f);
   __global const float* row = marginal + (height + 1u) + y * (width + 1u);
   const uint x = environment_cdf_bin(row, width, u.x);
   const float uu = ((float)x + environment_within(row, x, u.x)) / (float)width;
