@@ -328,7 +328,8 @@ TEST(Environment, OneBrightTexelLightsLikeADirectionalLight) {
 // floor, whose radiance is then 0.5 / pi x (pi x sky + the sun's texel
 // irradiance less the sky it replaces) everywhere. At equal samples the
 // map's importance sampling (with MIS) has a relMSE at least 10x below
-// BSDF sampling alone, which finds the sun with probability ~1e-3. (Equal
+// BSDF sampling alone, which finds the sun with probability ~1e-3, and
+// below the map sampled uniformly ("importance": false) with MIS. (Equal
 // time: docs/environment.md, bench/environment_benchmark.sh.)
 TEST(Environment, ImportanceSamplingBeatsBsdfSamplingOnASun) {
   const int w = 64, h = 32, sx = 20, sy = 9;
@@ -336,18 +337,23 @@ TEST(Environment, ImportanceSamplingBeatsBsdfSamplingOnASun) {
   const std::string map = write_map("env_hdr.pfm", sun_and_sky(w, h, sx, sy, sun, 1.0f));
   const std::string scene = write_scene("env_hdr.json", env_scene(file_env(map), kFloor, kFloorCamera));
   const double expected = 0.5 / kPi * (kPi + texel_irradiance(w, h, sx, sy, sun - 1.0));
-  auto rel_mse = [&](uint32_t strategy) {
+  const std::string uniform =
+      write_scene("env_hdr_uniform.json", env_scene(file_env(map, R"(, "importance": false)"), kFloor, kFloorCamera));
+  auto rel_mse = [&](uint32_t strategy, const std::string& file = "") {
     test::PathRenderOptions o;
     o.strategy = strategy;
-    const test::PathRender r = test::render_path(scene, int(test::sized(8, 2)), o);
+    const test::PathRender r = test::render_path(file.empty() ? scene : file, int(test::sized(8, 2)), o);
     double sum = 0.0;
     for (float v : r.image.rgb) sum += (v - expected) * (v - expected) / (expected * expected);
     return sum / double(r.image.rgb.size());
   };
-  const double importance = rel_mse(PATH_STRATEGY_MIS), bsdf = rel_mse(PATH_STRATEGY_BSDF);
-  std::printf("[measure] sun 1e5 x sky: relMSE %.3g with importance sampling (MIS), %.3g BSDF only: %.0fx\n",
-              importance, bsdf, bsdf / importance);
+  const double importance = rel_mse(PATH_STRATEGY_MIS), bsdf = rel_mse(PATH_STRATEGY_BSDF),
+               uniform_mis = rel_mse(PATH_STRATEGY_MIS, uniform);
+  std::printf("[measure] sun 1e5 x sky: relMSE %.3g with importance sampling (MIS), %.3g BSDF only (%.0fx), %.3g "
+              "uniform map sampling with MIS (%.0fx)\n",
+              importance, bsdf, bsdf / importance, uniform_mis, uniform_mis / importance);
   EXPECT_LT(importance * 10.0, bsdf);
+  EXPECT_LT(importance * 10.0, uniform_mis);
   EXPECT_LT(importance, 1e-2);
 }
 

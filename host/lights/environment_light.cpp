@@ -94,7 +94,8 @@ void read_environment(LoadContext& ctx, const json& scene_obj) {
   const Reader& r = ctx.r;
   const std::string path = "/scene/environment";
   r.object(*e, path);
-  r.check_keys(*e, path, {"file", "sky", "intensity", "rotate"});
+  r.check_keys(*e, path, {"file", "sky", "intensity", "rotate", "importance"});
+  const bool importance = r.read_bool(*e, "importance", path, true);
   if (Reader::find(scene_obj, "backgroundcolor"))
     r.fail("/scene", "expected either \"backgroundcolor\" (a constant sky) or \"environment\", got both");
   const float intensity = r.read_number(*e, "intensity", path, Range::NonNegative, 1.0f);
@@ -108,6 +109,7 @@ void read_environment(LoadContext& ctx, const json& scene_obj) {
     ImageF img = preetham_sky(p);
     const std::string source = r.file() + ": " + path + "/sky";
     ctx.scene.environment = make_environment(source, img.width, img.height, std::move(img.rgb), intensity, rotation);
+    ctx.scene.environment->importance = importance;
     return;
   }
   const std::string written = r.string(*file, path + "/file");
@@ -124,6 +126,7 @@ void read_environment(LoadContext& ctx, const json& scene_obj) {
   }
   ctx.scene.environment =
       make_environment(resolved, img.width, img.height, std::move(img.rgb), intensity, rotation);
+  ctx.scene.environment->importance = importance;
 }
 
 double environment_luminance_integral(const Scene::Environment& env) {
@@ -157,7 +160,7 @@ std::vector<float> environment_device_data(const Scene::Environment& env) {
     for (size_t x = 0; x < w; ++x) {
       const float* c = &env.rgb[3 * (y * w + x)];
       for (int k = 0; k < 3; ++k) data[ENV_HEADER_FLOATS + 4 * (y * w + x) + k] = c[k];
-      f[x] = texel_luminance(c) * sin_row;
+      f[x] = (env.importance ? texel_luminance(c) : 1.0) * sin_row;
       sum += f[x];
     }
     row_sum[y] = sum;
@@ -181,6 +184,7 @@ std::vector<float> environment_device_data(const Scene::Environment& env) {
   data[0] = float(w);
   data[1] = float(h);
   data[2] = total > 0.0 ? float(double(w) * double(h) / total) : 0.0f;
+  data[3] = env.importance ? 1.0f : 0.0f;
   // World -> map: the rows of M = R^T are the columns of R (glm: R[c]).
   for (int row = 0; row < 3; ++row)
     for (int k = 0; k < 3; ++k) data[4 + 4 * row + k] = env.rotation[row][k];

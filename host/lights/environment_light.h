@@ -11,7 +11,9 @@
 // that is negative or not finite, or a size beyond host/limits.h. The
 // distribution is piecewise constant over texels, f = luminance x sin of
 // the row's centre angle, built in double and stored as CDFs (a marginal
-// over rows, a conditional per row).
+// over rows, a conditional per row); with "importance": false, f = sin
+// alone (uniform over the sphere: what importance sampling is measured
+// against).
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -63,6 +63,7 @@ struct Scene {
     int width = 0, height = 0;
     std::vector<float> rgb;  // linear radiance times "intensity", row-major from the top row, 3 per texel
     glm::mat3 rotation{1.0f};  // map -> world: "rotate" [x, y, z] degrees, R = Rz Ry Rx
+    bool importance = true;    // sampled by luminance; false: uniformly over the sphere (comparisons)
   };
   std::optional<Environment> environment;
 

@@ -84,7 +84,10 @@ ImageF preetham_sky(const SkyParams& p) {
       double d[3];
       map_direction((col + 0.5) / p.width, (row + 0.5) / p.height, d);
       float* px = img.at(col, row);
-      if (d[1] <= 0.0) continue;  // below the horizon: black
+      if (d[1] < 0.0) {  // below the horizon: the horizon's sky at that azimuth
+        const double flat = std::hypot(d[0], d[2]);
+        d[0] /= flat, d[1] = 0.0, d[2] /= flat;
+      }
       const double gamma = std::acos(std::clamp(d[0] * sun[0] + d[1] * sun[1] + d[2] * sun[2], -1.0, 1.0));
       const double y = y_z * fy.f(d[1], gamma) / y0;
       const double cx = x_z * fx.f(d[1], gamma) / x0, cy = c_z * fc.f(d[1], gamma) / c0;

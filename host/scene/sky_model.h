@@ -15,7 +15,9 @@
 // 450 nm) and Preetham's Angstrom aerosol depth beta lambda^-1.3 with
 // beta = 0.04608 T - 0.04586 (the paper's appendix): a broadband stand-in for
 // the paper's spectral sun, correct in magnitude and reddening. Below the
-// horizon the image is black (the scene's ground stands there). Units: the
+// horizon each column repeats the sky at the horizon (Preetham is not
+// defined there; a finite ground then meets a sky of its own colour rather
+// than a black band). Units: the
 // image holds luminance in kcd/m^2 times kSkyRadianceScale, so that a white
 // ground lit by a high sun is near 1.
 #pragma once

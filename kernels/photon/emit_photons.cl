@@ -25,10 +25,12 @@
  * lies in a cone, so every stored photon path keeps a non-zero density and
  * the photon map's expectation is unchanged; directions that miss every
  * cone would have ended unstored. A direction behind a one-sided emitter
- * carries no flux. The environment's photons are never guided (they have
- * no point to aim from): they start on a disk of the scene's bounding
- * sphere, across the direction drawn from the map
- * (lib/lights/environment_light.h). */
+ * carries no flux. The environment's photons have no point to aim from:
+ * their direction is drawn from the map and they cross a disk facing it
+ * (lib/lights/environment_light.h: environment_emit_through), of the
+ * scene's bounding sphere, or, guided, of a sphere around every caster
+ * bound (every line that meets a caster crosses it), starting outside the
+ * scene either way. */
 
 #include "lib/caustics.h"
 #include "lib/lights.h"
@@ -60,6 +62,17 @@ inline bool caster_cone_holds(float4 c, float3 o, float3 w) {
   if (dot(d, d) <= c.w * c.w) return true;
   const float3 x = cross(w, d);
   return dot(w, d) > 0.0f && dot(x, x) <= c.w * c.w;
+}
+
+/* A sphere around every caster bound (not the smallest: the centres'
+ * mean, and the farthest bound's reach from it). */
+inline float4 enclosing_sphere(__global const float4* restrict casters, uint count) {
+  float3 centre = (float3)(0.0f);
+  for (uint j = 0u; j < count; ++j) centre += casters[j].xyz;
+  centre /= (float)count;
+  float radius = 0.0f;
+  for (uint j = 0u; j < count; ++j) radius = fmax(radius, length(casters[j].xyz - centre) + casters[j].w);
+  return (float4)(centre, radius * 1.0001f);
 }
 
 /* A direction from o toward the casters and its density (above). */
@@ -106,7 +119,13 @@ __kernel void emit_photons(__global const Light* restrict lights, __global const
   float3 p_error, n; /* the point's error bound, as sample_light's (spawn_ray_origin), and its normal */
   const float3 point = light_emission_point(l, environment, u_point, &p_error, &n);
   float3 origin, dir, flux;
-  if (caster_count > 0u && l->kind != LIGHT_ENVIRONMENT) { /* the sky has no point to aim from: unguided */
+#if HAS_ENVIRONMENT
+  if (l->kind == LIGHT_ENVIRONMENT) {
+    flux = environment_emit_through(environment, l, caster_count > 0u ? enclosing_sphere(casters, caster_count) : l->p0,
+                                    point, u_dir, &origin, &dir);
+  } else
+#endif
+  if (caster_count > 0u) {
     float pdf;
     dir = sample_toward_casters(casters, caster_count, point, photon_random(i, params, 5u), u_dir, &pdf);
     flux = light_emitted_toward(l, environment, point, p_error, n, &dir, pdf, &origin);

@@ -6,7 +6,9 @@
  * power); emitted.xyz = the largest texel radiance (the film's bound).
  * The image and its sampling distribution are the `environment` buffer
  * (host/lights/environment_light.cpp writes it), laid out in floats:
- *   [0] width w, [1] height h, [2] pdf scale w h / sum f, [3] unused;
+ *   [0] width w, [1] height h, [2] pdf scale w h / sum f, [3] 1 when f
+ *   weighs texels by luminance (importance sampling), 0 when not (f = sin t
+ *   alone: uniform over the sphere, "importance": false, for comparisons);
  *   [4..6], [8..10], [12..14]: the rows of M, world -> map (M = R^T for the
  *   scene's "rotate" R);
  *   ENV_HEADER_FLOATS on: w h texels of 4 floats (linear rgb radiance times
@@ -69,7 +71,7 @@ inline float environment_texel_pdf(__global const float* env, uint texel, float 
   if (!(sin_theta > 0.0f)) return 0.0f;
   const uint width = environment_width(env), height = environment_height(env);
   const float3 c = environment_texel(env, texel);
-  const float luminance = 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+  const float luminance = env[3] > 0.0f ? 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z : 1.0f;
   const float row_sin = sin(M_PI_F * ((float)(texel / width) + 0.5f) / (float)height);
   return luminance * row_sin * env[2] / (2.0f * M_PI_F * M_PI_F * sin_theta);
 }
@@ -155,19 +157,23 @@ inline float3 environment_light_emission_point(__global const float* env, __glob
   return make_float3(d.x, d.y, 0.0f);
 }
 
-/* A photon arriving from direction wi (drawn from the map): it starts on
- * the disk of the bounding sphere facing wi, one radius out, and travels
- * along -wi; flux L(wi) pi r^2 / pdf(wi). */
-inline float3 environment_light_emit(__global const float* env, __global const Light* l, float3 point,
-                                     float3 p_error, float3 n, float2 u, float u_side, float3* origin, float3* dir) {
-  (void)p_error; (void)n; (void)u_side;
+/* A photon arriving from direction wi (drawn from the map) through the
+ * disk of sphere `target` (xyz centre, w radius) facing wi: it starts
+ * that disk's point moved back along wi past the scene's bounding sphere
+ * (so that everything in the scene may stop it) and travels along -wi;
+ * flux L(wi) pi r^2 / pdf(wi). `target` is the scene's bounding sphere,
+ * or (guided emission, emit_photons.cl) one around the casters: every
+ * line along -wi that meets a caster crosses its disk. */
+inline float3 environment_emit_through(__global const float* env, __global const Light* l, float4 target,
+                                       float3 point, float2 u, float3* origin, float3* dir) {
   float pdf;
   const float3 wi = environment_sample_direction(env, u, &pdf);
-  const float r = l->p0.w;
   float3 t, b;
   frame_from_normal(wi, &t, &b);
-  *origin = l->p0.xyz + r * (wi + point.x * t + point.y * b);
+  const float back = length(target.xyz - l->p0.xyz) + l->p0.w + target.w;
+  *origin = target.xyz + back * wi + target.w * (point.x * t + point.y * b);
   *dir = -wi;
+  const float r = target.w;
   if (!(pdf > 0.0f)) {
     *dir = splat_float3(0.0f);
     return splat_float3(0.0f);
@@ -175,8 +181,15 @@ inline float3 environment_light_emit(__global const float* env, __global const L
   return environment_radiance(env, wi) * (M_PI_F * r * r / pdf);
 }
 
+inline float3 environment_light_emit(__global const float* env, __global const Light* l, float3 point,
+                                     float3 p_error, float3 n, float2 u, float u_side, float3* origin, float3* dir) {
+  (void)p_error; (void)n; (void)u_side;
+  return environment_emit_through(env, l, l->p0, point, u, origin, dir);
+}
+
 /* Guided emission aims from a point at the casters; the sky has no point,
- * so emit_photons emits its photons unguided (this is never called). */
+ * so emit_photons guides its photons through environment_emit_through
+ * instead (this is never called). */
 inline float3 environment_light_emitted_toward(__global const float* env, __global const Light* l, float3 point,
                                                float3 p_error, float3 n, float3* dir, float pdf, float3* origin) {
   (void)env; (void)l; (void)p_error; (void)n; (void)pdf;
