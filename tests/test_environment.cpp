@@ -91,7 +91,9 @@ TEST(Environment, FileFormAndPreciseErrors) {
   ImageF negative = constant_map(4, 2, 1.0f);
   negative.at(3, 1)[1] = -2.0f;
   EXPECT_TRUE(test::Contains(load_error(env_scene(file_env(write_map("neg.pfm", negative)), kFar, kLookZ)),
-                             {"neg.pfm: texel (3, 1): expected finite non-negative radiance"}));
+                             {"/scene/environment/file: ", "neg.pfm: texel (3, 1): expected finite non-negative radiance"}));
+  EXPECT_TRUE(test::Contains(load_error(env_scene(R"({"sky": {"resolution": [8192, 4096]}})", kFar, kLookZ)),
+                             {"/scene/environment/sky/resolution: expected [width, height]"}));
   EXPECT_TRUE(test::Contains(load_error(env_scene("{}", kFar, kLookZ)), {"exactly one of \"file\"", "\"sky\""}));
   EXPECT_TRUE(test::Contains(load_error(env_scene(R"({"sky": {"sun_elevation": -5}})", kFar, kLookZ)),
                              {"/scene/environment/sky/sun_elevation: expected degrees above the horizon"}));
@@ -255,7 +257,9 @@ TEST(Environment, PhotonsCarryThePowerTheTablePicksBy) {
 // A diffuse sphere under a map of constant radiance L reflects what it
 // does under backgroundcolor L: the mean over its disc within noise.
 TEST(Environment, FurnaceMatchesTheConstantBackground) {
-  const std::string camera = R"({"type": "pinhole", "width": 32, "height": 32, "position": [0, 0, -4], "lookAt": [0, 0, 0],
+  const int size = int(test::sized(32, 16));
+  const std::string camera = R"({"type": "pinhole", "width": )" + std::to_string(size) + R"(, "height": )" +
+                             std::to_string(size) + R"(, "position": [0, 0, -4], "lookAt": [0, 0, 0],
     "upVector": [0, 1, 0], "fov": 45})";
   const std::string sphere = R"({"type": "sphere", "center": [0, 0, 0], "radius": 1,
     "material": {"type": "diffuse", "albedo": [0.5, 0.25, 0.75]}})";
@@ -265,7 +269,7 @@ TEST(Environment, FurnaceMatchesTheConstantBackground) {
   const int spp = int(test::sized(64, 4));
   const test::PathRender a = test::render_path(write_scene("furnace_bg.json", constant), spp);
   const test::PathRender b = test::render_path(write_scene("furnace_env.json", env_scene(file_env(map), sphere, camera, 8)), spp);
-  auto on_disc = [](int x, int y) { return std::hypot(x + 0.5 - 16.0, y + 0.5 - 16.0) < 7.0; };
+  auto on_disc = [&](int x, int y) { return std::hypot(x + 0.5 - size / 2.0, y + 0.5 - size / 2.0) < 7.0 * size / 32.0; };
   const test::Mean ma = test::mean_over(a, on_disc), mb = test::mean_over(b, on_disc);
   EXPECT_NEAR(ma.mean, 0.8 * 0.5, 0.01);  // the constant background's furnace is exact
   EXPECT_NEAR(mb.mean, ma.mean, 4.0 * std::hypot(ma.se, mb.se) + 1e-4) << "se " << mb.se;
@@ -274,8 +278,12 @@ TEST(Environment, FurnaceMatchesTheConstantBackground) {
 
 // The floor scene for the one-texel and high-dynamic-range tests: a
 // Lambertian floor (albedo 0.5) seen from above, optionally a small sphere.
-const char* kFloorCamera = R"({"type": "pinhole", "width": 32, "height": 32, "position": [0, 6, 0], "lookAt": [0, 0, 0],
-  "upVector": [0, 0, 1], "fov": 60})";
+// 32 x 32 pixels, 16 x 16 on Oclgrind.
+std::string floor_camera() {
+  const std::string size = std::to_string(test::sized(32, 16));
+  return R"({"type": "pinhole", "width": )" + size + R"(, "height": )" + size +
+         R"(, "position": [0, 6, 0], "lookAt": [0, 0, 0], "upVector": [0, 0, 1], "fov": 60})";
+}
 const char* kFloor = R"({"type": "rectangle", "v0": [-50, 0, -50], "v1": [-50, 0, 50], "v2": [50, 0, 50], "v3": [50, 0, -50],
   "material": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}})";
 
@@ -293,9 +301,10 @@ TEST(Environment, OneBrightTexelLightsLikeADirectionalLight) {
   const std::string blocker = R"({"type": "sphere", "center": [0, 1, 0], "radius": 0.5,
     "material": {"type": "diffuse", "albedo": [0, 0, 0]}},)";
   const std::string scene =
-      write_scene("env_sun_floor.json", env_scene(file_env(map), blocker + std::string(kFloor), kFloorCamera));
+      write_scene("env_sun_floor.json", env_scene(file_env(map), blocker + std::string(kFloor), floor_camera()));
   const test::PathRender r = test::render_path(scene, int(test::sized(16, 2)));
-  const CameraGPU camera = camera_for_image(load_scene(scene).camera, 32, 32);
+  const int size = r.image.width;
+  const CameraGPU camera = camera_for_image(load_scene(scene).camera, size, size);
   const double expected = 0.5 / kPi * texel_irradiance(w, h, sx, sy, 1000.0);
   // The texel's centre direction: the shadow of the sphere at (0, 1, 0)
   // falls on the floor at -(dx, dz) / dy, away from it.
@@ -303,8 +312,8 @@ TEST(Environment, OneBrightTexelLightsLikeADirectionalLight) {
   const glm::dvec3 to_sun(std::sin(th) * std::sin(ph), std::cos(th), std::sin(th) * std::cos(ph));
   const glm::dvec3 shadow = glm::dvec3(0, 1, 0) - to_sun * (1.0 / to_sun.y);
   int lit = 0, dark = 0;
-  for (int py = 0; py < 32; ++py)
-    for (int px = 0; px < 32; ++px) {
+  for (int py = 0; py < size; ++py)
+    for (int px = 0; px < size; ++px) {
       float d[3];
       camera_plane_point(&camera, float(px + 0.5), float(py + 0.5), d);
       const glm::dvec3 dir(d[0], d[1], d[2]), o(0, 6, 0);
@@ -320,8 +329,8 @@ TEST(Environment, OneBrightTexelLightsLikeADirectionalLight) {
         ++lit;
       }
     }
-  EXPECT_GT(dark, 4);
-  EXPECT_GT(lit, 500);
+  EXPECT_GE(dark, size == 32 ? 4 : 1);
+  EXPECT_GT(lit, size * size / 2);
 }
 
 // A sun texel 1e5 x the sky (64 x 32, radiance 1 elsewhere) over a bare
@@ -335,14 +344,15 @@ TEST(Environment, ImportanceSamplingBeatsBsdfSamplingOnASun) {
   const int w = 64, h = 32, sx = 20, sy = 9;
   const float sun = 1e5f;
   const std::string map = write_map("env_hdr.pfm", sun_and_sky(w, h, sx, sy, sun, 1.0f));
-  const std::string scene = write_scene("env_hdr.json", env_scene(file_env(map), kFloor, kFloorCamera));
+  const std::string scene = write_scene("env_hdr.json", env_scene(file_env(map), kFloor, floor_camera()));
   const double expected = 0.5 / kPi * (kPi + texel_irradiance(w, h, sx, sy, sun - 1.0));
   const std::string uniform =
-      write_scene("env_hdr_uniform.json", env_scene(file_env(map, R"(, "importance": false)"), kFloor, kFloorCamera));
+      write_scene("env_hdr_uniform.json", env_scene(file_env(map, R"(, "importance": false)"), kFloor, floor_camera()));
+  const int spp = int(test::sized(8, 2));
   auto rel_mse = [&](uint32_t strategy, const std::string& file = "") {
     test::PathRenderOptions o;
     o.strategy = strategy;
-    const test::PathRender r = test::render_path(file.empty() ? scene : file, int(test::sized(8, 2)), o);
+    const test::PathRender r = test::render_path(file.empty() ? scene : file, spp, o);
     double sum = 0.0;
     for (float v : r.image.rgb) sum += (v - expected) * (v - expected) / (expected * expected);
     return sum / double(r.image.rgb.size());
@@ -354,7 +364,7 @@ TEST(Environment, ImportanceSamplingBeatsBsdfSamplingOnASun) {
               importance, bsdf, bsdf / importance, uniform_mis, uniform_mis / importance);
   EXPECT_LT(importance * 10.0, bsdf);
   EXPECT_LT(importance * 10.0, uniform_mis);
-  EXPECT_LT(importance, 1e-2);
+  EXPECT_LT(importance, 0.05 / spp);  // measured 0.013 / spp: the sky's share, sampled rarely
 }
 
 }  // namespace

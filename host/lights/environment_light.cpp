@@ -49,8 +49,10 @@ SkyParams read_sky(const Reader& r, const json& sky, const std::string& path) {
     r.expected(path + "/turbidity", "a turbidity from 1.7 to 10 (Preetham's fitted range)", sky["turbidity"]);
   if (const json* res = Reader::find(sky, "resolution")) {
     const glm::vec2 wh = r.vec2(*res, path + "/resolution", Range::Positive);
-    if (!(wh.x >= 8 && wh.y >= 4 && wh.x <= 16384 && wh.y <= 8192 && wh.x == std::floor(wh.x) && wh.y == std::floor(wh.y)))
-      r.expected(path + "/resolution", "[width, height], whole numbers from [8, 4] to [16384, 8192]", *res);
+    // At most 8 Mi texels: the image, its distribution and the device's
+    // copy stay within a few hundred MiB (a scene file cannot ask for more).
+    if (!(wh.x >= 8 && wh.y >= 4 && wh.x <= 4096 && wh.y <= 2048 && wh.x == std::floor(wh.x) && wh.y == std::floor(wh.y)))
+      r.expected(path + "/resolution", "[width, height], whole numbers from [8, 4] to [4096, 2048]", *res);
     p.width = int(wh.x), p.height = int(wh.y);
   }
   return p;
@@ -124,8 +126,11 @@ void read_environment(LoadContext& ctx, const json& scene_obj) {
   } catch (const Error& err) {
     r.fail(path + "/file", std::string("could not read the environment map: ") + err.what());
   }
-  ctx.scene.environment =
-      make_environment(resolved, img.width, img.height, std::move(img.rgb), intensity, rotation);
+  try {
+    ctx.scene.environment = make_environment(resolved, img.width, img.height, std::move(img.rgb), intensity, rotation);
+  } catch (const Error& err) {
+    r.fail(path + "/file", err.what());
+  }
   ctx.scene.environment->importance = importance;
 }
 
