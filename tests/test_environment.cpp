@@ -28,6 +28,7 @@
 #include "host/lights/light_types.h"
 #include "host/scene/load_scene.h"
 #include "host/scene/scene_reader.h"
+#include "host/scene/sky_model.h"
 #include "kernels/shared/camera.h"
 #include "tests/support/chi_square.h"
 #include "tests/support/path_render.h"
@@ -101,6 +102,39 @@ TEST(Environment, FileFormAndPreciseErrors) {
                              {"/scene/environment/sky/turbidity"}));
   EXPECT_TRUE(test::Contains(load_error(env_scene(R"({"sky": {}, "intensity": -1})", kFar, kLookZ)),
                              {"/scene/environment/intensity"}));
+}
+
+// `caustica sky` writes the image the "sky" form renders with, texel for
+// texel; the sun's power is all in the image (radiance x solid angle).
+TEST(Environment, SkyCommandWritesTheSkyTheSceneUses) {
+  const std::string out = test::temp_dir() + "/sky.pfm";
+  const test::CliResult r =
+      test::run_cli("sky --sun-elevation 35 --sun-azimuth 60 --turbidity 4 --width 64 --height 32 -o " + out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Scene s = load_scene(write_scene("env_sky.json", env_scene(R"({"sky": {"sun_elevation": 35, "sun_azimuth": 60,
+    "turbidity": 4, "resolution": [64, 32]}})", kFar, kLookZ)));
+  const ImageF written = read_hdr_image(out);
+  ASSERT_EQ(written.rgb.size(), s.environment->rgb.size());
+  EXPECT_EQ(written.rgb, s.environment->rgb);
+  SkyParams p;
+  p.sun_elevation = 35, p.sun_azimuth = 60, p.turbidity = 4, p.width = 64, p.height = 32;
+  p.sun_disk = false;
+  const ImageF sky_only = preetham_sky(p);
+  float sun[3];
+  preetham_sun_radiance(p, sun);
+  // The sun's radiance x its solid angle is what the image holds beyond the
+  // sky alone, however many texels its 0.53 degrees straddle.
+  double added = 0.0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const double solid = 2.0 * kPi / 64 * (std::cos(kPi * y / 32) - std::cos(kPi * (y + 1) / 32));
+      added += solid * (double(written.at(x, y)[1]) - sky_only.at(x, y)[1]);
+    }
+  const double sun_power = sun[1] * 2.0 * kPi * (1.0 - std::cos(kSunAngularRadiusDegrees * kPi / 180.0));
+  EXPECT_NEAR(added, sun_power, 1e-4 * sun_power);
+  EXPECT_GT(sun[1], 1e4f * sky_only.at(0, 0)[1]);  // the sun's radiance dwarfs the zenith's
+  EXPECT_TRUE(test::Contains(test::run_cli("sky --sun-elevation 95 -o " + out).output, {"--sun-elevation"}));
+  EXPECT_TRUE(test::Contains(test::run_cli("sky -o " + test::temp_dir() + "/sky.png").output, {"expected a .pfm or .exr"}));
 }
 
 struct Rendered {

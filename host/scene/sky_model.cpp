@@ -96,6 +96,7 @@ ImageF preetham_sky(const SkyParams& p) {
   // The sun: its radiance over its disk, spread over the texels it covers
   // (8 x 8 points a texel) and scaled so that the image holds exactly its
   // power, radiance x solid angle, however small it is against a texel.
+  if (!p.sun_disk) return img;
   float sun_rgb[3];
   preetham_sun_radiance(p, sun_rgb);
   const double cos_sun = std::cos(kSunAngularRadiusDegrees * kPi / 180.0);

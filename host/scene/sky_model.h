@@ -31,6 +31,7 @@ struct SkyParams {
   float sun_azimuth = 0.0f;     // degrees from the map's +z toward +x
   float turbidity = 3.0f;       // 1.7 (very clear) to 10 (hazy)
   int width = 1024, height = 512;
+  bool sun_disk = true;  // false: the sky alone (tests measure the disk against it)
 };
 
 inline constexpr float kSkyRadianceScale = 0.05f;  // image value per kcd/m^2
