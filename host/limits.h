@@ -63,5 +63,9 @@ inline constexpr uint64_t kMaxPixelsPerFileByteRle = 256;
 // sphere lights count as one stand-in each) is bounded. Path mode samples
 // lights and has no such limit.
 inline constexpr uint64_t kMaxPhongLights = 1024;
+// Colours and coefficients that scale reflected light (diffusecolor, kd,
+// specularcolor, ks, ka, checker colours): 1 reflects all of it; the
+// community scenes go up to 9. Far above is a typo or a unit mistake.
+inline constexpr float kMaxReflectance = 100.0f;
 
 }  // namespace caustica::limits

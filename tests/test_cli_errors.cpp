@@ -109,14 +109,16 @@ std::vector<Row> make_rows() {
   write_file("kd_nan.mtl", "newmtl red\nKd nan 0 0\n");
   write_file("kd_negative.obj", "mtllib kd_negative.mtl\n" + tri + "usemtl red\nf 1 2 3\n");
   write_file("kd_negative.mtl", "newmtl red\nKd -1 0 0\n");
+  write_file("kd_huge.obj", "mtllib kd_huge.mtl\n" + tri + "usemtl red\nf 1 2 3\n");
+  write_file("kd_huge.mtl", "newmtl red\nKd 1e29 0.5 0.5\n");
   write_file("nan_vertex.obj", tri + "v nan 1 0\nf 1 2 4\n");
   write_file("inf_vertex.obj", tri + "v 0 inf 0\nf 1 2 4\n");
   write_file("huge_index.obj", tri + "f 1 2 100000000000000000000\n");
   write_file("nan_vertex.ply",
              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
              "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n");
-  for (const char* m : {"kd_nan.obj", "kd_negative.obj", "nan_vertex.obj", "inf_vertex.obj", "huge_index.obj",
-                        "nan_vertex.ply"})
+  for (const char* m : {"kd_nan.obj", "kd_negative.obj", "kd_huge.obj", "nan_vertex.obj", "inf_vertex.obj",
+                        "huge_index.obj", "nan_vertex.ply"})
     write_file(fs::path(m).stem().string() + "_" + fs::path(m).extension().string().substr(1) + ".json",
                scene(mesh_shape(m)));
 
@@ -126,8 +128,21 @@ std::vector<Row> make_rows() {
     fs::create_symlink("/dev/full", d + "/full." + ext, ec);
   }
 
+  // Issue 24's two black images: one value of 1e29 had left the film a
+  // resolution of 2^41, so every ordinary value rounded to 0, exit 0.
+  write_file("huge_diffuse.json",
+             scene(R"([{"type": "triangle", "v0": [-1, -1, 0], "v1": [1, -1, 0], "v2": [0, 1, 0],
+                         "material": {"diffusecolor": [1.2e29, 0.5, 0.5]}}])"));
+  write_file("huge_ks.json", scene(R"([{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                                        "material": {"ks": 1e29}}])"));
+
   const std::string missing = quote(d + "/no_such_scene.json");
   std::vector<Row> rows = {
+      {"reflectance_1e29", "render " + quote(d + "/huge_diffuse.json"), true,
+       {"huge_diffuse.json: /scene/shapes/0/material/diffusecolor/0: expected a reflectance in [0, 100]",
+        "1.2e+29"}},
+      {"phong_ks_1e29", "render " + quote(d + "/huge_ks.json"), true,
+       {"huge_ks.json: /scene/shapes/0/material/ks: expected a reflectance in [0, 100]", "1e+29"}},
       {"deep_json", "render " + quote(d + "/deep.json"), true, {"deep.json: /0/0/0", "nested at most 64 levels"}},
       {"deep_json_value", "render " + quote(d + "/deep_value.json"), true, {"deep_value.json: /nbounces/0", "64 levels"}},
       {"bvh_render", "render " + quote(ok) + " --bvh foo", true, {"--bvh foo: expected fast, sah or spatial"}},
@@ -171,6 +186,8 @@ std::vector<Row> make_rows() {
       {"kd_nan", "render " + quote(d + "/kd_nan_obj.json"), true,
        {"/scene/shapes/0/file", "kd_nan.mtl: line 2: Kd: expected 1 or 3 finite non-negative numbers, got 'nan 0 0'"}},
       {"kd_negative", "render " + quote(d + "/kd_negative_obj.json"), true, {"kd_negative.mtl: line 2: Kd", "'-1 0 0'"}},
+      {"kd_huge", "render " + quote(d + "/kd_huge_obj.json"), true,
+       {"kd_huge.mtl: line 2: Kd: expected a reflectance in [0, 100]", "'1e29 0.5 0.5'"}},
       {"obj_nan_vertex", "render " + quote(d + "/nan_vertex_obj.json"), true,
        {"nan_vertex.obj: line 4: expected a finite vertex coordinate", "'nan'"}},
       {"obj_inf_vertex", "render " + quote(d + "/inf_vertex_obj.json"), true, {"inf_vertex.obj: line 4", "'inf'"}},

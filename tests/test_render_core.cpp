@@ -26,6 +26,7 @@
 #include "host/render/renderer.h"
 #include "host/scene/load_scene.h"
 #include "kernels/shared/photon.h"
+#include "lib/film_sums.h"
 #include "kernels/shared/records.h"
 #include "tests/support/test_support.h"
 
@@ -124,11 +125,10 @@ struct FilmRig {
   }
 };
 
-FilmOptions film_options(int width, int height, float bound = 1.0f, bool half = false) {
+FilmOptions film_options(int width, int height, bool half = false) {
   FilmOptions o;
   o.width = width;
   o.height = height;
-  o.pass_bound = bound;
   o.half_buffer = half;
   return o;
 }
@@ -136,7 +136,7 @@ FilmOptions film_options(int width, int height, float bound = 1.0f, bool half = 
 // The half buffer holds passes [P, N), P the largest power of two below N:
 // pass k adds k + 1 to pixel 0, so the half's mean is known exactly.
 TEST(Film, HalfBufferHoldsThePassesSinceTheLatestPowerOfTwo) {
-  FilmRig rig(film_options(2, 1, 64.0f, true));
+  FilmRig rig(film_options(2, 1, true));
   for (int n = 1; n <= 19; ++n) {
     rig.add_pass({{{float(n), 0.0f, 0.0f, 0.0f}}}, {0u});
     rig.film.accumulate_pass(rig.launcher);
@@ -165,7 +165,7 @@ TEST(Film, WavesOfPassesAccumulateLikeTheirPasses) {
   EXPECT_EQ(Film::most_passes_from(256, 1000), Film::kMostWavePasses);
   EXPECT_EQ(Film::most_passes_from(384, 1000), Film::kMostWavePasses);
   EXPECT_EQ(Film::most_passes_from(8, 3), 3);
-  FilmRig waves(film_options(2, 1, 64.0f, true)), single(film_options(2, 1, 64.0f, true));
+  FilmRig waves(film_options(2, 1, true)), single(film_options(2, 1, true));
   for (int n = 0; n < 40;) {
     const int k = Film::most_passes_from(n, 100);
     for (int p = n; p < n + k; ++p) {  // pass p adds p + 1 to pixel 0
@@ -182,7 +182,7 @@ TEST(Film, WavesOfPassesAccumulateLikeTheirPasses) {
       EXPECT_EQ(waves.film.half_mean().rgb[0], single.film.half_mean().rgb[0]) << n << " passes";
     }
   }
-  FilmRig crossing(film_options(2, 1, 64.0f, true));
+  FilmRig crossing(film_options(2, 1, true));
   crossing.film.accumulate_pass(crossing.launcher);
   crossing.film.accumulate_pass(crossing.launcher);
   crossing.film.accumulate_pass(crossing.launcher);  // 3 passes: the next restart is at 4
@@ -196,7 +196,7 @@ TEST(Film, WavesOfPassesAccumulateLikeTheirPasses) {
 // numbers give the same mean and half bits whether they came one by one or
 // in waves (float sums, as before, rounded differently).
 TEST(Film, SumsDoNotDependOnTheWavesThePassesCameIn) {
-  FilmRig waves(film_options(2, 1, 64.0f, true)), single(film_options(2, 1, 64.0f, true));
+  FilmRig waves(film_options(2, 1, true)), single(film_options(2, 1, true));
   auto value = [](int p) { return float(0.1 * (p + 1) + 1.0 / 3.0); };
   int n = 0;
   while (n < 100) {
@@ -220,6 +220,10 @@ TEST(Film, SumsDoNotDependOnTheWavesThePassesCameIn) {
 // (kernels/lib/film_sums.h, on the host; the device's is the same code, and
 // the tests above read every film through it).
 TEST(Film, WideSumsRoundOnceToTheNearestFloat) {
+  // In units of the fixed point (the scale back is a power of two: exact).
+  auto sum128_to_float = [](uint64_t low, uint64_t high) {
+    return std::ldexp(film_sum_to_float(low, high), FILM_FRACTION_BITS);
+  };
   const float two64 = std::ldexp(1.0f, 64);
   EXPECT_EQ(sum128_to_float(12345, 0), 12345.0f);
   EXPECT_EQ(sum128_to_float(~uint64_t(0), 0), two64);  // 2^64 - 1 rounds up
@@ -239,7 +243,7 @@ TEST(Film, WideSumsRoundOnceToTheNearestFloat) {
 // known exactly; plans that do not add up, exceed the cap or disagree with
 // the accumulated wave are refused.
 TEST(Film, UnevenWavesKeepEveryPixelsOwnCountAndHalf) {
-  FilmRig rig(film_options(3, 1, 4096.0f, true));
+  FilmRig rig(film_options(3, 1, true));
   const std::vector<std::vector<uint32_t>> waves = {{1, 1, 1}, {1, 1, 1}, {2, 2, 2}, {1, 5, 0},
                                                     {3, 0, 3}, {0, 6, 0}, {2, 2, 2}, {9, 0, 0}};
   std::vector<uint32_t> n(3, 0), half_start(3, 0);
@@ -283,12 +287,13 @@ TEST(Film, UnevenWavesKeepEveryPixelsOwnCountAndHalf) {
   EXPECT_TRUE(test::Contains(test::error_of([&] { rig.film.plan_wave(2, {1, 1, 1}); }),
                              {"a wave allocation of 3 samples, not 2 passes of 3 pixels"}));
   EXPECT_TRUE(test::Contains(test::error_of([&] { rig.film.plan_wave(1, {1, 1}); }), {"2 pixels for 3"}));
-  // The cap: what the fixed-point scale fits, at least kMostWavePasses.
-  EXPECT_EQ(rig.film.most_samples_per_pixel(), 65536u);  // bound 2^12, scale 2^24: 2^27 fit
-  FilmRig tight(film_options(3, 1, 4294967296.0f, true));  // bound 2^32, scale 2^24: 2^7
-  EXPECT_EQ(tight.film.most_samples_per_pixel(), uint32_t(Film::kMostWavePasses));
-  EXPECT_TRUE(test::Contains(test::error_of([&] { tight.film.plan_wave(60, {180, 0, 0}); }),
-                             {"a pixel given 180 samples in one wave (at most 128)"}));
+  // The cap: 2^16 samples a pixel in one wave (what the pass's 128 bits fit).
+  FilmRig wide(film_options(1024, 1, true));
+  std::vector<uint32_t> crowded(1024, 0u);
+  crowded[0] = 65537;
+  crowded[1] = 128 * 1024 - 65537;
+  EXPECT_TRUE(test::Contains(test::error_of([&] { wide.film.plan_wave(128, crowded); }),
+                             {"a pixel given 65537 samples in one wave (at most 65536)"}));
   rig.film.plan_wave(2, {3, 3, 0});
   EXPECT_TRUE(test::Contains(test::error_of([&] { rig.film.accumulate_pass(rig.launcher, nullptr, 1); }),
                              {"a wave of 1 passes accumulated, 2 planned"}));
@@ -297,7 +302,7 @@ TEST(Film, UnevenWavesKeepEveryPixelsOwnCountAndHalf) {
 TEST(Film, NonFiniteAndNegativeAreCountedAndDroppedHugeValuesClamped) {
   FilmRig rig(film_options(4, 1));
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
-  const float max = rig.film.params().max_contribution;
+  const float max = FILM_MAX_CONTRIBUTION;
   rig.add_pass({{nan, 0.5f, 0, 0}, {inf, -inf, 0.25f, 0}, {-1.0f, -0.0f, 2.0f, 0}, {3.0f * max, 1.0f, 0, 0}},
                {0, 1, 2, 3});
   rig.film.accumulate_pass(rig.launcher);
@@ -310,22 +315,93 @@ TEST(Film, NonFiniteAndNegativeAreCountedAndDroppedHugeValuesClamped) {
   for (int i = 0; i < 12; ++i) EXPECT_EQ(img.rgb[i], want[i]) << "value " << i;
 }
 
-TEST(Film, ScaleKeepsTheHdrRangeOfTheBound) {
-  // A 1e10 background must come back as 1e10, not as a clamp (the old film
-  // stopped at 65536); the scale drops just enough bits to fit the bound.
-  const FilmParams p = film_params_for_bound(2e10f);
-  EXPECT_LE(double(p.scale) * 2e10, std::ldexp(1.0, 56));
-  EXPECT_GT(double(p.scale) * 2e10, std::ldexp(1.0, 55));
-  EXPECT_GE(p.max_contribution, 2e10f);
-  EXPECT_EQ(film_params_for_bound(1.0f).scale, FILM_MAX_SCALE);
-  FilmRig rig(film_options(2, 1, 2e10f));
-  rig.add_pass({{1e10f, 1e-3f, 1.0f, 0}, {12345.678f, 0.1f, 1e9f, 0}}, {0, 1});
+// Issue 24: one fixed point for every render. A float from 2^-20 (1e-6)
+// up comes back with every bit, 1e12 and 1e-6 in one image; below 2^-45 a
+// contribution rounds to 0 and is counted, never silently.
+TEST(Film, KeepsEveryBitFromAMillionthToATrillionInOneImage) {
+  FilmRig rig(film_options(3, 1));
+  rig.add_pass({{1e12f, 1e-6f, 1.0f, 0}, {12345.678f, 0.1f, 3e16f, 0}, {1e-14f, 0.0f, 0x1p-30f, 0}}, {0, 1, 2});
   rig.film.accumulate_pass(rig.launcher);
   const ImageF img = rig.film.mean();
-  EXPECT_EQ(rig.film.counts().total(), 0u);
-  const float want[6] = {1e10f, 1e-3f, 1.0f, 12345.678f, 0.1f, 1e9f};
-  const double resolution = 1.0 / rig.film.params().scale;
-  for (int i = 0; i < 6; ++i) EXPECT_NEAR(img.rgb[i], want[i], std::max(resolution, 1e-7 * want[i])) << i;
+  const FilmCounts c = rig.film.counts();
+  EXPECT_EQ(c.changed(), 0u);
+  EXPECT_EQ(c.underflow, 1u);  // 1e-14 < 2^-45
+  const float want[9] = {1e12f, 1e-6f, 1.0f, 12345.678f, 0.1f, 3e16f, 0.0f, 0.0f, 0x1p-30f};
+  for (int i = 0; i < 9; ++i) EXPECT_EQ(img.rgb[i], want[i]) << "value " << i;
+  // What the lost contribution could have held, against the image's light.
+  const double share = rig.film.underflow_share(c.underflow);
+  EXPECT_GT(share, 0.0);
+  EXPECT_LT(share, 1e-30);
+}
+
+// Into fixed point and back (kernels/lib/film_sums.h on the host, the
+// device's code): exact from 2^-20 up, rounded to nearest (even) below.
+TEST(Film, FloatsBecomeFixedPointExactlyOrRoundedToNearest) {
+  auto round_trip = [](float v) {
+    uint64_t low = 0, high = 0;
+    film_fixed_from_float(v, &low, &high);
+    return film_sum_to_float(low, high);
+  };
+  std::mt19937 rng(3);
+  for (int i = 0; i < 200000; ++i) {
+    // Every exponent from 2^-20 to 2^56, random mantissas.
+    const uint32_t exponent = 127 - 20 + rng() % 77, bits = (exponent << 23) | (rng() & 0x7fffffu);
+    float v;
+    std::memcpy(&v, &bits, 4);
+    ASSERT_EQ(round_trip(v), v) << v;
+  }
+  auto fixed = [](float v) {
+    uint64_t low = 0, high = 0;
+    film_fixed_from_float(v, &low, &high);
+    EXPECT_EQ(high, 0u) << v;
+    return low;
+  };
+  const float unit = std::ldexp(1.0f, -FILM_FRACTION_BITS);
+  EXPECT_EQ(fixed(0.5f * unit), 0u);    // a tie: to even
+  EXPECT_EQ(fixed(0.75f * unit), 1u);
+  EXPECT_EQ(fixed(1.5f * unit), 2u);    // a tie: to even
+  EXPECT_EQ(fixed(2.5f * unit), 2u);    // a tie: to even
+  EXPECT_EQ(fixed(0x1.000002p-20f), (uint64_t(1) << 24) + 2u);  // its last bit is 2^-43
+  EXPECT_EQ(fixed(1e-40f), 0u);         // subnormal
+  uint64_t low = 0, high = 0;
+  film_fixed_from_float(FILM_MAX_CONTRIBUTION, &low, &high);
+  EXPECT_EQ(low, 0u);
+  EXPECT_EQ(high, uint64_t(1) << (56 + FILM_FRACTION_BITS - 64));
+  film_fixed_from_float(1.0f, &low, &high);
+  EXPECT_EQ(low, uint64_t(1) << FILM_FRACTION_BITS);
+  EXPECT_EQ(high, 0u);
+  film_fixed_from_float(std::ldexp(1.0f, 20) * 1.5f, &low, &high);  // 1.5 * 2^64
+  EXPECT_EQ(low, uint64_t(1) << 63);
+  EXPECT_EQ(high, 1u);
+}
+
+// The pass's atomics carry from the low word into the high one: values
+// near 2^20 are 2^64 in fixed point, so nearly every add wraps the low
+// word. The sums are exact in any order and work-group size.
+TEST(Film, CarriesIntoTheHighWordAddExactly) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> value(0x1p18f, 0x1p21f);
+  std::vector<cs_float4> values(test::sized(4000, 400));
+  std::vector<uint32_t> pixels(values.size());
+  std::vector<unsigned __int128> exact(12, 0);
+  for (size_t i = 0; i < values.size(); ++i) {
+    values[i] = cs_float4{value(rng), value(rng), value(rng), 0};
+    pixels[i] = uint32_t(rng() % 4);
+    for (int c = 0; c < 3; ++c) {
+      uint64_t low = 0, high = 0;
+      film_fixed_from_float((&values[i].x)[c], &low, &high);
+      exact[3 * pixels[i] + c] += (static_cast<unsigned __int128>(high) << 64) | low;
+    }
+  }
+  for (size_t local : {1, 64}) {
+    FilmRig rig(film_options(4, 1));
+    rig.add_pass(values, pixels, local);
+    rig.film.accumulate_pass(rig.launcher);
+    const ImageF sums = rig.film.mean();  // one pass: the sums
+    for (int i = 0; i < 12; ++i)
+      ASSERT_EQ(sums.rgb[i], film_sum_to_float(uint64_t(exact[i]), uint64_t(exact[i] >> 64)))
+          << "value " << i << ", work-group " << local;
+  }
 }
 
 TEST(Film, AccumulationIsOrderIndependentAndPassesAverage) {
@@ -350,7 +426,7 @@ TEST(Film, AccumulationIsOrderIndependentAndPassesAverage) {
   ImageF first;
   for (size_t local : {1, 8, 64}) {
     for (int shuffled = 0; shuffled < 2; ++shuffled) {
-      FilmRig rig(film_options(4, 3, 1e4f, true));
+      FilmRig rig(film_options(4, 3, true));
       for (int pass = 0; pass < 3; ++pass)
         rig.add_pass(shuffled ? shuffled_values : values, shuffled ? shuffled_pixels : pixels, local),
             rig.film.accumulate_pass(rig.launcher);
@@ -570,7 +646,7 @@ TEST(RenderCore, HdrBackgroundKeepsItsValue) {
   const auto session = prepare_session(o);
   RenderStats stats;
   const ImageF img = session->renderer->render(&stats);
-  EXPECT_EQ(stats.film.total(), 0u);
+  EXPECT_EQ(stats.film.changed(), 0u);
   for (size_t i = 0; i < img.pixel_count(); ++i) {
     EXPECT_EQ(img.rgb[3 * i], 1e10f);
     EXPECT_NEAR(img.rgb[3 * i + 1], 0.002f, 1e-6f);

@@ -217,8 +217,8 @@ Prepared prepare(const std::string& scene, RenderMode mode, int passes, bool ada
   return p;
 }
 
-StateIdentity identity_of(const Session& s, const RenderSettings& settings, float scale) {
-  return render_identity(scene_hash(s.scene), s.mode, settings, scale, "spatial");
+StateIdentity identity_of(const Session& s, const RenderSettings& settings) {
+  return render_identity(scene_hash(s.scene), s.mode, settings, "spatial");
 }
 
 // Renders `passes` passes whole, and again from the state written after
@@ -239,7 +239,7 @@ void expect_resume_in_process_same_bits(const std::string& scene, RenderMode mod
     whole = r.render(&stats, {}, [&](const Film& film, double) {
       if (saved == 0 && film.passes() >= save_at) {
         RenderState state = r.state();
-        state.identity = identity_of(s, p.settings, film.params().scale);
+        state.identity = identity_of(s, p.settings);
         write_render_state(path, state);
         saved = film.passes();
       }
@@ -259,7 +259,7 @@ void expect_resume_in_process_same_bits(const std::string& scene, RenderMode mod
   Renderer r(*s.runtime, *s.device_scene, s.mode, s.program.program, p.settings);
   const RenderState state = read_render_state(path);
   EXPECT_EQ(state.adaptive.has_value(), adaptive);
-  check_render_state(path, state, identity_of(s, p.settings, r.film().params().scale));
+  check_render_state(path, state, identity_of(s, p.settings));
   RenderStats stats;
   const ImageF resumed = r.render(&stats, {}, {}, &state);
   EXPECT_EQ(stats.passes, passes - state.film.passes);
@@ -321,7 +321,7 @@ Saved binary_state(const std::string& scene) {
   RenderStats stats;
   s.renderer->render(&stats);
   RenderState state = s.renderer->state();
-  state.identity = identity_of(s, s.settings, s.renderer->film().params().scale);
+  state.identity = identity_of(s, s.settings);
   return {encode_render_state(state), state.identity};
 }
 
@@ -347,9 +347,10 @@ TEST(RenderState, DamagedFilesAreRefusedWithAPreciseError) {
   EXPECT_TRUE(Contains(test::error_of([&] { read_render_state(spew(dir + "/flip.cst", flipped)); }),
                        {"flip.cst: checksum mismatch", "the file is damaged"}));
   std::string version = saved.bytes;
-  version[16] = 2;  // the version follows the 16-byte magic
-  EXPECT_TRUE(Contains(test::error_of([&] { read_render_state(spew(dir + "/v2.cst", version)); }),
-                       {"v2.cst: state file version 2, this caustica reads version 1"}));
+  version[16] = char(kRenderStateVersion + 1);  // the version follows the 16-byte magic
+  EXPECT_TRUE(Contains(test::error_of([&] { read_render_state(spew(dir + "/next.cst", version)); }),
+                       {"next.cst: state file version " + std::to_string(kRenderStateVersion + 1) +
+                        ", this caustica reads version " + std::to_string(kRenderStateVersion)}));
   EXPECT_TRUE(Contains(test::error_of([&] { read_render_state(spew(dir + "/long.cst", saved.bytes + "xyz")); }),
                        {"long.cst: 3 bytes after the state's end"}));
   const std::string scene_file = test::write_scene("other.json", kPathScene);
@@ -386,12 +387,11 @@ TEST(RenderState, StatesOfOtherScenesOrSettingsAreRefused) {
   settings.width = 24;
   settings.height = 16;
   const uint64_t hash = scene_hash(a);
-  const float scale = std::stof(saved.identity.back().second);
   auto refused = [&](RenderMode mode, const RenderSettings& s, const std::string& bvh) {
-    return test::error_of([&] { check_render_state("s.cst", state, render_identity(hash, mode, s, scale, bvh)); });
+    return test::error_of([&] { check_render_state("s.cst", state, render_identity(hash, mode, s, bvh)); });
   };
   EXPECT_NO_THROW(
-      check_render_state("s.cst", state, render_identity(hash, RenderMode::Binary, settings, scale, "spatial")));
+      check_render_state("s.cst", state, render_identity(hash, RenderMode::Binary, settings, "spatial")));
   RenderSettings wide = settings;
   wide.width = 64;
   EXPECT_TRUE(Contains(refused(RenderMode::Binary, wide, "spatial"), {"s.cst: width 24 in the state, 64 asked"}));
@@ -402,10 +402,10 @@ TEST(RenderState, StatesOfOtherScenesOrSettingsAreRefused) {
   RenderSettings path = settings;
   path.adaptive = true;
   RenderState path_state = state;
-  path_state.identity = render_identity(hash, RenderMode::Path, path, scale, "spatial");
+  path_state.identity = render_identity(hash, RenderMode::Path, path, "spatial");
   auto path_refused = [&](const RenderSettings& s) {
     return test::error_of(
-        [&] { check_render_state("p.cst", path_state, render_identity(hash, RenderMode::Path, s, scale, "spatial")); });
+        [&] { check_render_state("p.cst", path_state, render_identity(hash, RenderMode::Path, s, "spatial")); });
   };
   RenderSettings seeded = path;
   seeded.seed = 7;

@@ -268,6 +268,10 @@ TEST(SceneErrors, WrongTypes) {
                        {"/scene/shapes/0/material/isreflective: expected true or false, got \"yes\""}));
   EXPECT_TRUE(Contains(parse_error_of(with(base, "/scene/shapes/0/material/diffusecolor", json{1, -1, 0})),
                        {"/scene/shapes/0/material/diffusecolor/1: expected a non-negative finite number, got -1"}));
+  // Reflectances stop at 100 (issue 24: one of 1e29 blacked out the image); emission does not.
+  EXPECT_TRUE(Contains(parse_error_of(with(base, "/scene/shapes/0/material/ks", 101)),
+                       {"/scene/shapes/0/material/ks: expected a reflectance in [0, 100]", "got 101"}));
+  EXPECT_NO_THROW(parse_scene(with(base, "/scene/shapes/0/material/ks", 100), "x.json", ".", {}));
   EXPECT_TRUE(Contains(parse_error_of(with(base, "/nbounces", -1)), {"/nbounces: expected an integer in [0, "}));
   EXPECT_TRUE(Contains(parse_error_of(with(base, "/rendermode", 1)), {"/rendermode: expected a string, got 1"}));
 }

@@ -318,7 +318,7 @@ int run_render(RenderArgs& a) {
   StateIdentity identity;
   if (!a.checkpoint.empty() || resume) {
     identity = render_identity(scene_hash(session->scene), session->mode, session->settings,
-                               session->renderer->film().params().scale, bvh_quality_name(a.session.bvh_quality));
+                               bvh_quality_name(a.session.bvh_quality));
   }
   if (resume) {
     check_render_state(a.resume, *resume, identity);
@@ -433,13 +433,14 @@ int run_render(RenderArgs& a) {
                  stats.chunk_retries ? " (queue overflow: chunks split)" : "");
     std::fprintf(stderr,
                  "[caustica] host traffic: %llu kernel launches, %llu blocking transfers, %llu count reads "
-                 "(non-blocking); film scale 2^%d\n",
+                 "(non-blocking)\n",
                  (unsigned long long)stats.launches, (unsigned long long)stats.blocking_transfers,
-                 (unsigned long long)stats.count_reads,
-                 int(std::log2(session->renderer->film().params().scale)));
-    std::fprintf(stderr, "[caustica] film: %d passes; dropped %llu NaN/Inf and %llu negative contributions, clamped %llu\n",
+                 (unsigned long long)stats.count_reads);
+    std::fprintf(stderr,
+                 "[caustica] film: %d passes; dropped %llu NaN/Inf and %llu negative contributions, clamped %llu, "
+                 "%llu below its resolution\n",
                  stats.passes, (unsigned long long)stats.film.nonfinite, (unsigned long long)stats.film.negative,
-                 (unsigned long long)stats.film.clamped);
+                 (unsigned long long)stats.film.clamped, (unsigned long long)stats.film.underflow);
     if (stats.photon_rays > 0) {
       const PhotonGatherStats& g = stats.photon_gathers;
       auto per = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
@@ -459,10 +460,20 @@ int run_render(RenderArgs& a) {
   }
   if (a.session.check_numerics) print_numerics_report(stats, session->mode);
   // Dropped or clamped contributions are never silent.
-  if (stats.film.total() > 0 && !a.verbose && !a.quiet)
+  if (stats.film.changed() > 0 && !a.verbose && !a.quiet)
     std::fprintf(stderr, "[caustica] warning: film dropped %llu NaN/Inf and %llu negative contributions, clamped %llu\n",
                  (unsigned long long)stats.film.nonfinite, (unsigned long long)stats.film.negative,
                  (unsigned long long)stats.film.clamped);
+  // Contributions below the film's resolution: each lost less than 2^-45;
+  // said when together they could be 0.01% of the image's light.
+  if (stats.film.underflow > 0 && !a.quiet) {
+    const double share = session->renderer->film().underflow_share(stats.film.underflow);
+    if (share > 1e-4)
+      std::fprintf(stderr,
+                   "[caustica] warning: %llu contributions were below the film's resolution (2^-45 = 2.8e-14) and "
+                   "rounded to 0: up to %.3g%% of the image's light; scale the scene's light up\n",
+                   (unsigned long long)stats.film.underflow, 100.0 * share);
+  }
   if (!a.quiet) {
     std::string accuracy;
     if (monitor.estimate()) accuracy += ", estimated relMSE " + format_error(*monitor.estimate());

@@ -43,7 +43,6 @@ static_assert(sizeof(PathParams) == 64 && offsetof(PathParams, light_count) == 1
                   offsetof(PathParams, environment_light) == 60,
               "PathParams layout");
 static_assert(sizeof(Hit) == 16 && offsetof(Hit, prim) == 12, "Hit layout");
-static_assert(sizeof(FilmParams) == 16 && offsetof(FilmParams, max_contribution) == 4, "FilmParams layout");
 static_assert(sizeof(FilmAccumulate) == 32 && offsetof(FilmAccumulate, pass_count) == 12 &&
                   offsetof(FilmAccumulate, per_pixel) == 16,
               "FilmAccumulate layout");

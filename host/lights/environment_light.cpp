@@ -146,12 +146,6 @@ double environment_luminance_integral(const Scene::Environment& env) {
   return total;
 }
 
-float environment_max_radiance(const Scene::Environment& env) {
-  float m = 0.0f;
-  for (float v : env.rgb) m = std::max(m, v);
-  return m;
-}
-
 std::vector<float> environment_device_data(const Scene::Environment& env) {
   const size_t w = size_t(env.width), h = size_t(env.height);
   std::vector<float> data(ENV_HEADER_FLOATS + 4 * w * h + (h + 1) + h * (w + 1), 0.0f);

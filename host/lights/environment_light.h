@@ -40,12 +40,10 @@ std::vector<float> environment_device_data(const Scene::Environment& env);
 std::vector<float> environment_device_data(const Scene& scene);  // one dummy float without an environment
 
 // The light-table entry: the scene's bounding sphere, the map's integral
-// of luminance, its largest texel (the film's bound).
+// of luminance, its largest texel.
 Light environment_light(const Scene& scene);
 
-// Integral of luminance over the sphere of directions, and the largest
-// texel component.
+// Integral of luminance over the sphere of directions.
 double environment_luminance_integral(const Scene::Environment& env);
-float environment_max_radiance(const Scene::Environment& env);
 
 }  // namespace caustica

@@ -46,23 +46,6 @@ LightTable build_light_table(const Scene& scene) {
     if (!(p > 0.0f) || !std::isfinite(p)) return false;
     t.lights.push_back(l);
     power.push_back(p);
-    // The film's scale (PathIntegrator's pass bound) must resolve what a
-    // pixel gathers, not the rare sample that hits a light far smaller than
-    // a pixel: such a light puts at most its intensity (radiance x area) /
-    // d^2 into a pixel's mean, so it counts as the same power spread over a
-    // light 1e-3 of its distance d from the camera across (a pixel of a
-    // 1000-pixel-wide, ~60 degree view). Trade-off: a camera ray that hits
-    // the tiny light itself may exceed the film's range and is clamped and
-    // counted (probability ~ its share of the pixel); before, a 1e-6 light
-    // of radiance 1e12 left the film a resolution of 1/16 and rounded every
-    // ordinary contribution to 0 (stiff_light_limits).
-    float radiance = max3(to_vec3(l.emitted));
-    if (type.area) {
-      const float d = std::max(1e-30f, glm::length(to_vec3(l.p0) - scene.camera.position));
-      const float reference = 1e-6f * d * d;
-      if (l.emitted.w < reference) radiance *= l.emitted.w / reference;
-    }
-    t.max_radiance = std::max(t.max_radiance, radiance);
     return true;
   };
   // The file's lights; the primitives of their geometry find them.

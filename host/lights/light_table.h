@@ -21,7 +21,6 @@ struct LightTable {
   std::vector<uint32_t> light_of_sphere;    // per sphere: its light, or LIGHT_NONE
   std::vector<uint32_t> light_of_cylinder;  // per cylinder
   std::vector<uint32_t> light_of_triangle;  // per triangle: its light, or LIGHT_NONE
-  float max_radiance = 0.0f;                // largest emitted component, tiny lights scaled down (film scale)
   uint32_t environment = LIGHT_NONE;        // the environment's index (last), if the scene has one that emits
 };
 

@@ -190,7 +190,7 @@ std::vector<uint32_t> AdaptiveSampler::plan(const Film& film, int pass_count) {
     weight_ = neyman_weights(in, options_);
     weights_passes_ = film.passes();
   }
-  return place_wave_samples(weight_, film.pixel_spp(), pass_count, film.most_samples_per_pixel(), options_);
+  return place_wave_samples(weight_, film.pixel_spp(), pass_count, Film::kMostSamplesPerPixel, options_);
 }
 
 }  // namespace caustica

@@ -9,29 +9,17 @@
 #include "host/error.h"
 #include "host/render/integrator.h"
 #include "host/render/kernel_args.h"
-#include "lib/film_sums.h"
 #include "lib/wave_samples.h"
 
 namespace caustica {
 
-FilmParams film_params_for_bound(float pass_bound) {
-  FilmParams p{};
-  const double bound = std::isfinite(pass_bound) && pass_bound > 0.0f ? double(pass_bound) : 1.0;
-  // scale * bound <= 2^56, at most 2^24; one contribution may be up to
-  // 2^56 / scale (>= bound), so even 256 clamped ones cannot overflow 2^64.
-  const int exponent = std::min(24, int(std::floor(56.0 - std::log2(bound))));
-  p.scale = std::ldexp(1.0f, exponent);
-  p.max_contribution = float(std::ldexp(1.0, 56 - exponent));
-  return p;
-}
-
 Film::Film(Runtime& runtime, const cl::Program& program, const FilmOptions& options)
-    : runtime_(runtime), options_(options), params_(film_params_for_bound(options.pass_bound)) {
+    : runtime_(runtime), options_(options) {
   if (options.width <= 0 || options.height <= 0) throw Error("film: image size must be positive");
   const size_t values = pixel_count() * 3;
   if (values > 0xFFFFFFFFull / 2) throw Error("film: image too large for 32-bit pass offsets");
   auto& ctx = runtime.context();
-  pass_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, values * sizeof(cl_ulong));
+  pass_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, values * kAccumulatedValueBytes);
   if (options.half_buffer) half_offset_ = values;
   accumulated_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, accumulated_bytes());
   counters_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, FILM_COUNTERS * sizeof(cl_uint));
@@ -48,11 +36,11 @@ Film::Film(Runtime& runtime, const cl::Program& program, const FilmOptions& opti
 Film::~Film() = default;
 
 KernelArgs& Film::bind(KernelArgs& args) const {
-  return args.arg("film", pass_).arg("film_counters", counters_).arg("film_params", params_);
+  return args.arg("film", pass_).arg("film_counters", counters_);
 }
 
 void Film::clear() {
-  runtime_.fill(pass_, cl_ulong(0), 0, pixel_count() * 3 * sizeof(cl_ulong));
+  runtime_.fill(pass_, cl_ulong(0), 0, pixel_count() * 3 * kAccumulatedValueBytes);
   runtime_.fill(accumulated_, cl_ulong(0), 0, accumulated_bytes());
   runtime_.fill(counters_, cl_uint(0), 0, FILM_COUNTERS * sizeof(cl_uint));
   runtime_.fill(pixel_rays_, cl_ulong(0), 0, pixel_count() * sizeof(cl_ulong));
@@ -127,12 +115,6 @@ void Film::restore(const FilmState& s) {
   if (s.per_pixel) allocate_per_pixel_buffers();
 }
 
-uint32_t Film::most_samples_per_pixel() const {
-  const double bound = std::isfinite(options_.pass_bound) && options_.pass_bound > 0.0f ? options_.pass_bound : 1.0;
-  const double fits = std::ldexp(1.0, 63) / (bound * double(params_.scale));
-  return uint32_t(std::clamp(std::floor(fits), double(kMostWavePasses), 65536.0));
-}
-
 void Film::plan_wave(int pass_count, std::vector<uint32_t> samples) {
   if (pass_count < 1 || pass_count > kMostWavePasses)
     throw Error("film: a wave of " + std::to_string(pass_count) + " passes (1 to " + std::to_string(kMostWavePasses) +
@@ -146,7 +128,7 @@ void Film::plan_wave(int pass_count, std::vector<uint32_t> samples) {
     throw Error("film: a wave allocation of " + std::to_string(samples.size()) + " pixels for " +
                 std::to_string(pixels));
   uint64_t total = 0;
-  const uint32_t most = most_samples_per_pixel();
+  const uint32_t most = kMostSamplesPerPixel;
   for (uint32_t k : samples) {
     if (k > most)
       throw Error("film: a pixel given " + std::to_string(k) + " samples in one wave (at most " +
@@ -205,7 +187,7 @@ std::vector<uint32_t> Film::spp_after_wave() const {
 }
 
 void Film::clear_pass_range(size_t first_pixel, size_t count) {
-  runtime_.fill(pass_, cl_ulong(0), first_pixel * 3 * sizeof(cl_ulong), count * 3 * sizeof(cl_ulong));
+  runtime_.fill(pass_, cl_ulong(0), first_pixel * 3 * kAccumulatedValueBytes, count * 3 * kAccumulatedValueBytes);
 }
 
 void Film::abandon_wave() {
@@ -280,15 +262,12 @@ ImageF Film::read_sums(size_t offset) const {
       .arg("values", read_values_)
       .arg("value_count", count)
       .arg("offset", cl_uint(offset))
-      .arg("inv_scale", 1.0f / params_.scale)
       .finish();
   auto& q = runtime_.queue();
   q.enqueueNDRangeKernel(read_sums_->kernel, cl::NullRange, cl::NDRange(count));
   q.enqueueReadBuffer(read_values_, CL_TRUE, 0, image.rgb.size() * sizeof(float), image.rgb.data());
   return image;
 }
-
-float sum128_to_float(uint64_t low, uint64_t high) { return film_sum_to_float(low, high); }
 
 // Sums to means, as value * (1 / count) (the same bits for every pixel
 // alike as for one count); a pixel with no samples stays 0.
@@ -337,6 +316,15 @@ ImageF Film::separate_variance() const {
   return variance;
 }
 
+double Film::underflow_share(uint64_t underflow) const {
+  if (underflow == 0) return 0.0;
+  const ImageF sums = read_sums(0);
+  double total = 0.0;
+  for (float v : sums.rgb) total += double(v);
+  const double lost = double(underflow) * std::ldexp(1.0, -FILM_FRACTION_BITS - 1);
+  return lost / (total + lost);
+}
+
 FilmCounts Film::counts() const {
   cl_uint c[FILM_COUNTERS] = {};
   runtime_.queue().enqueueReadBuffer(counters_, CL_TRUE, 0, sizeof c, c);
@@ -344,6 +332,7 @@ FilmCounts Film::counts() const {
   out.nonfinite = c[FILM_COUNT_NONFINITE];
   out.negative = c[FILM_COUNT_NEGATIVE];
   out.clamped = c[FILM_COUNT_CLAMPED];
+  out.underflow = c[FILM_COUNT_UNDERFLOW];
   return out;
 }
 

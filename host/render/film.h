@@ -1,9 +1,9 @@
 // The film: a pass in progress and the accumulated passes.
 //
-// Rules: stages add to the pass in progress (64-bit fixed point with integer
-// atomics, kernels/lib/film.h), whose scale is chosen here per render from
-// the scene's radiance bound, so any contribution the scene can produce fits
-// and the image keeps the full HDR range. A finished pass is added to the
+// Rules: stages add to the pass in progress (128-bit fixed point with 64-bit
+// integer atomics, kernels/lib/film.h), one fixed point for every render
+// (FILM_FRACTION_BITS), so that any value from 1e-6 to 7e16 keeps its float's
+// bits in one image, whatever else the scene holds. A finished pass is added to the
 // accumulated passes on the device (accumulate_film_pass.cl) as 128-bit
 // integers, so sums of passes add to the same bits however they were
 // grouped or wherever they were traced, and are floats only when read:
@@ -17,8 +17,8 @@
 // whole number of passes. Every step is
 // deterministic. Nothing is cleared unless asked: a chunk that is traced
 // again after a queue overflow clears only its range of the pass in
-// progress, never a finished pass. NaN/Inf, negative and clamped
-// contributions are counted (FILM_COUNT_*) and reported, never hidden.
+// progress, never a finished pass. NaN/Inf, negative, clamped and
+// underflowing contributions are counted (FILM_COUNT_*) and reported, never hidden.
 #pragma once
 
 #include <CL/opencl.hpp>
@@ -41,14 +41,14 @@ struct RenderStats;
 struct FilmOptions {
   int width = 0, height = 0;
   bool half_buffer = false;  // keep the sum of passes [P, N) (error estimation)
-  // Largest sum one pixel can receive in one pass (Integrator::pass_bound);
-  // picks the fixed-point scale.
-  float pass_bound = 1.0f;
 };
 
 struct FilmCounts {
   uint64_t nonfinite = 0, negative = 0, clamped = 0;
-  uint64_t total() const { return nonfinite + negative + clamped; }
+  // Positive contributions below 2^-45 that rounded to 0: each lost less
+  // than that (the error report weighs them against the image).
+  uint64_t underflow = 0;
+  uint64_t changed() const { return nonfinite + negative + clamped; }
 };
 
 // What the film holds between waves, all a render needs of it to go on
@@ -87,7 +87,6 @@ class Film {
   int width() const { return options_.width; }
   int height() const { return options_.height; }
   size_t pixel_count() const { return size_t(options_.width) * size_t(options_.height); }
-  const FilmParams& params() const { return params_; }
   // Accumulated so far, in mean samples per pixel: while every pixel has
   // the same count (uniform()), the sample index of every pixel's next pass.
   int passes() const { return passes_; }
@@ -138,13 +137,12 @@ class Film {
   // planned), to the accumulated passes and clears it. An even wave may not
   // cross the half buffer's restart at a power of two (most_passes_from).
   void accumulate_pass(StageLauncher& launcher, RenderStats* stats = nullptr, int pass_count = 1);
-  // At most this many passes in one pass in progress: each pass's sum is at
-  // most pass_bound, which the scale fits in 2^56, so 2^7 of them fit 2^63.
+  // At most this many passes in one pass in progress (a wave).
   static constexpr int kMostWavePasses = 128;
-  // The most samples one pixel may take in one wave (an uneven wave's
-  // cap): as many as its scale fits, each pass summing to at most
-  // pass_bound, in 2^63 (at least kMostWavePasses, at most 2^16).
-  uint32_t most_samples_per_pixel() const;
+  // The most samples one pixel may take in one wave (an uneven wave's cap):
+  // 2^16 samples of up to 2^11 clamped contributions each fit the pass's
+  // 128 bits (kernels/shared/types.h).
+  static constexpr uint32_t kMostSamplesPerPixel = 65536;
   // How many passes a wave that starts after `passes` may hold: up to
   // `wanted`, kMostWavePasses and the next power of two (0 and 1: one).
   static int most_passes_from(int passes, int wanted);
@@ -160,6 +158,10 @@ class Film {
   // The separate estimate's per-pixel variance (zero without one).
   ImageF separate_variance() const;
   FilmCounts counts() const;
+  // The most light `underflow` contributions rounded to 0 could have held
+  // (2^-45 each), as a share of the image's light (the accumulated sums'
+  // total, plus that most).
+  double underflow_share(uint64_t underflow) const;
 
   // The accumulated sums: 128-bit integers in the pass's fixed point, two
   // 64-bit words (low first) per channel value, so that sums of passes add
@@ -177,7 +179,6 @@ class Film {
 
   Runtime& runtime_;
   FilmOptions options_;
-  FilmParams params_{};
   int passes_ = 0;
   bool per_pixel_ = false;
   std::vector<uint32_t> spp_, half_start_;  // per pixel: samples, and where the half starts
@@ -191,14 +192,5 @@ class Film {
   size_t half_offset_ = FILM_PASS_ABSENT;
   const SeparateEstimate* separate_ = nullptr;
 };
-
-// A 128-bit accumulated sum (low and high words) as the nearest float.
-float sum128_to_float(uint64_t low, uint64_t high);
-
-// Fixed-point parameters for a pass whose per-pixel sum is at most
-// pass_bound: the largest power-of-two scale up to FILM_MAX_SCALE with
-// pass_bound * scale <= 2^56, so that a pass cannot overflow 64 bits even
-// if the bound was wrong (contributions are clamped at 2^56 / scale).
-FilmParams film_params_for_bound(float pass_bound);
 
 }  // namespace caustica

@@ -165,8 +165,6 @@ class Integrator {
   const char* name() const { return name_; }  // the mode, as --mode spells it
   // Pixels per chunk its queues are sized for.
   size_t chunk_pixels() const { return chunk_pixels_; }
-  // Largest sum one pixel can receive in one pass (sets the film's scale).
-  float pass_bound() const { return pass_bound_; }
 
  protected:
   Integrator(const char* name, StageLauncher& launcher, const DeviceScene& scene, const RenderSettings& settings)
@@ -182,7 +180,6 @@ class Integrator {
   const DeviceScene& scene_;
   RenderSettings settings_;
   size_t chunk_pixels_ = 0;  // set by the constructors
-  float pass_bound_ = 1.0f;
 
  private:
   const char* name_;

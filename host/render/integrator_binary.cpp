@@ -21,7 +21,6 @@ class BinaryIntegrator final : public Integrator {
         shade_(program, "shade_surface_binary") {
     auto& context = launcher.runtime().context();
     chunk_pixels_ = std::min(size_t(settings.width) * size_t(settings.height), settings.chunk_pixels);
-    pass_bound_ = 1.0f;  // red, once
     rays_ = DeviceQueue(context, path_record_layout(), chunk_pixels_);
     hits_ = cl::Buffer(context, CL_MEM_READ_WRITE, chunk_pixels_ * sizeof(Hit));
     unused_count_ = cl::Buffer(context, CL_MEM_READ_WRITE, sizeof(cl_uint));

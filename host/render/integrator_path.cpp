@@ -228,11 +228,6 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
   // A wave covers the whole image; settings.chunk_pixels bounds the slots.
   chunk_pixels_ = size_t(settings.width) * size_t(settings.height);
   slots_ = std::max<size_t>(1, std::min({settings.chunk_pixels, kPathSlots, chunk_pixels_ * Film::kMostWavePasses}));
-  // One path's sample can carry far more than the scene's radiance
-  // (throughput / pdf); the bound only picks the fixed-point scale, and
-  // anything beyond 2^56 / scale is clamped and counted.
-  const glm::vec3 bg = scene.scene().background;
-  pass_bound_ = 1e6f * std::max(1.0f, std::max(table.max_radiance, std::max(bg.x, std::max(bg.y, bg.z))));
   environment_light_ = table.environment;
   for (DeviceQueue& q : rays_) q = DeviceQueue(ctx, path_record_layout(), slots_);
   shadow_ = DeviceQueue(ctx, shadow_record_layout(), slots_);

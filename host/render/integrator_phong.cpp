@@ -18,7 +18,6 @@
 #include <cstring>
 
 #include "host/cl/runtime.h"
-#include "host/lights/environment_light.h"
 #include "host/lights/light_table.h"
 #include "host/render/photon_pass.h"
 #include "host/render/state_bytes.h"
@@ -72,47 +71,7 @@ class PhongIntegrator final : public Integrator {
   std::unique_ptr<PhotonPass> photons_;  // --caustics on only
 };
 
-float max3(const cs_float4& v) { return std::max(v.x, std::max(v.y, v.z)); }
-
-// IEEE half bits to float, for the texel bound (finite, non-negative texels).
-float half_to_float(uint16_t h) {
-  const int exponent = (h >> 10) & 0x1F, mantissa = h & 0x3FF;
-  if (exponent == 0x1F) return 65504.0f;  // Inf/NaN do not occur in loaded textures; bound them anyway
-  if (exponent == 0) return std::ldexp(float(mantissa), -24);
-  return std::ldexp(1.0f + float(mantissa) / 1024.0f, exponent - 15);
-}
-
 }  // namespace
-
-// The largest sum a phong pass can add to one pixel: per ray, emission plus
-// the largest of the background and ambient + every light's Blinn-Phong
-// maximum; a ray's children share its weight (mirror r and 1 - r, Fresnel F
-// and 1 - F), so the weights of one depth sum to at most 1, and the bound
-// is that per-ray maximum times (nbounces + 1).
-float phong_pass_bound(const Scene& scene, const std::vector<Light>& lights, int max_depth) {
-  // Texels of non-negative halves order like their bit patterns.
-  float texel_max = 0.0f;
-  for (size_t i = 0; i < scene.texels.size(); i += 4)
-    for (size_t c = 0; c < 3 && i + c < scene.texels.size(); ++c)
-      if (!(scene.texels[i + c] & 0x8000)) texel_max = std::max(texel_max, half_to_float(scene.texels[i + c]));
-  for (const Texture& t : scene.textures)
-    if (t.kind == TEXTURE_CHECKER) texel_max = std::max(texel_max, std::max(max3(t.color1), max3(t.color2)));
-  float emission = 0.0f, local = 0.0f, ambient = 0.0f;
-  const glm::vec3 ambient_light = scene.ambient_light.value_or(glm::vec3(1.0f));
-  const float ambient_scale = std::max(ambient_light.x, std::max(ambient_light.y, ambient_light.z));
-  float light_sum = 0.0f;
-  for (const Light& l : lights) light_sum += max3(l.emitted);
-  for (const Material& m : scene.materials) {
-    const float diffuse = std::max(max3(m.diffuse), m.texture >= 0 ? texel_max : 0.0f);
-    emission = std::max(emission, max3(m.emission));
-    ambient = std::max(ambient, std::abs(m.ka) * ambient_scale * diffuse);
-    local = std::max(local, std::abs(m.diffuse.w) * diffuse + std::abs(m.specular.w) * max3(m.specular));
-  }
-  float background = std::max(scene.background.x, std::max(scene.background.y, scene.background.z));
-  if (scene.environment) background = std::max(background, environment_max_radiance(*scene.environment));
-  const float per_ray = emission + std::max(background, ambient + light_sum * local);
-  return std::max(1.0f, per_ray * float(std::max(0, max_depth) + 1));
-}
 
 PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                                  const RenderSettings& settings)
@@ -121,8 +80,6 @@ PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& sce
   const std::vector<Light> lights = whitted_lights(scene.scene());
   lights_ = upload_buffer(ctx, lights);
   light_count_ = features_.lights ? lights.size() : 0;
-  const int max_depth = features_.secondary_rays() ? std::max(0, scene.scene().nbounces) : 0;
-  pass_bound_ = phong_pass_bound(scene.scene(), lights, max_depth);
 
   const size_t pixels = size_t(settings.width) * size_t(settings.height);
   // Queue memory grows with the chunk and the number of lights; keep the
@@ -151,8 +108,6 @@ PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& sce
       photon_lights_ = upload_buffer(ctx, photon_lights);
       photons_ = std::make_unique<PhotonPass>(launcher, scene, program, photon_lights_,
                                               uint32_t(photon_lights.size()), settings, PhotonGather::SharedRadius);
-      // A focused caustic can exceed the direct light's bound by far.
-      pass_bound_ *= 1e4f;
     }
   }
 }

@@ -76,7 +76,7 @@ uint64_t scene_hash(const Scene& scene) {
   return h;
 }
 
-StateIdentity render_identity(uint64_t scene, RenderMode mode, const RenderSettings& settings, float film_scale,
+StateIdentity render_identity(uint64_t scene, RenderMode mode, const RenderSettings& settings,
                               const std::string& bvh) {
   StateIdentity id;
   id.emplace_back("scene hash", hex64(scene));
@@ -107,7 +107,7 @@ StateIdentity render_identity(uint64_t scene, RenderMode mode, const RenderSetti
     id.emplace_back("photon guiding", settings.photon_guiding ? "on" : "off");
   }
   id.emplace_back("bvh", bvh);
-  id.emplace_back("film scale", number(film_scale));
+  id.emplace_back("film fixed point", "2^-" + std::to_string(FILM_FRACTION_BITS));
   return id;
 }
 

@@ -51,7 +51,7 @@ struct RenderState {
   std::string integrator;  // Integrator::state(): the photon pass's (empty without it)
 };
 
-inline constexpr uint32_t kRenderStateVersion = 1;
+inline constexpr uint32_t kRenderStateVersion = 2;
 
 // FNV-1a 64 of the scene file's bytes, then each mesh file's bytes (in load
 // order), then the decoded texels (which cover the texture files). Throws
@@ -60,9 +60,9 @@ uint64_t scene_hash(const Scene& scene);
 // The identity of a render: the scene's hash, then the mode, size, seed,
 // sampler, strategy, depth, adaptive sampling and its options, the half
 // buffer, the photon pass, the BVH build (`bvh`, which decides ties between
-// equally close hits) and the film's scale. The work-group size, device and
+// equally close hits) and the film's fixed point. The work-group size, device and
 // thread count are not in it: the bits do not depend on them.
-StateIdentity render_identity(uint64_t scene_hash, RenderMode mode, const RenderSettings& settings, float film_scale,
+StateIdentity render_identity(uint64_t scene_hash, RenderMode mode, const RenderSettings& settings,
                               const std::string& bvh);
 
 // The bytes of a state file, and back; `path` names the file in errors.

@@ -18,7 +18,6 @@ Renderer::Renderer(Runtime& runtime, const DeviceScene& scene, RenderMode mode, 
     film.width = settings.width;
     film.height = settings.height;
     film.half_buffer = settings.half_buffer || settings.adaptive;
-    film.pass_bound = integrator_->pass_bound();
     film_ = std::make_unique<Film>(runtime, program, film);
   } catch (const cl::Error& e) {
     throw Error(std::string("cannot set up the renderer on ") + runtime.device_info().name + ": " + e.what() + " (" +

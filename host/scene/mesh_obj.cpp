@@ -184,6 +184,8 @@ void check_obj_text(const std::string& path, const std::string& text) {
 
 // Colours must be finite and non-negative, exponents and indices finite and
 // non-negative: anything else would shade black or NaN without a word.
+// Reflectances (Ka, Kd, Ks, Tf) are at most limits::kMaxReflectance, as in
+// scene files; emission (Ke) is not bounded.
 void check_mtl_text(const std::string& name, const std::string& text) {
   for_each_line(text, [&](size_t line, const std::vector<std::string_view>& w) {
     const std::string_view key = w[0];
@@ -197,9 +199,13 @@ void check_mtl_text(const std::string& name, const std::string& text) {
     for (size_t i = 1; i < w.size(); ++i) got += (i > 1 ? " " : "") + std::string(w[i].substr(0, 40));
     if (colour ? (w.size() != 2 && w.size() != 4) : w.size() != 2)
       throw Error(where + "expected " + what + ", got '" + got + "'");
+    const bool reflectance = colour && key != "Ke";
     for (size_t i = 1; i < w.size(); ++i) {
       float v = 0.0f;
       if (!finite_number(w[i], &v) || v < 0.0f) throw Error(where + "expected " + what + ", got '" + got + "'");
+      if (reflectance && v > limits::kMaxReflectance)
+        throw Error(where + "expected a reflectance in [0, " + std::to_string(int(limits::kMaxReflectance)) +
+                    "] (1 reflects all the light that arrives), got '" + got + "'");
     }
   });
 }

@@ -44,8 +44,8 @@ int read_texture(LoadContext& ctx, const json& v, const std::string& path) {
   const std::string type = lower(r.read_string(v, "type", path));
   if (type != "checkerboard" && type != "checker")
     r.expected(path + "/type", "a procedural texture type: \"checkerboard\"", v["type"]);
-  return checker_texture(ctx, r.read_vec3(v, "color1", path, Range::NonNegative, glm::vec3(1.0f)),
-                         r.read_vec3(v, "color2", path, Range::NonNegative, glm::vec3(0.0f)),
+  return checker_texture(ctx, r.read_vec3(v, "color1", path, Range::Reflectance, glm::vec3(1.0f)),
+                         r.read_vec3(v, "color2", path, Range::Reflectance, glm::vec3(0.0f)),
                          r.read_number(v, "scale", path, Range::Positive, 10.0f));
 }
 
@@ -73,19 +73,19 @@ Material read_material_object(LoadContext& ctx, const json& m, const std::string
   KeyList colour_keys = {"diffusecolor", "basecolor", "albedo"};
   if (kind != Kind::Emissive) colour_keys.insert(colour_keys.end(), {"colour", "color"});
   const json* colour = Reader::find_any(m, colour_keys, &which);
-  const glm::vec3 diffuse = colour ? r.vec3(*colour, path + "/" + which, Range::NonNegative) : no_colour;
+  const glm::vec3 diffuse = colour ? r.vec3(*colour, path + "/" + which, Range::Reflectance) : no_colour;
 
   Material out = default_material();
-  out.diffuse = to_float4(diffuse, r.read_number(m, "kd", path, Range::NonNegative,
+  out.diffuse = to_float4(diffuse, r.read_number(m, "kd", path, Range::Reflectance,
                                                  kind == Kind::Emissive ? 0.0f : typed ? 1.0f : 0.9f));
-  out.specular = to_float4(r.read_vec3(m, "specularcolor", path, Range::NonNegative,
+  out.specular = to_float4(r.read_vec3(m, "specularcolor", path, Range::Reflectance,
                                        kind == Kind::Metal ? diffuse : glm::vec3(1.0f)),
-                           r.read_number(m, "ks", path, Range::NonNegative, typed ? 0.0f : 0.1f));
+                           r.read_number(m, "ks", path, Range::Reflectance, typed ? 0.0f : 0.1f));
   out.specular_exponent = r.read_number(m, "specularexponent", path, Range::NonNegative, 20.0f);
   out.reflectivity = r.read_number(m, "reflectivity", path, Range::NonNegative, 1.0f);
   const char* ior_key = "refractiveindex";
   const json* ior = Reader::find_any(m, {"refractiveindex", "ior"}, &ior_key);
-  out.ka = r.read_number(m, "ka", path, Range::NonNegative, kind == Kind::Emissive ? 0.0f : kDefaultAmbient);
+  out.ka = r.read_number(m, "ka", path, Range::Reflectance, kind == Kind::Emissive ? 0.0f : kDefaultAmbient);
   if (r.read_bool(m, "isreflective", path, kind == Kind::Metal)) out.flags |= MATERIAL_REFLECTIVE;
   if (r.read_bool(m, "isrefractive", path, kind == Kind::Dielectric)) out.flags |= MATERIAL_REFRACTIVE;
   // Files fill in every key, so an opaque material may say 0 here: the index

@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "host/error.h"
+#include "host/limits.h"
 
 namespace caustica {
 
@@ -17,6 +18,7 @@ const char* range_words(Range r) {
   switch (r) {
     case Range::NonNegative: return "non-negative ";
     case Range::Positive: return "positive ";
+    case Range::Reflectance: return "non-negative ";  // and at most kMaxReflectance: its own message
     default: return "";
   }
 }
@@ -189,8 +191,16 @@ float Reader::number(const json& v, const std::string& path, Range range) const 
   const double d = v.get<double>();
   if (!std::isfinite(d)) expected(path, what, v);
   if (std::fabs(d) > FLT_MAX) expected(path, what + " within single precision (|x| <= 3.4e38)", v);
-  if ((range == Range::NonNegative && d < 0) || (range == Range::Positive && !(static_cast<float>(d) > 0)))
+  if (((range == Range::NonNegative || range == Range::Reflectance) && d < 0) ||
+      (range == Range::Positive && !(static_cast<float>(d) > 0)))
     expected(path, what, v);
+  // A reflectance far above 1 is a typo or a unit mistake; one of 1e29 made
+  // every other value of the image meaningless (issue 24).
+  if (range == Range::Reflectance && d > limits::kMaxReflectance)
+    expected(path,
+             "a reflectance in [0, " + std::to_string(int(limits::kMaxReflectance)) +
+                 "] (1 reflects all the light that arrives; light comes from emission and lights)",
+             v);
   return static_cast<float>(d);
 }
 int Reader::integer(const json& v, const std::string& path, int lo, int hi) const {

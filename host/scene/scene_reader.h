@@ -21,7 +21,9 @@ namespace caustica::scene_detail {
 
 using nlohmann::json;
 
-enum class Range { Any, NonNegative, Positive };
+// Reflectance: a colour or coefficient that scales reflected light, in
+// [0, kMaxReflectance] (host/limits.h).
+enum class Range { Any, NonNegative, Positive, Reflectance };
 
 const char* range_words(Range r);
 // The offending value as the user wrote it, shortened.

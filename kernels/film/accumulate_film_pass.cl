@@ -1,13 +1,13 @@
 #line 2 "kernels/film/accumulate_film_pass.cl"
-/* Film stage: a finished pass, or a wave of passes (fixed point, lib/film.h),
- * is added to the accumulated passes, and the pass buffer is cleared for the
- * next.
- * The accumulated sums are 128-bit integers in the pass's fixed point (two
+/* Film stage: a finished pass, or a wave of passes (128-bit fixed point,
+ * lib/film.h), is added to the accumulated passes, and the pass buffer is
+ * cleared for the next.
+ * The accumulated sums are 128-bit integers in the same fixed point (two
  * ulongs, low word first): integer addition is associative, so the sums do
  * not depend on how passes were grouped into waves, in which order they were
  * added, or in how many processes (a state file's, another rank's: issue
- * 23), and a pass sum of at most 2^63 can be added 2^64 times. The host turns
- * them into floats when it reads them (Film::mean). One work-item per
+ * 23). Values of 1e12 (2^84 in fixed point) can be added 2^44 times. The
+ * host reads them as floats (read_film_sums, Film::mean). One work-item per
  * channel value. Layout of `passes`: the combined sum of every sample at 0;
  * with FilmAccumulate.half_offset != FILM_PASS_ABSENT, there (in values) the
  * pixel's half: the sum of its samples since the latest restart. A pixel
@@ -23,11 +23,11 @@
 #include "lib/film_sums.h"
 #include "lib/wave_samples.h"
 
-/* sum (two ulongs at *sum, low first) += value */
-inline void add_to_sum128(__global ulong* sum, ulong value) {
-  const ulong low = sum[0] + value;
-  sum[1] += low < value ? 1ul : 0ul; /* the carry */
-  sum[0] = low;
+/* sum (two ulongs at *sum, low first) += (low, high) */
+inline void add_to_sum128(__global ulong* sum, ulong low, ulong high) {
+  const ulong sum_low = sum[0] + low;
+  sum[1] += high + (sum_low < low ? 1ul : 0ul); /* with the carry */
+  sum[0] = sum_low;
 }
 
 __kernel void accumulate_film_pass(__global ulong* restrict film, __global ulong* restrict passes,
@@ -38,22 +38,22 @@ __kernel void accumulate_film_pass(__global ulong* restrict film, __global ulong
   const uint n = params.per_pixel ? pixel_spp[i / 3u] : params.pass_index;
   const uint k = params.per_pixel ? wave_spp[i / 3u] : params.pass_count;
   if (k == 0u) return; /* not in this wave: its pass value is zero */
-  const ulong value = film[i];
-  add_to_sum128(&passes[2ul * i], value);
+  const ulong low = film[2ul * i], high = film[2ul * i + 1ul];
+  add_to_sum128(&passes[2ul * i], low, high);
   if (params.half_offset != FILM_PASS_ABSENT && n > 0u) {
     __global ulong* half_sum = &passes[2ul * ((ulong)params.half_offset + i)];
     if (film_half_restarts(n, k)) half_sum[0] = half_sum[1] = 0ul;
-    add_to_sum128(half_sum, value);
+    add_to_sum128(half_sum, low, high);
   }
-  film[i] = 0;
+  film[2ul * i] = film[2ul * i + 1ul] = 0ul;
 }
 
 /* Before the host reads them: value_count sums from `offset` (in values) as
- * floats times inv_scale (a power of two: exact), one work-item each. */
+ * floats, one work-item each. */
 __kernel void read_film_sums(__global const ulong* restrict passes, __global float* restrict values,
-                             uint value_count, uint offset, float inv_scale) {
+                             uint value_count, uint offset) {
   const uint i = get_global_id(0);
   if (i >= value_count) return;
   const ulong at = 2ul * ((ulong)offset + i);
-  values[i] = film_sum_to_float(passes[at], passes[at + 1ul]) * inv_scale;
+  values[i] = film_sum_to_float(passes[at], passes[at + 1ul]);
 }

@@ -1,51 +1,62 @@
 #line 2 "kernels/lib/film.h"
-/* Adding to the film's pass in progress (FilmParams in shared/types.h).
+/* Adding to the film's pass in progress (the fixed point of shared/types.h).
  *
- * Rules: contributions are 64-bit fixed point added with integer atomics;
- * integer addition is associative, so the pass does not depend on the order
- * in which work-items finish (same bits on any device, thread count or
- * work-group size). Nothing is converted silently: a NaN/Inf or negative
- * component is dropped and counted, one above max_contribution is clamped
- * and counted (FILM_COUNT_*); the host reports the counts. The host turns a
- * finished pass into floats and adds it to the accumulated passes
- * (accumulate_film_pass.cl), each pixel on its own, in pass order. */
+ * Rules: a contribution is a 128-bit integer (lib/film_sums.h) added with
+ * 64-bit integer atomics: the low word first, whose value before the add
+ * says whether it wrapped, then the high word with that carry. Integer
+ * addition is associative and the carries total floor(low words' sum /
+ * 2^64) whatever the order, so the pass does not depend on the order in
+ * which work-items finish (same bits on any device, thread count or
+ * work-group size). The high word is touched only by values of 2^20 and
+ * more and by carries. Nothing is converted silently: a NaN/Inf or negative
+ * component is dropped and counted, one above FILM_MAX_CONTRIBUTION is
+ * clamped and counted, a positive one that rounds to 0 is counted
+ * (FILM_COUNT_*); the host reports the counts. accumulate_film_pass.cl adds
+ * a finished pass to the accumulated passes, each pixel on its own. */
 #ifndef CAUSTICA_LIB_FILM_H
 #define CAUSTICA_LIB_FILM_H
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
-#include "shared/types.h"
+#include "lib/film_sums.h"
 
-#define FILM_PARAMS                                                                        \
-  __global ulong* restrict film, volatile __global uint* restrict film_counters, \
-      FilmParams film_params
-#define FILM_ARGS film, film_counters, film_params
+/* film: two ulongs (low, high) per channel value, three values a pixel. */
+#define FILM_PARAMS __global ulong* restrict film, volatile __global uint* restrict film_counters
+#define FILM_ARGS film, film_counters
 
 /* Bit tests instead of isnan/isinf/signbit: they survive -cl-fast-relaxed-math. */
-inline ulong film_fixed(float v, volatile __global uint* counters, FilmParams params) {
+inline void film_add_value(__global ulong* value, float v, volatile __global uint* counters) {
   const uint bits = as_uint(v);
   if ((bits & 0x7f800000u) == 0x7f800000u) {
     atomic_inc(&counters[FILM_COUNT_NONFINITE]);
-    return 0;
+    return;
   }
   if (bits & 0x80000000u) {
     if (bits != 0x80000000u) atomic_inc(&counters[FILM_COUNT_NEGATIVE]); /* -0 is zero */
-    return 0;
+    return;
   }
-  if (v > params.max_contribution) {
+  if (bits == 0u) return;
+  if (v > FILM_MAX_CONTRIBUTION) {
     atomic_inc(&counters[FILM_COUNT_CLAMPED]);
-    v = params.max_contribution;
+    v = FILM_MAX_CONTRIBUTION;
   }
-  return (ulong)(v * params.scale + 0.5f);
+  ulong low, high;
+  film_fixed_from_float(v, &low, &high);
+  if (low != 0ul) {
+    const ulong before = atom_add(&value[0], low);
+    if (before + low < before) high += 1ul; /* the low word wrapped */
+  } else if (high == 0ul) {
+    atomic_inc(&counters[FILM_COUNT_UNDERFLOW]);
+    return;
+  }
+  if (high != 0ul) atom_add(&value[1], high);
 }
 
 inline void film_add(FILM_PARAMS, uint pixel, float3 value) {
-  const ulong r = film_fixed(value.x, film_counters, film_params);
-  const ulong g = film_fixed(value.y, film_counters, film_params);
-  const ulong b = film_fixed(value.z, film_counters, film_params);
-  if (r) atom_add(&film[3 * pixel + 0], r);
-  if (g) atom_add(&film[3 * pixel + 1], g);
-  if (b) atom_add(&film[3 * pixel + 2], b);
+  __global ulong* at = film + 6ul * pixel;
+  film_add_value(at, value.x, film_counters);
+  film_add_value(at + 2, value.y, film_counters);
+  film_add_value(at + 4, value.z, film_counters);
 }
 
 #endif

@@ -267,27 +267,28 @@ typedef struct {
 #define SAMPLER_SOBOL_BURLEY 0u /* low discrepancy, the default */
 #define SAMPLER_INDEPENDENT 1u  /* independent uniforms: what the default is measured against */
 
-/* The film's pass in progress: contributions are added as 64-bit fixed point
- * (value * scale, rounded) with integer atomics, so that the sum does not
+/* The film's fixed point, one for every render: a contribution is added to
+ * the pass in progress as a 128-bit integer, value * 2^FILM_FRACTION_BITS
+ * rounded to nearest (even), with integer atomics, so that the sum does not
  * depend on the order in which work-items add (the same bits on any device,
- * thread count or work-group size). The scale is a power of two chosen per
- * render from the scene's radiance bounds (host/render/film.cpp) so that a
- * pass's largest possible sum fits; a contribution above max_contribution
- * (the bound was wrong) is clamped to it and counted, NaN/Inf and negative
- * values are dropped and counted: nothing is changed silently. */
-typedef struct {
-  float scale;            /* a power of two, at most FILM_MAX_SCALE */
-  float max_contribution; /* per film_add call */
-  cs_uint pad0, pad1;
-} FilmParams; /* 16 bytes */
-
-#define FILM_MAX_SCALE 16777216.0f /* 2^24: 6e-8 resolution in the unit range */
+ * thread count or work-group size), and passes add to 128-bit sums the same
+ * way (accumulate_film_pass.cl). No scale is chosen from the scene: values
+ * from 2^-20 (1e-6) to FILM_MAX_CONTRIBUTION keep every bit of their float,
+ * values down to 2^-44 keep fewer, and the rest are counted as underflow
+ * (issue 24: one very bright value no longer rounds the ordinary ones to
+ * zero). A contribution above FILM_MAX_CONTRIBUTION is clamped to it and
+ * counted, NaN/Inf and negative ones are dropped and counted: nothing is
+ * changed silently. 2^56 in fixed point is 2^100, so a pixel takes 2^27
+ * clamped contributions in one wave before its 128 bits could overflow. */
+#define FILM_FRACTION_BITS 44
+#define FILM_MAX_CONTRIBUTION 0x1p56f /* 7.2e16 */
 
 /* Counters of film_add (one uint each, in this order). */
 #define FILM_COUNT_NONFINITE 0u /* NaN or Inf components dropped */
 #define FILM_COUNT_NEGATIVE 1u  /* negative components dropped */
-#define FILM_COUNT_CLAMPED 2u   /* components above max_contribution clamped */
-#define FILM_COUNTERS 3u
+#define FILM_COUNT_CLAMPED 2u   /* components above FILM_MAX_CONTRIBUTION clamped */
+#define FILM_COUNT_UNDERFLOW 3u /* positive components below 2^-45 that rounded to 0 */
+#define FILM_COUNTERS 4u
 
 /* --check-numerics (path mode, -DHAS_NUMERIC_CHECKS=1): per scattering
  * event d < NUMERICS_DEPTHS (deeper ones count as the last), three 64-bit

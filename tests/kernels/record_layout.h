@@ -15,7 +15,6 @@
   X(sizeof(Light)) X(__builtin_offsetof(Light, emitted)) X(__builtin_offsetof(Light, select_cdf)) \
   X(sizeof(ShadowRecord)) X(__builtin_offsetof(ShadowRecord, dir))                                          \
   X(__builtin_offsetof(ShadowRecord, contribution)) X(__builtin_offsetof(ShadowRecord, pixel))              \
-  X(sizeof(FilmParams)) X(__builtin_offsetof(FilmParams, max_contribution))                                 \
   X(sizeof(FilmAccumulate)) X(__builtin_offsetof(FilmAccumulate, pass_index))                               \
   X(__builtin_offsetof(FilmAccumulate, per_pixel)) X(__builtin_offsetof(FilmAccumulate, pass_count))      \
   X(__builtin_offsetof(PathRecord, flags))                                                                  \

@@ -25,6 +25,7 @@
 
 #include "host/app/session.h"
 #include "host/render/renderer.h"
+#include "tests/stiff/stiff_support.h"
 #include "tests/support/path_render.h"
 #include "tests/support/test_support.h"
 
@@ -173,6 +174,49 @@ TEST(LightLimits, LightInsideGlassConservesEnergyWithAndWithoutPhotons) {
   // The half buffer sees the passes' noise, not the photon estimate's (it
   // is added to both halves alike): 3% more for that, and SPPM's bias.
   EXPECT_NEAR(a.mean, b.mean, 4.0 * std::hypot(a.se, b.se) + 0.03 * a.mean);
+}
+
+// Issue 24: the film's range does not depend on the scene. A 1e-6
+// background and a sphere lit by a 1e-3 point light, with and without an
+// emitter of 1e12 beside them (phong: emission does not light the scene):
+// every pixel the emitter does not cover keeps its bits, and the emitter's
+// pixels are 1e12. When the film's scale came from the scene's bound, the
+// emitter rounded the background to 0.
+std::string range_scene(bool emitter) {
+  return std::string(R"({"nbounces": 1, "rendermode": "phong",
+  "camera": {"type": "pinhole", "width": 32, "height": 16, "position": [0, 0, -5], "lookAt": [0, 0, 0],
+             "upVector": [0, 1, 0], "fov": 40},
+  "scene": {"backgroundcolor": [1e-6, 1e-6, 1e-6],
+    "lightsources": [{"type": "pointlight", "position": [0, 3, -3], "intensity": [1e-3, 1e-3, 1e-3]}],
+    "shapes": [{"type": "sphere", "center": [-1, 0, 0], "radius": 0.8,
+                "material": {"diffusecolor": [0.8, 0.8, 0.8], "kd": 0.9, "ks": 0.1}})") +
+         (emitter ? R"(, {"type": "triangle", "v0": [1, -1, 0], "v1": [1.75, 1, 0], "v2": [2.5, -1, 0],
+                      "material": {"emission": [1e12, 1e12, 1e12], "kd": 0, "ks": 0, "ka": 0}})"
+                  : "") +
+         "]}}";
+}
+
+TEST(LightLimits, ATrillionBrightEmitterLeavesEveryOtherPixelsBits) {
+  const stiff::RenderResult with = stiff::render(write_scene("with.json", range_scene(true)), RenderMode::Phong, 32, 16);
+  const stiff::RenderResult without =
+      stiff::render(write_scene("without.json", range_scene(false)), RenderMode::Phong, 32, 16);
+  EXPECT_EQ(with.stats.film.changed() + with.stats.film.underflow, 0u);
+  int emitter = 0, background = 0, lit = 0;
+  for (size_t i = 0; i < with.image.rgb.size(); ++i) {
+    const float v = with.image.rgb[i], w = without.image.rgb[i];
+    if (v >= 1e11f) {
+      ++emitter;
+      EXPECT_EQ(v, 1e12f) << "value " << i;
+      continue;
+    }
+    ASSERT_EQ(v, w) << "value " << i;
+    background += w == 1e-6f;
+    lit += w > 1e-6f;
+  }
+  std::printf("[measure] values: %d emitter, %d background, %d lit\n", emitter, background, lit);
+  EXPECT_GT(emitter, 30);
+  EXPECT_GT(background, 300);
+  EXPECT_GT(lit, 30);
 }
 
 }  // namespace

@@ -72,7 +72,7 @@ TEST(MaterialLimits, NearSmoothMirrorRendersAsTheMirror) {
   const PathRender tiny = render(write_scene("mirror4.json", wall_scene(m + R"(, "roughness": 1e-4})")), 32);
   const PathRender small = render(write_scene("mirror3.json", wall_scene(m + R"(, "roughness": 1e-3})")), 32);
   for (const PathRender* r : {&smooth, &tiny, &small}) {
-    EXPECT_EQ(r->stats.film.total(), 0u);
+    EXPECT_EQ(r->stats.film.changed(), 0u);
     EXPECT_TRUE(all_finite(r->image));
   }
   EXPECT_EQ(smooth.image.rgb, tiny.image.rgb);
@@ -97,7 +97,7 @@ TEST(MaterialLimits, GlassOfIorOneIsInvisible) {
   auto disc = [](int x, int y) { return std::hypot(x + 0.5 - 16.0, y + 0.5 - 12.0) < 5.0; };
   const Mean r_all = mean_all(ref), r_disc = mean_of(ref, disc);
   for (const PathRender* g : {&smooth, &rough}) {
-    EXPECT_EQ(g->stats.film.total(), 0u);
+    EXPECT_EQ(g->stats.film.changed(), 0u);
     EXPECT_TRUE(all_finite(g->image));
     const Mean all = mean_all(*g), d = mean_of(*g, disc);
     std::printf("[measure] IOR 1 %s: image %.5f +- %.5f (none %.5f +- %.5f), disc %.5f +- %.5f (none %.5f)\n",
@@ -128,7 +128,7 @@ TEST(MaterialLimits, FurnaceAlbedoOneGainsNothingAlbedoZeroIsTheDirectTerm) {
     "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": )") +
                               materials[k] + "}]}}";
     const PathRender r = render(write_scene("furnace_limits.json", scene), 32);
-    EXPECT_EQ(r.stats.film.total(), 0u);
+    EXPECT_EQ(r.stats.film.changed(), 0u);
     EXPECT_TRUE(all_finite(r.image));
     // Well inside the disc (radius ~ 7 pixels here).
     const Mean m = mean_of(r, [](int x, int y) { return std::hypot(x + 0.5 - 12.0, y + 0.5 - 12.0) < 5.5; });

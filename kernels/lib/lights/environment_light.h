@@ -3,7 +3,7 @@
  * the sky). Light: p0.xyz = centre and p0.w = radius of a sphere bounding
  * the scene (photons start on a disk of it; shadow rays aim past it);
  * p1.x = the map's integral of luminance over solid angle (the host's
- * power); emitted.xyz = the largest texel radiance (the film's bound).
+ * power); emitted.xyz = the largest texel radiance (per channel).
  * The image and its sampling distribution are the `environment` buffer
  * (host/lights/environment_light.cpp writes it), laid out in floats:
  *   [0] width w, [1] height h, [2] pdf scale w h / sum f, [3] 1 when f
