@@ -1,4 +1,4 @@
-// caustica command line: render, merge, devices, bench, generate, diff, plot.
+// caustica command line: render, merge, devices, bench, generate, sky, diff, plot.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -25,6 +25,7 @@
 #include "host/image/image_io.h"
 #include "host/image/tonemap.h"
 #include "host/scene/generate.h"
+#include "host/scene/sky_model.h"
 #ifdef CAUSTICA_WITH_MPI
 #include "host/mpi/mpi_ranks.h"
 #endif
@@ -94,6 +95,17 @@ int main(int argc, char** argv) {
   gen_cmd->add_option("--seed", seed, "random seed");
   gen_cmd->add_option("-o,--output", generate_out, "output JSON")->required();
 
+  SkyParams sky;
+  std::string sky_out;
+  auto* sky_cmd = app.add_subcommand("sky", "write the Preetham sun and sky as an equirectangular image (.pfm, .exr), "
+                                            "as a scene's \"environment\": {\"sky\": ...} makes it");
+  sky_cmd->add_option("--sun-elevation", sky.sun_elevation, "degrees above the horizon")->check(CLI::Range(0.5, 90.0));
+  sky_cmd->add_option("--sun-azimuth", sky.sun_azimuth, "degrees from +z toward +x")->check(CLI::Range(-360.0, 360.0));
+  sky_cmd->add_option("--turbidity", sky.turbidity, "1.7 (clear) to 10 (hazy)")->check(CLI::Range(1.7, 10.0));
+  sky_cmd->add_option("--width", sky.width, "texels across")->check(CLI::Range(8, 4096));
+  sky_cmd->add_option("--height", sky.height, "texels down")->check(CLI::Range(4, 2048));
+  sky_cmd->add_option("-o,--output", sky_out, "output image (.pfm or .exr: linear)")->required();
+
   DiffArgs diff;
   auto* diff_cmd = app.add_subcommand("diff", "error of image A against reference B: MSE, relMSE, MAE, PSNR");
   diff_cmd->add_option("image", diff.image_path, "image to judge (.pfm .exr linear; .png .ppm ... 8-bit)")->required();
@@ -147,6 +159,12 @@ int main(int argc, char** argv) {
     if (app.got_subcommand(diff_cmd)) return run_diff(diff);
     if (app.got_subcommand(plot_cmd)) {
       plot_error_reports(plot_reports, plot_out);
+      return 0;
+    }
+    if (app.got_subcommand(sky_cmd)) {
+      if (!is_hdr_path(sky_out)) throw Error(sky_out + ": expected a .pfm or .exr output (the sky is linear radiance)");
+      check_output_image_path(sky_out);
+      write_image(sky_out, preetham_sky(sky), DisplaySettings{});
       return 0;
     }
     if (app.got_subcommand(gen_cmd)) {

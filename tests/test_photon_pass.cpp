@@ -20,7 +20,10 @@
 #include "host/app/session.h"
 #include "host/render/device_scene.h"
 #include "host/render/kernel_args.h"
+#include "host/image/image_io.h"
+#include "host/image/tonemap.h"
 #include "host/lights/light_table.h"
+#include "host/lights/light_types.h"
 #include "host/render/photon_pass.h"
 #include "tests/support/test_support.h"
 
@@ -100,8 +103,9 @@ std::vector<cs_float4> emit_unguided(Session& s, const LightTable& table, uint32
   p.photon_count = n;
   p.light_count = cl_uint(table.lights.size());
   const cl::Buffer no_casters(s.runtime->context(), CL_MEM_READ_ONLY, sizeof(cs_float4));
-  KernelArgs(emit)
-      .arg("lights", lights)
+  KernelArgs args(emit);
+  args.arg("lights", lights);
+  s.device_scene->bind_environment(args)
       .arg("params", p)
       .arg("casters", no_casters)
       .arg("caster_count", cl_uint(0))
@@ -167,6 +171,40 @@ TEST(PhotonPass, SpotLightPhotonsCarryItsPower) {
   const double se = std::sqrt(std::max(0.0, sum2 - sum * sum / n));  // of the sum
   std::printf("[measure] emit_photons: spot flux %.4f (se %.4f), power %.4f\n", sum, se, power);
   EXPECT_NEAR(sum, power, 5.0 * se);
+}
+
+// The environment's photons (issue 24): drawn from the map, from a disk of
+// the scene's bounding sphere; they carry the power the table picks by
+// (pi r^2 x the map's integral of luminance; a grey map, so every channel).
+TEST(PhotonPass, EnvironmentPhotonsCarryItsPower) {
+  ImageF map(16, 8, 0.25f);
+  for (int c = 0; c < 3; ++c) map.at(11, 2)[c] = 40.0f;
+  const std::string map_path = test::temp_dir() + "/photon_sky.pfm";
+  write_image(map_path, map, DisplaySettings{});
+  auto s = caustics_session(write_scene("sky.json", R"({"nbounces": 4, "rendermode": "pathtracer",
+    "camera": {"type": "pinhole", "width": 8, "height": 8, "position": [0, 0, -6], "lookAt": [0, 0, 0],
+               "upVector": [0, 1, 0], "fov": 45},
+    "scene": {"environment": {"file": ")" + map_path + R"(", "rotate": [10, 20, 30]},
+      "shapes": [{"type": "sphere", "center": [0, -3, 0], "radius": 1,
+                  "material": {"isrefractive": true, "refractiveindex": 1.5}}]}})"));
+  const LightTable table = build_light_table(s->scene);
+  ASSERT_EQ(table.lights.size(), 1u);
+  const Light& sky = table.lights[0];
+  const double power = light_type(LIGHT_ENVIRONMENT).power(sky);
+  const uint32_t n = uint32_t(test::sized(1u << 18, 1u << 11));
+  const std::vector<cs_float4> flux = emit_unguided(*s, table, n, "power"), dir = emit_unguided(*s, table, n, "dir"),
+                               origin = emit_unguided(*s, table, n, "origin");
+  double sum = 0.0, sum2 = 0.0;
+  for (uint32_t i = 0; i < n; ++i) {
+    sum += flux[i].x, sum2 += double(flux[i].x) * flux[i].x;
+    // It crosses the bounding sphere (centre (0, -3, 0), radius ~1) heading in.
+    const glm::dvec3 o(origin[i].x, origin[i].y - (-3.0), origin[i].z), d(dir[i].x, dir[i].y, dir[i].z);
+    ASSERT_LT(glm::dot(o, d), 0.0) << "photon " << i << " dir " << d.x << "," << d.y << "," << d.z << " flux " << flux[i].x << " origin " << o.x << "," << o.y << "," << o.z;
+    ASSERT_LT(glm::length(o - glm::dot(o, d) * d), 1.01 * sky.p0.w) << "photon " << i;
+  }
+  const double se = std::sqrt(std::max(0.0, sum2 - sum * sum / n));
+  std::printf("[measure] emit_photons: environment flux %.4f (se %.4f), power %.4f\n", sum, se, power);
+  EXPECT_NEAR(sum, power, 5.0 * se + 1e-4 * power);
 }
 
 // Fresnel reflectance of an unpolarised dielectric interface, in double.

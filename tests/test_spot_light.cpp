@@ -144,12 +144,12 @@ TEST(SpotLight, FalloffIsGltfsCurve) {
     const float3 w = make_float3(float(std::sin(a)), float(-std::cos(a)), 0.0f);
     const double c = std::cos(a);
     const double t = std::min(1.0, std::max(0.0, (c - co) / (ci - co)));
-    const float3 i = light_intensity_toward(&l, w);
+    const float3 i = light_intensity_toward(&l, nullptr, w);
     EXPECT_NEAR(i.x, 4.0 * t * t, 2e-5) << deg << " degrees";
     EXPECT_NEAR(i.y, 2.0 * t * t, 2e-5) << deg << " degrees";
   }
-  EXPECT_EQ(light_intensity_toward(&l, make_float3(0, -1, 0)).x, 4.0f);  // on the axis: I
-  EXPECT_EQ(light_intensity_toward(&l, make_float3(0, 1, 0)).x, 0.0f);   // behind
+  EXPECT_EQ(light_intensity_toward(&l, nullptr, make_float3(0, -1, 0)).x, 4.0f);  // on the axis: I
+  EXPECT_EQ(light_intensity_toward(&l, nullptr, make_float3(0, 1, 0)).x, 0.0f);   // behind
 }
 
 TEST(SpotLight, PowerIsTheIntegralOfItsIntensity) {
@@ -164,7 +164,7 @@ TEST(SpotLight, PowerIsTheIntegralOfItsIntensity) {
     for (int k = 0; k < n; ++k) {
       const double c = -1.0 + 2.0 * (k + 0.5) / n, s = std::sqrt(1 - c * c);
       const glm::dvec3 w = c * axis + s * t;
-      integral += light_intensity_toward(&l, make_float3(float(w.x), float(w.y), float(w.z))).y;
+      integral += light_intensity_toward(&l, nullptr, make_float3(float(w.x), float(w.y), float(w.z))).y;
     }
     integral *= 2.0 * kPi * 2.0 / n;  // dw = 2 pi dc
     const double expected = light_type(LIGHT_SPOT).power(l) / luminance(glm::vec3(4, 2, 1)) * 2.0;
@@ -180,8 +180,8 @@ TEST(SpotLight, UnguidedPhotonsCarryItsPower) {
   double sum = 0.0, sum2 = 0.0;
   for (int k = 0; k < n; ++k) {
     float3 p_error, normal, origin, dir;
-    const float3 point = light_emission_point(&l, make_float2(u01(rng), u01(rng)), &p_error, &normal);
-    const float3 flux = light_emit(&l, point, p_error, normal, make_float2(u01(rng), u01(rng)), u01(rng), &origin, &dir);
+    const float3 point = light_emission_point(&l, nullptr, make_float2(u01(rng), u01(rng)), &p_error, &normal);
+    const float3 flux = light_emit(&l, nullptr, point, p_error, normal, make_float2(u01(rng), u01(rng)), u01(rng), &origin, &dir);
     EXPECT_EQ(origin.x, 0.0f);
     EXPECT_LE(std::abs(glm::length(glm::vec3(dir.x, dir.y, dir.z)) - 1.0f), 1e-5f);
     // Never outside the outer cone.

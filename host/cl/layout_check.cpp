@@ -39,7 +39,8 @@ static_assert(sizeof(ShadeParams) == 64 && offsetof(ShadeParams, ambient_light) 
                   offsetof(ShadeParams, light_count) == 32 && offsetof(ShadeParams, min_weight) == 44,
               "ShadeParams layout");
 static_assert(sizeof(PathParams) == 64 && offsetof(PathParams, light_count) == 16 &&
-                  offsetof(PathParams, rr_depth) == 40 && offsetof(PathParams, wave_samples) == 52,
+                  offsetof(PathParams, rr_depth) == 40 && offsetof(PathParams, wave_samples) == 52 &&
+                  offsetof(PathParams, environment_light) == 60,
               "PathParams layout");
 static_assert(sizeof(Hit) == 16 && offsetof(Hit, prim) == 12, "Hit layout");
 static_assert(sizeof(FilmAccumulate) == 32 && offsetof(FilmAccumulate, pass_count) == 12 &&

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host/lights/environment_light.h"
 #include "host/lights/light_types.h"
 
 namespace caustica {
@@ -99,6 +100,7 @@ LightTable build_light_table(const Scene& scene) {
     add_shape(c.material, LIGHT_CYLINDER, c.center_radius, c.axis_half, {}, 4.0f * kPi * r * h + 2.0f * kPi * r * r,
               t.light_of_cylinder, i);
   }
+  if (scene.environment && add(environment_light(scene))) t.environment = uint32_t(t.lights.size() - 1);
   set_selection(t.lights, power);
   return t;
 }

@@ -21,12 +21,13 @@ struct LightTable {
   std::vector<uint32_t> light_of_sphere;    // per sphere: its light, or LIGHT_NONE
   std::vector<uint32_t> light_of_cylinder;  // per cylinder
   std::vector<uint32_t> light_of_triangle;  // per triangle: its light, or LIGHT_NONE
+  uint32_t environment = LIGHT_NONE;        // the environment's index (last), if the scene has one that emits
 };
 
 // The path tracer's lights: the file's (their geometry added first), then
 // every other emissive triangle (front side, or both with "twosided"),
 // sphere and cylinder (outward). File lights come by kind (the registry's
-// order), then as the file lists them.
+// order), then as the file lists them; the environment last.
 LightTable build_light_table(const Scene& scene);
 
 // Phong's lights: each file light's delta stand-in (point and spot lights

@@ -6,7 +6,7 @@ namespace caustica {
 
 // The registry: one line per light type, in the order of the device's
 // LIGHT_TYPES rows (kernels/lib/lights.h), which number the kinds.
-#define HOST_LIGHT_TYPES(X) X(point) X(rect) X(sphere) X(triangle) X(cylinder) X(spot)
+#define HOST_LIGHT_TYPES(X) X(point) X(rect) X(sphere) X(triangle) X(cylinder) X(spot) X(environment)
 
 #define DECLARE_LIGHT_TYPE(type) LightType type##_light_type();
 HOST_LIGHT_TYPES(DECLARE_LIGHT_TYPE)
@@ -17,11 +17,16 @@ const std::vector<LightType>& light_types() {
 #define LIST_LIGHT_TYPE(type) type##_light_type(),
     std::vector<LightType> t = {HOST_LIGHT_TYPES(LIST_LIGHT_TYPE)};
 #undef LIST_LIGHT_TYPE
-    // Whether a kind is a delta light is the device registry's to say.
-#define LIGHT_KIND_IS_AREA(kind, type, area) area,
-    const bool is_area[] = {LIGHT_TYPES(LIGHT_KIND_IS_AREA)};
-#undef LIGHT_KIND_IS_AREA
-    for (LightType& type : t) type.delta = type.kind < LIGHT_KIND_COUNT && !is_area[type.kind];
+    // A kind's class (delta, area, environment) is the device registry's to say.
+#define LIGHT_KIND_CLASS(kind, type, cls) cls,
+    const int class_of[] = {LIGHT_TYPES(LIGHT_KIND_CLASS)};
+#undef LIGHT_KIND_CLASS
+    for (LightType& type : t) {
+      const int cls = type.kind < LIGHT_KIND_COUNT ? class_of[type.kind] : -1;
+      type.delta = cls == 0;
+      type.area = cls == 1;
+      type.environment = cls == 2;
+    }
     return t;
   }();
   return types;

@@ -8,7 +8,8 @@
 // the pick probability's weight), what phong shades in its place (a delta
 // light) and what geometry path mode adds so that BSDF-sampled rays hit
 // it. Types made only from emissive shapes (triangles, cylinders) have no
-// file form and no stand-in.
+// file form and no stand-in; the environment is the scene object's
+// "environment" (environment_light.h), with no stand-in either.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -27,9 +28,13 @@ class Reader;
 struct LightType {
   uint32_t kind = 0;             // the device registry's row (LIGHT_POINT, ...)
   const char* file_type = nullptr;  // "type" in a scene file's lightsources; nullptr: made from shapes only
-  // No surface: reached by next-event estimation and photons only. Set by
-  // the registry from the device's LIGHT_TYPES row (its area column).
+  // The device's LIGHT_TYPES row's class, set by the registry: a delta
+  // light has no surface (reached by next-event estimation and photons
+  // only); an area light is a surface of the scene; the environment is
+  // the sky, reached by rays that leave the scene.
   bool delta = false;
+  bool area = false;
+  bool environment = false;
   // Appends the light written at `path` (an object whose "type" is file_type) to scene.lights.
   void (*read)(const scene_detail::Reader& r, const nlohmann::json& light, const std::string& path,
                Scene& scene) = nullptr;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "host/lights/environment_light.h"
+
 namespace caustica {
 
 DeviceScene::DeviceScene(cl::Context& context, const Scene& scene, const WideBvh& bvh, const SceneFeatures& features)
@@ -24,6 +26,8 @@ DeviceScene::DeviceScene(cl::Context& context, const Scene& scene, const WideBvh
   add("materials", features.materials ? scene.materials : no_materials);
   add("textures", features.textures ? scene.textures : no_textures);
   add("texels", features.textures ? scene.texels : no_texels);
+  static const std::vector<float> no_environment;
+  add("environment", features.environment ? environment_device_data(scene) : no_environment);
 }
 
 KernelArgs& DeviceScene::bind(KernelArgs& args, std::initializer_list<const char*> names) const {
@@ -39,7 +43,10 @@ KernelArgs& DeviceScene::bind_geometry(KernelArgs& args) const {
 }
 
 KernelArgs& DeviceScene::bind_surfaces(KernelArgs& args) const {
-  return bind(args, {"spheres", "cylinders", "triangles", "triangle_shading", "materials", "textures", "texels"});
+  return bind(args,
+              {"spheres", "cylinders", "triangles", "triangle_shading", "materials", "textures", "texels", "environment"});
 }
+
+KernelArgs& DeviceScene::bind_environment(KernelArgs& args) const { return bind(args, {"environment"}); }
 
 }  // namespace caustica

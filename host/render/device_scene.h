@@ -29,6 +29,8 @@ class DeviceScene {
   KernelArgs& bind_geometry(KernelArgs& args) const;
   // SCENE_SURFACE_PARAMS (kernels/lib/surface.h), in order.
   KernelArgs& bind_surfaces(KernelArgs& args) const;
+  // The environment map alone (emit_photons).
+  KernelArgs& bind_environment(KernelArgs& args) const;
 
   const Scene& scene() const { return scene_; }
   const SceneFeatures& features() const { return features_; }

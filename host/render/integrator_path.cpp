@@ -90,6 +90,7 @@ constexpr size_t kPathSlots = size_t(1) << 18;
 class PathIntegrator final : public Integrator {
   StageKernel generate_, intersect_, shade_, shadow_stage_;
   size_t light_count_ = 0;
+  uint32_t environment_light_ = LIGHT_NONE;  // its index in the light table (PathParams)
   size_t slots_ = 0;  // paths in flight
   cl::Buffer lights_, light_of_sphere_, light_of_cylinder_, light_of_triangle_, hits_;
   DeviceQueue rays_[2], shadow_;
@@ -227,6 +228,7 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
   // A wave covers the whole image; settings.chunk_pixels bounds the slots.
   chunk_pixels_ = size_t(settings.width) * size_t(settings.height);
   slots_ = std::max<size_t>(1, std::min({settings.chunk_pixels, kPathSlots, chunk_pixels_ * Film::kMostWavePasses}));
+  environment_light_ = table.environment;
   for (DeviceQueue& q : rays_) q = DeviceQueue(ctx, path_record_layout(), slots_);
   shadow_ = DeviceQueue(ctx, shadow_record_layout(), slots_);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, slots_ * sizeof(Hit));
@@ -259,6 +261,7 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
   // An uneven wave (adaptive sampling) covers the whole image: the film
   // lists its pixels.
   params.wave_entries = film.wave_entries();
+  params.environment_light = environment_light_;
   if (params.wave_entries > 0 && (first_pixel != 0 || pixel_count != film.pixel_count()))
     throw Error("path: an adaptive wave must cover the whole image");
   const CameraGPU camera = chunk_camera(first_pixel, pixel_count);

@@ -19,7 +19,6 @@
 
 #include "host/cl/runtime.h"
 #include "host/lights/light_table.h"
-#include "host/lights/light_table.h"
 #include "host/render/photon_pass.h"
 #include "host/render/state_bytes.h"
 #include "host/render/wave_loop.h"

@@ -208,8 +208,9 @@ void PhotonPass::trace(RenderStats* stats) {
     launcher_.runtime().fill(gather_counters_, cl_ulong(0), 0, GATHER_COUNTERS * sizeof(cl_ulong));
   last_photon_rays_ = 0;
   const PhotonPassParams p = params(pass_index);
-  KernelArgs(emit_)
-      .arg("lights", lights_)
+  KernelArgs emit(emit_);
+  emit.arg("lights", lights_);
+  scene_.bind_environment(emit)
       .arg("params", p)
       .arg("casters", casters_)
       .arg("caster_count", caster_count_)

@@ -82,6 +82,8 @@ uint64_t scene_hash(const Scene& scene) {
     const unsigned char b[2] = {static_cast<unsigned char>(t & 0xFF), static_cast<unsigned char>(t >> 8)};
     h = fnv1a(b, 2, h);
   }
+  // The environment map as decoded (a file's texels, or the generated sky).
+  if (scene.environment) h = fnv1a(scene.environment->rgb.data(), scene.environment->rgb.size() * sizeof(float), h);
   return h;
 }
 

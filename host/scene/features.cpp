@@ -28,6 +28,7 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
   f.cylinders = !scene.cylinders.empty();
   f.triangles = !scene.triangles.empty();
   if (mode == RenderMode::Binary) return f;  // binary shading needs no lights, materials or textures
+  f.environment = scene.environment.has_value();
   f.materials = true;
   f.triangle_shading = f.triangles && !scene.triangle_shading.empty();
 
@@ -52,8 +53,8 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
   // Path mode samples area lights (rectangles, spheres, emissive shapes);
   // phong sees every light as a delta light.
   if (mode == RenderMode::Path) {
-    for (const Light& l : scene.lights) f.area_lights = f.area_lights || !light_type(l.kind).delta;
-    f.lights = f.lights || f.area_lights;
+    for (const Light& l : scene.lights) f.area_lights = f.area_lights || light_type(l.kind).area;
+    f.lights = f.lights || f.area_lights || f.environment;
   } else {
     f.area_lights = false;
   }
@@ -97,6 +98,7 @@ int SceneFeatures::flag_value(FeatureFlag flag) const {
     case FeatureFlag::kHAS_AREA_LIGHTS: return path ? area_lights : 1;
     case FeatureFlag::kHAS_CAUSTICS: return caustics;
     case FeatureFlag::kHAS_NUMERIC_CHECKS: return path && check_numerics;
+    case FeatureFlag::kHAS_ENVIRONMENT: return environment;
   }
   throw Error("unknown feature flag");
 }

@@ -38,6 +38,7 @@ struct SceneFeatures {
   bool caustics = false;  // path: the photon pass (kernels compiled, buffers allocated, stages launched)
   std::string caustics_reason;  // why it is or is not there, for --verbose
   bool check_numerics = false;  // path: --check-numerics counters compiled in (set by the session)
+  bool environment = false;     // path and phong: the scene's environment map (seen at misses; path: sampled)
   bool secondary_rays() const { return reflection || refraction; }
 
   // The value (0 or 1) this scene gives a feature flag.

@@ -13,6 +13,7 @@
 
 #include "host/error.h"
 #include "host/limits.h"
+#include "host/lights/environment_light.h"
 #include "host/lights/light_types.h"
 #include "host/read_file.h"
 #include "host/scene/gltf.h"
@@ -279,13 +280,14 @@ Scene parse_scene(const json& j, const std::string& file_for_messages, const std
     r.warn("", "animation (FramesNum, \"animation path\", camera position0.., movement0..) is not supported; "
                "rendering a still from the first camera position");
   const json& sc = r.read_object(j, "scene", "");
-  r.check_keys(sc, "/scene", {"backgroundcolor", "lightsources", "shapes", "ambientlight"});
+  r.check_keys(sc, "/scene", {"backgroundcolor", "lightsources", "shapes", "ambientlight", "environment"});
   scene.background = r.read_vec3(sc, "backgroundcolor", "/scene", Range::NonNegative, glm::vec3(0.0f));
   if (sc.contains("ambientlight")) scene.ambient_light = r.read_vec3(sc, "ambientlight", "/scene", Range::NonNegative);
   read_lights(r, sc, scene);
   namespace fs = std::filesystem;
   LoadContext ctx(r, scene, base_dir.empty() ? std::string(".") : base_dir,
                   fs::path(file_for_messages).stem().string());
+  read_environment(ctx, sc);
   read_shapes(ctx, sc);
   r.flush_deferred();
   return scene;

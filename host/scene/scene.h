@@ -55,6 +55,18 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<uint16_t> texels;  // IEEE half floats, 4 per texel (linear rgb + unused)
 
+  // The scene's "environment" (host/lights/environment_light.h): an
+  // equirectangular sky seen by rays that leave the scene, in place of
+  // `background`; a light of its own in path mode.
+  struct Environment {
+    std::string source;     // the file, or a description of the generated sky, for messages
+    int width = 0, height = 0;
+    std::vector<float> rgb;  // linear radiance times "intensity", row-major from the top row, 3 per texel
+    glm::mat3 rotation{1.0f};  // map -> world: "rotate" [x, y, z] degrees, R = Rz Ry Rx
+    bool importance = true;    // sampled by luminance; false: uniformly over the sphere (comparisons)
+  };
+  std::optional<Environment> environment;
+
   // Path mode only (add_light_geometry, host/lights/light_table.h): the
   // area lights' own geometry, appended after the file's shapes so that
   // BSDF-sampled rays can hit them; each primitive names its light (an

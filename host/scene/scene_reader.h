@@ -186,5 +186,8 @@ void append_triangle(LoadContext& ctx, const glm::vec3 p[3], cs_uint material, c
                      const glm::vec3* normals = nullptr);
 // Moves the shading records into the scene when any triangle has real ones.
 void finish_shading(LoadContext& ctx);
+// Degrees about x, then y, then z, about the world origin (right-handed):
+// R = Rz * Ry * Rx (meshes' "rotate", the environment's "rotate").
+glm::mat3 rotation_xyz(const glm::vec3& degrees);
 
 }  // namespace caustica::scene_detail

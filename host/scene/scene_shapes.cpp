@@ -35,18 +35,6 @@ TriangleShading make_shading(const glm::vec3 n[3], const glm::vec2 uv[3]) {
 
 const glm::vec2 kDefaultUv[3] = {{0, 0}, {1, 0}, {0, 1}};
 
-// Degrees about x, then y, then z, about the world origin (right-handed):
-// R = Rz * Ry * Rx, as in the one corpus file with a rotated box.
-glm::mat3 rotation_xyz(const glm::vec3& degrees) {
-  const glm::vec3 r = glm::radians(degrees);
-  const float cx = std::cos(r.x), sx = std::sin(r.x), cy = std::cos(r.y), sy = std::sin(r.y);
-  const float cz = std::cos(r.z), sz = std::sin(r.z);
-  // glm matrices are column-major: each glm::vec3 here is a column.
-  const glm::mat3 rx(glm::vec3(1, 0, 0), glm::vec3(0, cx, sx), glm::vec3(0, -sx, cx));
-  const glm::mat3 ry(glm::vec3(cy, 0, -sy), glm::vec3(0, 1, 0), glm::vec3(sy, 0, cy));
-  const glm::mat3 rz(glm::vec3(cz, sz, 0), glm::vec3(-sz, cz, 0), glm::vec3(0, 0, 1));
-  return rz * ry * rx;
-}
 
 }  // namespace
 
@@ -399,6 +387,19 @@ class ShapeReader {
 };
 
 }  // namespace
+
+// Degrees about x, then y, then z, about the world origin (right-handed):
+// R = Rz * Ry * Rx, as in the one corpus file with a rotated box.
+glm::mat3 rotation_xyz(const glm::vec3& degrees) {
+  const glm::vec3 r = glm::radians(degrees);
+  const float cx = std::cos(r.x), sx = std::sin(r.x), cy = std::cos(r.y), sy = std::sin(r.y);
+  const float cz = std::cos(r.z), sz = std::sin(r.z);
+  // glm matrices are column-major: each glm::vec3 here is a column.
+  const glm::mat3 rx(glm::vec3(1, 0, 0), glm::vec3(0, cx, sx), glm::vec3(0, -sx, cx));
+  const glm::mat3 ry(glm::vec3(cy, 0, -sy), glm::vec3(0, 1, 0), glm::vec3(sy, 0, cy));
+  const glm::mat3 rz(glm::vec3(cz, sz, 0), glm::vec3(-sz, cz, 0), glm::vec3(0, 0, 1));
+  return rz * ry * rx;
+}
 
 void read_shapes(LoadContext& ctx, const json& scene_obj) {
   const Reader& r = ctx.r;

@@ -95,7 +95,8 @@ inline uint light_of_hit(__global const uint* light_of_sphere, __global const ui
       const PathParams *params, PATH_QUEUE_PARAMS(in), __global const Hit *restrict hits, FILM_PARAMS,        \
       PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow) PATH_CAUSTIC_PARAMS PATH_NUMERICS_PARAMS
 #define PATH_VERTEX_ARGS                                                                                   \
-  spheres, cylinders, triangles, triangle_shading, materials, textures, texels, lights, light_of_sphere,     \
+  spheres, cylinders, triangles, triangle_shading, materials, textures, texels, environment, lights,        \
+      light_of_sphere,                                                                                      \
       light_of_cylinder, light_of_triangle, &params, PATH_QUEUE_ARGS(in), hits, FILM_ARGS, PATH_QUEUE_ARGS(next), \
       SHADOW_QUEUE_ARGS(shadow) PATH_CAUSTIC_ARGS PATH_NUMERICS_ARGS
 
@@ -107,6 +108,26 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   const float3 throughput = ray.throughput.xyz;
   const float3 d = ray.dir.xyz;
   if (hit.prim == PRIM_NONE) {
+#if HAS_ENVIRONMENT
+    if (params->environment_light != LIGHT_NONE) {
+      /* The sky, MIS-weighted against its sampling as any light's emission;
+       * with the photon pass, light -> caster+ -> receiver is the map's. */
+      __global const Light* sky = &lights[params->environment_light];
+      float weight = 1.0f;
+#if HAS_CAUSTICS
+      if (caustic_radius > 0.0f && (ray.flags & PATH_AFTER_RECEIVER) && (ray.flags & PATH_CASTER_SINCE_RECEIVER))
+        weight = 0.0f;
+#endif
+      if (!(ray.flags & PATH_SPECULAR)) {
+        if (params->strategy == PATH_STRATEGY_NEE) weight = 0.0f;
+        else if (params->strategy == PATH_STRATEGY_MIS)
+          weight *= power_heuristic(ray.bsdf_pdf, light_pdf(sky, environment, sky->select_probability,
+                                                            ray.origin.xyz, ray.origin.xyz, d));
+      }
+      if (weight > 0.0f) film_add(FILM_ARGS, ray.pixel, throughput * environment_radiance(environment, d) * weight);
+      return false;
+    }
+#endif
     film_add(FILM_ARGS, ray.pixel, throughput * params->background.xyz);
     return false;
   }
@@ -139,7 +160,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
     if (!arrived_by_delta) {
       if (params->strategy == PATH_STRATEGY_NEE) weight = 0.0f;
       else if (params->strategy == PATH_STRATEGY_MIS)
-        weight = power_heuristic(ray.bsdf_pdf, light_pdf(light, light->select_probability, ray.origin.xyz,
+        weight = power_heuristic(ray.bsdf_pdf, light_pdf(light, environment, light->select_probability, ray.origin.xyz,
                                                          sp.position, d));
     }
     if (weight > 0.0f) film_add(FILM_ARGS, ray.pixel, throughput * light->emitted.xyz * weight);
@@ -206,7 +227,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
     const uint li = pick_light(lights, params->light_count, picks.x);
     __global const Light* light = &lights[li];
     LightSample ls;
-    if (sample_light(light, light->select_probability, sp.position, u_light, &ls)) {
+    if (sample_light(light, environment, light->select_probability, sp.position, u_light, &ls)) {
       const float3 wi = frame_to_local(ls.wi, t, b, n);
       const float side = dot(ls.wi, ng);
       if (!opaque || side > 0.0f) {

@@ -34,7 +34,7 @@ inline float blinn_lobe(float n_dot_h, float exponent) {
 
 /* Blinn-Phong for one delta light (a point or spot light, or the point
  * that stands in for an area light: host/lights/), pushed as a shadow ray. */
-inline void shade_point_light(__global const Light* light, __global const Material* mat, float3 diffuse_colour,
+inline void shade_point_light(__global const Light* light, __global const float* environment, __global const Material* mat, float3 diffuse_colour,
                               SurfacePoint sp, float3 n_facing, float3 view, float3 weight, uint pixel,
                               uint slot, SHADOW_QUEUE_PARAMS(shadow)) {
   /* The shadow ray leaves on the geometric side the light is on; the
@@ -52,7 +52,7 @@ inline void shade_point_light(__global const Light* light, __global const Materi
   if (dot(geometric, l) <= 0.0f) return; /* light behind the actual surface */
   const float3 diffuse = mat->diffuse.w * diffuse_colour * n_dot_l;
   const float3 specular = mat->specular.w * mat->specular.xyz * blinn_lobe(n_dot_h, mat->specular_exponent);
-  const float3 contribution = weight * light_intensity_toward(light, -l) * (diffuse + specular);
+  const float3 contribution = weight * light_intensity_toward(light, environment, -l) * (diffuse + specular);
   if (max3(contribution) <= 0.0f) return;
   ShadowRecord ray;
   /* A point light is no surface (no error, no normal); the relative margin
@@ -110,7 +110,11 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const Light* re
   const uint pixel = ray.pixel;
 
   if (hit.prim == PRIM_NONE) {
+#if HAS_ENVIRONMENT
+    film_add(FILM_ARGS, pixel, weight * environment_radiance(environment, ray.dir.xyz));
+#else
     film_add(FILM_ARGS, pixel, weight * params.background.xyz);
+#endif
     return;
   }
 
@@ -166,7 +170,7 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const Light* re
 #endif
 #if HAS_LIGHTS
     for (uint l = 0; l < params.light_count; ++l)
-      shade_point_light(&lights[l], mat, diffuse_colour, sp, ns, -d, local_weight, pixel, i * params.light_count + l,
+      shade_point_light(&lights[l], environment, mat, diffuse_colour, sp, ns, -d, local_weight, pixel, i * params.light_count + l,
                         SHADOW_QUEUE_ARGS(shadow));
 #endif
   }

@@ -8,8 +8,13 @@
  * phong's stand-in, its geometry) and one line in each registry: the
  * LIGHT_TYPES row below, with its #include beside it, and the host's
  * (host/lights/light_types.cpp). Kind numbers are the rows' order, so a new
- * type goes last. The third column marks area lights, whose sampling
- * programs of point-lit scenes leave out (HAS_AREA_LIGHTS=0, shared/feature_flags.h).
+ * type goes last. The third column is the type's class: 0 a delta light,
+ * 1 an area light, whose sampling programs of point-lit scenes leave out
+ * (HAS_AREA_LIGHTS=0, shared/feature_flags.h), 2 the environment, whose
+ * functions also read the `environment` buffer (its image and sampling
+ * distribution: every dispatch below takes it, a one-element dummy
+ * without one) and which programs of scenes without a sky leave out
+ * (HAS_ENVIRONMENT=0).
  * Densities are per unit solid angle at the shading point and include the
  * probability of picking the light; a delta light's density is that
  * probability alone, and MIS never weights it. */
@@ -22,27 +27,42 @@
 #include "lib/lights/triangle_light.h"
 #include "lib/lights/cylinder_light.h"
 #include "lib/lights/spot_light.h"
+#include "lib/lights/environment_light.h"
 
-/*                 kind            type      area */
+/*                 kind            type      class */
 #define LIGHT_TYPES(X)                       \
   X(LIGHT_POINT,    point,    0)             \
   X(LIGHT_RECT,     rect,     1)             \
   X(LIGHT_SPHERE,   sphere,   1)             \
   X(LIGHT_TRIANGLE, triangle, 1)             \
   X(LIGHT_CYLINDER, cylinder, 1)             \
-  X(LIGHT_SPOT,     spot,     0)
+  X(LIGHT_SPOT,     spot,     0)             \
+  X(LIGHT_ENVIRONMENT, environment, 2)
 
-#define LIGHT_KIND_ENUM(kind, type, area) kind,
+#define LIGHT_KIND_ENUM(kind, type, class_) kind,
 enum { LIGHT_TYPES(LIGHT_KIND_ENUM) LIGHT_KIND_COUNT };
 #undef LIGHT_KIND_ENUM
 
 /* Whether a type's sampling is compiled: area types only in programs whose
- * scene has area lights (the constant false drops their code). */
+ * scene has area lights, the environment only where the scene has one (the
+ * constant false drops their code). */
+#define LIGHT_TYPE_SAMPLED_0 1
 #if HAS_AREA_LIGHTS
-#define LIGHT_TYPE_SAMPLED(area) 1
+#define LIGHT_TYPE_SAMPLED_1 1
 #else
-#define LIGHT_TYPE_SAMPLED(area) (!(area))
+#define LIGHT_TYPE_SAMPLED_1 0
 #endif
+#if HAS_ENVIRONMENT
+#define LIGHT_TYPE_SAMPLED_2 1
+#else
+#define LIGHT_TYPE_SAMPLED_2 0
+#endif
+#define LIGHT_TYPE_SAMPLED(cls) LIGHT_TYPE_SAMPLED_##cls
+/* The arguments a type's functions take before the light's own. */
+#define LIGHT_DATA_ARGS_0
+#define LIGHT_DATA_ARGS_1
+#define LIGHT_DATA_ARGS_2 environment,
+#define LIGHT_DATA_ARGS(cls) LIGHT_DATA_ARGS_##cls
 
 /* The light whose prefix probability first exceeds u (binary search). */
 inline uint pick_light(__global const Light* lights, uint count, float u) {
@@ -56,12 +76,12 @@ inline uint pick_light(__global const Light* lights, uint count, float u) {
 }
 
 /* Next-event estimation toward light l, picked with pick_probability. */
-inline bool sample_light(__global const Light* l, float pick_probability, float3 p, float2 u, LightSample* s) {
+inline bool sample_light(__global const Light* l, __global const float* environment, float pick_probability, float3 p, float2 u, LightSample* s) {
   s->delta = false;
   bool found = false;
   switch (l->kind) {
-#define LIGHT_SAMPLE_CASE(kind, type, area) \
-  case kind: found = LIGHT_TYPE_SAMPLED(area) && type##_light_sample(l, p, u, s); break;
+#define LIGHT_SAMPLE_CASE(kind, type, class_) \
+  case kind: found = LIGHT_TYPE_SAMPLED(class_) && type##_light_sample(LIGHT_DATA_ARGS(class_) l, p, u, s); break;
     LIGHT_TYPES(LIGHT_SAMPLE_CASE)
 #undef LIGHT_SAMPLE_CASE
   }
@@ -72,11 +92,11 @@ inline bool sample_light(__global const Light* l, float pick_probability, float3
 
 /* What sample_light's density would have been for the direction wi from p
  * that reached point q of light l (a BSDF-sampled ray's hit). */
-inline float light_pdf(__global const Light* l, float pick_probability, float3 p, float3 q, float3 wi) {
+inline float light_pdf(__global const Light* l, __global const float* environment, float pick_probability, float3 p, float3 q, float3 wi) {
   float pdf = 0.0f;
   switch (l->kind) {
-#define LIGHT_PDF_CASE(kind, type, area) \
-  case kind: pdf = LIGHT_TYPE_SAMPLED(area) ? type##_light_pdf(l, p, q, wi) : 0.0f; break;
+#define LIGHT_PDF_CASE(kind, type, class_) \
+  case kind: pdf = LIGHT_TYPE_SAMPLED(class_) ? type##_light_pdf(LIGHT_DATA_ARGS(class_) l, p, q, wi) : 0.0f; break;
     LIGHT_TYPES(LIGHT_PDF_CASE)
 #undef LIGHT_PDF_CASE
   }
@@ -84,10 +104,10 @@ inline float light_pdf(__global const Light* l, float pick_probability, float3 p
 }
 
 /* A delta light's intensity along w (phong). */
-inline float3 light_intensity_toward(__global const Light* l, float3 w) {
+inline float3 light_intensity_toward(__global const Light* l, __global const float* environment, float3 w) {
   switch (l->kind) {
-#define LIGHT_INTENSITY_CASE(kind, type, area) \
-  case kind: return type##_light_intensity_toward(l, w);
+#define LIGHT_INTENSITY_CASE(kind, type, class_) \
+  case kind: return type##_light_intensity_toward(LIGHT_DATA_ARGS(class_) l, w);
     LIGHT_TYPES(LIGHT_INTENSITY_CASE)
 #undef LIGHT_INTENSITY_CASE
   }
@@ -95,10 +115,10 @@ inline float3 light_intensity_toward(__global const Light* l, float3 w) {
 }
 
 /* A photon's start on light l: the point, its error bound, the normal. */
-inline float3 light_emission_point(__global const Light* l, float2 u, float3* p_error, float3* n) {
+inline float3 light_emission_point(__global const Light* l, __global const float* environment, float2 u, float3* p_error, float3* n) {
   switch (l->kind) {
-#define LIGHT_POINT_CASE(kind, type, area) \
-  case kind: return type##_light_emission_point(l, u, p_error, n);
+#define LIGHT_POINT_CASE(kind, type, class_) \
+  case kind: return type##_light_emission_point(LIGHT_DATA_ARGS(class_) l, u, p_error, n);
     LIGHT_TYPES(LIGHT_POINT_CASE)
 #undef LIGHT_POINT_CASE
   }
@@ -107,11 +127,11 @@ inline float3 light_emission_point(__global const Light* l, float2 u, float3* p_
 }
 
 /* An unguided photon from that point: its origin, direction and flux. */
-inline float3 light_emit(__global const Light* l, float3 point, float3 p_error, float3 n, float2 u, float u_side,
+inline float3 light_emit(__global const Light* l, __global const float* environment, float3 point, float3 p_error, float3 n, float2 u, float u_side,
                          float3* origin, float3* dir) {
   switch (l->kind) {
-#define LIGHT_EMIT_CASE(kind, type, area) \
-  case kind: return type##_light_emit(l, point, p_error, n, u, u_side, origin, dir);
+#define LIGHT_EMIT_CASE(kind, type, class_) \
+  case kind: return type##_light_emit(LIGHT_DATA_ARGS(class_) l, point, p_error, n, u, u_side, origin, dir);
     LIGHT_TYPES(LIGHT_EMIT_CASE)
 #undef LIGHT_EMIT_CASE
   }
@@ -121,11 +141,11 @@ inline float3 light_emit(__global const Light* l, float3 point, float3 p_error, 
 }
 
 /* The flux of a photon sent from that point along *dir with density pdf. */
-inline float3 light_emitted_toward(__global const Light* l, float3 point, float3 p_error, float3 n, float3* dir,
+inline float3 light_emitted_toward(__global const Light* l, __global const float* environment, float3 point, float3 p_error, float3 n, float3* dir,
                                    float pdf, float3* origin) {
   switch (l->kind) {
-#define LIGHT_TOWARD_CASE(kind, type, area) \
-  case kind: return type##_light_emitted_toward(l, point, p_error, n, dir, pdf, origin);
+#define LIGHT_TOWARD_CASE(kind, type, class_) \
+  case kind: return type##_light_emitted_toward(LIGHT_DATA_ARGS(class_) l, point, p_error, n, dir, pdf, origin);
     LIGHT_TYPES(LIGHT_TOWARD_CASE)
 #undef LIGHT_TOWARD_CASE
   }

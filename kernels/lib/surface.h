@@ -38,12 +38,13 @@
 #include "lib/geometry.h"
 
 /* What shading reads of the scene beyond the traversal's geometry: shapes,
- * per-triangle shading data, materials and textures. */
+ * per-triangle shading data, materials, textures and the environment map
+ * (lib/lights/environment_light.h; read only with HAS_ENVIRONMENT). */
 #define SCENE_SURFACE_PARAMS                                                                              \
   __global const Sphere *restrict spheres, __global const Cylinder *restrict cylinders,                 \
       __global const Triangle *restrict triangles, __global const TriangleShading *restrict triangle_shading, \
       __global const Material *restrict materials, __global const Texture *restrict textures,           \
-      __global const ushort *restrict texels
+      __global const ushort *restrict texels, __global const float *restrict environment
 
 typedef struct {
   float3 position;

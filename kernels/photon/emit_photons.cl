@@ -25,7 +25,12 @@
  * lies in a cone, so every stored photon path keeps a non-zero density and
  * the photon map's expectation is unchanged; directions that miss every
  * cone would have ended unstored. A direction behind a one-sided emitter
- * carries no flux. */
+ * carries no flux. The environment's photons have no point to aim from:
+ * their direction is drawn from the map and they cross a disk facing it
+ * (lib/lights/environment_light.h: environment_emit_through), of the
+ * scene's bounding sphere, or, guided, of a sphere around every caster
+ * bound (every line that meets a caster crosses it), starting outside the
+ * scene either way. */
 
 #include "lib/caustics.h"
 #include "lib/lights.h"
@@ -59,6 +64,17 @@ inline bool caster_cone_holds(float4 c, float3 o, float3 w) {
   return dot(w, d) > 0.0f && dot(x, x) <= c.w * c.w;
 }
 
+/* A sphere around every caster bound (not the smallest: the centres'
+ * mean, and the farthest bound's reach from it). */
+inline float4 enclosing_sphere(__global const float4* restrict casters, uint count) {
+  float3 centre = (float3)(0.0f);
+  for (uint j = 0u; j < count; ++j) centre += casters[j].xyz;
+  centre /= (float)count;
+  float radius = 0.0f;
+  for (uint j = 0u; j < count; ++j) radius = fmax(radius, length(casters[j].xyz - centre) + casters[j].w);
+  return (float4)(centre, radius * 1.0001f);
+}
+
 /* A direction from o toward the casters and its density (above). */
 inline float3 sample_toward_casters(__global const float4* restrict casters, uint count, float3 o, float pick,
                                     float2 u, float* pdf) {
@@ -86,7 +102,8 @@ inline float3 sample_toward_casters(__global const float4* restrict casters, uin
   return w;
 }
 
-__kernel void emit_photons(__global const Light* restrict lights, PhotonPassParams params,
+__kernel void emit_photons(__global const Light* restrict lights, __global const float* restrict environment,
+                           PhotonPassParams params,
                            __global const float4* restrict casters, uint caster_count, PHOTON_QUEUE_PARAMS(out),
                            __global uint* restrict next_count) {
   const uint i = get_global_id(0);
@@ -100,14 +117,20 @@ __kernel void emit_photons(__global const Light* restrict lights, PhotonPassPara
   const float2 u_point = (float2)(photon_random(i, params, 1u), photon_random(i, params, 2u));
   const float2 u_dir = (float2)(photon_random(i, params, 3u), photon_random(i, params, 4u));
   float3 p_error, n; /* the point's error bound, as sample_light's (spawn_ray_origin), and its normal */
-  const float3 point = light_emission_point(l, u_point, &p_error, &n);
+  const float3 point = light_emission_point(l, environment, u_point, &p_error, &n);
   float3 origin, dir, flux;
+#if HAS_ENVIRONMENT
+  if (l->kind == LIGHT_ENVIRONMENT) {
+    flux = environment_emit_through(environment, l, caster_count > 0u ? enclosing_sphere(casters, caster_count) : l->p0,
+                                    point, u_dir, &origin, &dir);
+  } else
+#endif
   if (caster_count > 0u) {
     float pdf;
     dir = sample_toward_casters(casters, caster_count, point, photon_random(i, params, 5u), u_dir, &pdf);
-    flux = light_emitted_toward(l, point, p_error, n, &dir, pdf, &origin);
+    flux = light_emitted_toward(l, environment, point, p_error, n, &dir, pdf, &origin);
   } else {
-    flux = light_emit(l, point, p_error, n, u_dir, photon_random(i, params, 5u), &origin, &dir);
+    flux = light_emit(l, environment, point, p_error, n, u_dir, photon_random(i, params, 5u), &origin, &dir);
   }
   PhotonRecord photon;
   photon.origin = (float4)(origin, 0.0f);

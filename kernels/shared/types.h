@@ -250,7 +250,7 @@ typedef struct {
   cs_uint wave_pixels;
   cs_uint wave_samples;
   cs_uint wave_entries;
-  cs_uint pad0;
+  cs_uint environment_light; /* the environment's index in the light table, or LIGHT_NONE */
 } PathParams; /* 64 bytes */
 
 /* The path tracer's wave counters (host/render/integrator_path.cpp), each in

@@ -47,6 +47,7 @@
   X(__builtin_offsetof(PathParams, ray_capacity)) X(__builtin_offsetof(PathParams, first_pass))                     \
   X(__builtin_offsetof(PathParams, seed)) X(__builtin_offsetof(PathParams, strategy))                               \
   X(__builtin_offsetof(PathParams, rr_depth)) X(__builtin_offsetof(PathParams, sampler))                            \
-  X(__builtin_offsetof(PathParams, wave_pixels)) X(__builtin_offsetof(PathParams, wave_samples))
+  X(__builtin_offsetof(PathParams, wave_pixels)) X(__builtin_offsetof(PathParams, wave_samples)) \
+  X(__builtin_offsetof(PathParams, environment_light))
 
 #endif /* CAUSTICA_TESTS_RECORD_LAYOUT_H */

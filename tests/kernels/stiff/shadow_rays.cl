@@ -26,7 +26,7 @@ __kernel void shadow_rays(__global const float4* points, uint n, __global const 
   uint s = mix32(i * 0x2545f491u + 17u);
   const float2 u = (float2)(unit_float(&s), unit_float(&s));
   LightSample ls;
-  if (!sample_light(light, 1.0f, p, u, &ls)) return;
+  if (!sample_light(light, (__global const float*)0, 1.0f, p, u, &ls) /* no environment */) return;
   atomic_inc(&counts[0]);
   float3 dir;
   float tmax;
