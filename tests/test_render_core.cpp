@@ -457,7 +457,8 @@ TEST(Film, ClearingAPassRangeKeepsFinishedPasses) {
   FilmRig rig(film_options(4, 1));
   rig.add_pass({{1, 1, 1, 0}, {1, 1, 1, 0}, {1, 1, 1, 0}, {1, 1, 1, 0}}, {0, 1, 2, 3});
   rig.film.accumulate_pass(rig.launcher);
-  rig.add_pass({{1, 1, 1, 0}, {1, 1, 1, 0}, {1, 1, 1, 0}, {1, 1, 1, 0}}, {0, 1, 2, 3});
+  // Blue: 2^30, whose fixed point is in the pass's high words.
+  rig.add_pass({{1, 1, 0x1p30f, 0}, {1, 1, 0x1p30f, 0}, {1, 1, 0x1p30f, 0}, {1, 1, 0x1p30f, 0}}, {0, 1, 2, 3});
   rig.film.clear_pass_range(1, 2);  // pixels 1 and 2 of the pass in progress
   rig.film.accumulate_pass(rig.launcher);
   const ImageF img = rig.film.mean();  // (1 + 1) / 2 and (1 + 0) / 2
@@ -465,6 +466,10 @@ TEST(Film, ClearingAPassRangeKeepsFinishedPasses) {
   EXPECT_EQ(img.rgb[3], 0.5f);
   EXPECT_EQ(img.rgb[6], 0.5f);
   EXPECT_EQ(img.rgb[9], 1.0f);
+  EXPECT_EQ(img.rgb[2], (1.0f + 0x1p30f) / 2.0f);
+  EXPECT_EQ(img.rgb[5], 0.5f);
+  EXPECT_EQ(img.rgb[8], 0.5f);
+  EXPECT_EQ(img.rgb[11], (1.0f + 0x1p30f) / 2.0f);
 }
 
 // ------------------------------------------------------------------ one shade step

@@ -36,7 +36,9 @@ Film::Film(Runtime& runtime, const cl::Program& program, const FilmOptions& opti
 Film::~Film() = default;
 
 KernelArgs& Film::bind(KernelArgs& args) const {
-  return args.arg("film", pass_).arg("film_counters", counters_);
+  return args.arg("film", pass_)
+      .arg("film_counters", counters_)
+      .arg("film_high_offset", cl_uint(pixel_count() * 3));
 }
 
 void Film::clear() {
@@ -205,8 +207,11 @@ std::vector<uint32_t> Film::spp_after_wave() const {
   return after;
 }
 
+// The pass's low words, then its high words (kernels/lib/film.h).
 void Film::clear_pass_range(size_t first_pixel, size_t count) {
-  runtime_.fill(pass_, cl_ulong(0), first_pixel * 3 * kAccumulatedValueBytes, count * 3 * kAccumulatedValueBytes);
+  const size_t word = sizeof(cl_ulong), high = pixel_count() * 3 * word;
+  runtime_.fill(pass_, cl_ulong(0), first_pixel * 3 * word, count * 3 * word);
+  runtime_.fill(pass_, cl_ulong(0), high + first_pixel * 3 * word, count * 3 * word);
 }
 
 void Film::abandon_wave() {

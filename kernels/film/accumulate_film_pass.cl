@@ -38,14 +38,14 @@ __kernel void accumulate_film_pass(__global ulong* restrict film, __global ulong
   const uint n = params.per_pixel ? pixel_spp[i / 3u] : params.pass_index;
   const uint k = params.per_pixel ? wave_spp[i / 3u] : params.pass_count;
   if (k == 0u) return; /* not in this wave: its pass value is zero */
-  const ulong low = film[2ul * i], high = film[2ul * i + 1ul];
+  const ulong low = film[i], high = film[params.value_count + i]; /* lib/film.h's layout */
   add_to_sum128(&passes[2ul * i], low, high);
   if (params.half_offset != FILM_PASS_ABSENT && n > 0u) {
     __global ulong* half_sum = &passes[2ul * ((ulong)params.half_offset + i)];
     if (film_half_restarts(n, k)) half_sum[0] = half_sum[1] = 0ul;
     add_to_sum128(half_sum, low, high);
   }
-  film[2ul * i] = film[2ul * i + 1ul] = 0ul;
+  film[i] = film[params.value_count + i] = 0ul;
 }
 
 /* Before the host reads them: value_count sums from `offset` (in values) as

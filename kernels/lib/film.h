@@ -20,12 +20,16 @@
 
 #include "lib/film_sums.h"
 
-/* film: two ulongs (low, high) per channel value, three values a pixel. */
-#define FILM_PARAMS __global ulong* restrict film, volatile __global uint* restrict film_counters
-#define FILM_ARGS film, film_counters
+/* film: the low words of every channel value (three a pixel), then their
+ * high words from film_high_offset on: the words nearly every add touches
+ * are as dense as a 64-bit film's (a path tracer's shadow stage was 30%
+ * slower with low and high interleaved). */
+#define FILM_PARAMS \
+  __global ulong* restrict film, volatile __global uint* restrict film_counters, uint film_high_offset
+#define FILM_ARGS film, film_counters, film_high_offset
 
 /* Bit tests instead of isnan/isinf/signbit: they survive -cl-fast-relaxed-math. */
-inline void film_add_value(__global ulong* value, float v, volatile __global uint* counters) {
+inline void film_add_value(__global ulong* value, uint high_offset, float v, volatile __global uint* counters) {
   const uint bits = as_uint(v);
   if ((bits & 0x7f800000u) == 0x7f800000u) {
     atomic_inc(&counters[FILM_COUNT_NONFINITE]);
@@ -43,20 +47,20 @@ inline void film_add_value(__global ulong* value, float v, volatile __global uin
   ulong low, high;
   film_fixed_from_float(v, &low, &high);
   if (low != 0ul) {
-    const ulong before = atom_add(&value[0], low);
+    const ulong before = atom_add(value, low);
     if (before + low < before) high += 1ul; /* the low word wrapped */
   } else if (high == 0ul) {
     atomic_inc(&counters[FILM_COUNT_UNDERFLOW]);
     return;
   }
-  if (high != 0ul) atom_add(&value[1], high);
+  if (high != 0ul) atom_add(value + high_offset, high);
 }
 
 inline void film_add(FILM_PARAMS, uint pixel, float3 value) {
-  __global ulong* at = film + 6ul * pixel;
-  film_add_value(at, value.x, film_counters);
-  film_add_value(at + 2, value.y, film_counters);
-  film_add_value(at + 4, value.z, film_counters);
+  __global ulong* at = film + 3ul * pixel;
+  film_add_value(at, film_high_offset, value.x, film_counters);
+  film_add_value(at + 1, film_high_offset, value.y, film_counters);
+  film_add_value(at + 2, film_high_offset, value.z, film_counters);
 }
 
 #endif

@@ -19,6 +19,18 @@
 /* v (finite, >= 0, at most FILM_MAX_CONTRIBUTION) in fixed point, as low and
  * high words: m * 2^shift for v = m * 2^(exponent - 150). */
 CS_DEVICE void film_fixed_from_float(float v, ulong* low, ulong* high) {
+  /* Below 2^20 (nearly every contribution) the value fits the low word:
+   * v * 2^44 is exact (a power of two), and one conversion rounds it to
+   * nearest, ties to even, as the general case below does. */
+  if (v < 0x1p20f) {
+#ifdef __OPENCL_C_VERSION__
+    *low = convert_ulong_rte(v * 0x1p44f);
+#else
+    *low = (ulong)std::nearbyint((double)v * 0x1p44);
+#endif
+    *high = 0ul;
+    return;
+  }
   const uint bits = as_uint(v);
   const int exponent = (int)(bits >> 23);
   *low = 0ul;
