@@ -19,6 +19,7 @@
 // (host/lights/light_table.cpp, film_radiance).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -217,6 +218,61 @@ TEST(LightLimits, ATrillionBrightEmitterLeavesEveryOtherPixelsBits) {
   EXPECT_GT(emitter, 30);
   EXPECT_GT(background, 300);
   EXPECT_GT(lit, 30);
+}
+
+// Issue 24: a sun and sky over a room lit through a slit in its roof: the
+// sun's patch on the floor and the dim corners the sky and bounces reach.
+// The same sky at 2^-10 of its intensity samples exactly the same paths
+// (a power of two scales every texel, and the sampling distribution not at
+// all), so its image is the bright one times 2^-10, and every pixel of at
+// least 1e-6 must keep 16 bits of it. When the film's scale came from the
+// brightest radiance (the sun's) and stopped at 2^24, the dim render's
+// corners kept 4 to 8 bits.
+std::string sky_room(const char* intensity) {
+  const char* wall = R"("material": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]})";
+  auto rect = [&](const char* v0, const char* v1, const char* v2, const char* v3) {
+    return std::string(R"({"type": "rectangle", "v0": )") + v0 + R"(, "v1": )" + v1 + R"(, "v2": )" + v2 +
+           R"(, "v3": )" + v3 + ", " + wall + "}";
+  };
+  return std::string(R"({"nbounces": 6, "rendermode": "pathtracer",
+  "camera": {"type": "pinhole", "width": 32, "height": 24, "position": [0, 1, -1.9], "lookAt": [0, 0.8, 0],
+             "upVector": [0, 1, 0], "fov": 70},
+  "scene": {"environment": {"sky": {"sun_elevation": 60, "sun_azimuth": 20, "turbidity": 3, "resolution": [256, 128]},
+                            "intensity": )") +
+         intensity + R"(},
+    "shapes": [)" +
+         rect("[-2, 0, -2]", "[-2, 0, 2]", "[2, 0, 2]", "[2, 0, -2]") + ", " +
+         rect("[-2, 0, 2]", "[-2, 2, 2]", "[2, 2, 2]", "[2, 0, 2]") + ", " +
+         rect("[-2, 0, -2]", "[2, 0, -2]", "[2, 2, -2]", "[-2, 2, -2]") + ", " +
+         rect("[-2, 0, -2]", "[-2, 2, -2]", "[-2, 2, 2]", "[-2, 0, 2]") + ", " +
+         rect("[2, 0, -2]", "[2, 0, 2]", "[2, 2, 2]", "[2, 2, -2]") + ", " +
+         // The roof, but for a slit 0.3 wide along x at z in [0.2, 0.5].
+         rect("[-2, 2, -2]", "[-2, 2, 0.2]", "[2, 2, 0.2]", "[2, 2, -2]") + ", " +
+         rect("[-2, 2, 0.5]", "[-2, 2, 2]", "[2, 2, 2]", "[2, 2, 0.5]") + "]}}";
+}
+
+TEST(LightLimits, ADimRoomUnderTheSunKeepsSixteenBitsAtAnyIntensity) {
+  test::PathRenderOptions o;
+  o.caustics = CausticsMode::Off;
+  const int spp = int(test::sized(16, 4));
+  const PathRender bright = test::render_path(write_scene("bright.json", sky_room("1")), spp, o);
+  const PathRender dim = test::render_path(write_scene("dim.json", sky_room("0.0009765625")), spp, o);
+  expect_clean(bright, "bright");
+  expect_clean(dim, "dim");
+  float darkest = 1e30f, brightest = 0.0f;
+  int kept = 0;
+  for (size_t i = 0; i < bright.image.rgb.size(); ++i) {
+    const float b = bright.image.rgb[i], d = dim.image.rgb[i];
+    darkest = std::min(darkest, b);
+    brightest = std::max(brightest, b);
+    if (d < 1e-6f) continue;
+    ++kept;
+    ASSERT_NEAR(double(d) * 1024.0, b, std::ldexp(double(b), -16)) << "value " << i;
+  }
+  std::printf("[measure] bright image %.3g to %.3g; %d of %zu dim values >= 1e-6\n", darkest, brightest, kept,
+              dim.image.rgb.size());
+  EXPECT_GT(brightest / std::max(darkest, 1e-30f), 1e3f);  // a sunlit patch and dim corners
+  EXPECT_GT(kept, int(dim.image.rgb.size() / 2));
 }
 
 }  // namespace
