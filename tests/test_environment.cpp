@@ -137,24 +137,11 @@ TEST(Environment, SkyCommandWritesTheSkyTheSceneUses) {
   EXPECT_TRUE(test::Contains(test::run_cli("sky -o " + test::temp_dir() + "/sky.png").output, {"expected a .pfm or .exr"}));
 }
 
-struct Rendered {
-  ImageF image;
-  CameraGPU camera;
-};
+using Rendered = test::CameraRender;
 Rendered render(const std::string& text, RenderMode mode, int spp) {
-  SessionOptions o;
-  o.scene_path = write_scene("env_render.json", text);
-  o.device = test::device_spec();
-  o.mode = mode;
+  test::CameraRenderOptions o;
   o.spp = spp;
-  o.caustics = CausticsMode::Off;
-  auto s = prepare_session(o);
-  RenderStats stats;
-  Rendered r;
-  r.image = s->renderer->render(&stats, {}, {});
-  test::expect_finite_render(r.image, stats.film, "environment render");
-  r.camera = camera_for_image(s->scene.camera, r.image.width, r.image.height);
-  return r;
+  return test::render_with_camera(write_scene("env_render.json", text), mode, o);
 }
 
 // The convention, written independently of the kernels: world direction d,

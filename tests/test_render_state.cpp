@@ -284,15 +284,12 @@ TEST(RenderState, ResumedInProcessAdaptivePathHasTheSameBits) {
 TEST(RenderState, ResumedInProcessPhotonPassHasTheSameBits) {
   const std::string scene = test::source_dir() + "/scenes/caustics.json";
   // auto: a map every 28 passes here, then the interval the errors balance
-  // at; states between maps, at a map and after the decisions. On the
-  // simulator (tools/oclgrind.sh) one state after the first map and the
-  // decisions, and one of --caustics on: all of them took over 600 s there.
-  const bool simulated = test::on_simulator();
-  for (int save_at : simulated ? std::vector<int>{40} : std::vector<int>{1, 2, 16, 29, 40, 70}) {
+  // at; states between maps, at a map and after the decisions.
+  for (int save_at : {1, 2, 16, 29, 40, 70}) {
     SCOPED_TRACE("auto, saved at " + std::to_string(save_at));
     expect_resume_in_process_same_bits(scene, RenderMode::Path, 96, save_at, true, CausticsMode::Auto, 48);
   }
-  for (int save_at : simulated ? std::vector<int>{3} : std::vector<int>{3, 20}) {
+  for (int save_at : {3, 20}) {
     SCOPED_TRACE("on, saved at " + std::to_string(save_at));
     expect_resume_in_process_same_bits(scene, RenderMode::Path, 32, save_at, false, CausticsMode::On, 48);
   }

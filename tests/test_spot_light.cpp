@@ -25,6 +25,7 @@
 #include "host/lights/light_types.h"
 #include "host/scene/load_scene.h"
 #include "kernels/shared/camera.h"
+#include "tests/support/path_render.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -197,28 +198,16 @@ TEST(SpotLight, UnguidedPhotonsCarryItsPower) {
 
 // -------------------------------------------------------------- renders
 
-struct Rendered {
-  ImageF image;
-  CameraGPU camera;
-};
+using Rendered = test::CameraRender;
 
 Rendered render(const std::string& scene_text, RenderMode mode, int spp, CausticsMode caustics = CausticsMode::Off,
                 int size = 48) {
-  SessionOptions o;
-  o.width = o.height = size;
-  o.scene_path = write_scene("spot_render.json", scene_text);
-  o.device = test::device_spec();
-  o.mode = mode;
+  test::CameraRenderOptions o;
   o.spp = spp;
-  o.seed = 1;
   o.caustics = caustics;
-  auto s = prepare_session(o);
-  RenderStats stats;
-  Rendered r;
-  r.image = s->renderer->render(&stats, {}, {});
-  test::expect_finite_render(r.image, stats.film, "spot light render");
-  r.camera = camera_for_image(s->scene.camera, r.image.width, r.image.height);
-  return r;
+  o.size = size;
+  o.seed = 1;
+  return test::render_with_camera(test::write_scene("spot_render.json", scene_text), mode, o);
 }
 
 // The floor point (y = 0) seen through image position (px, py).

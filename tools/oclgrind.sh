@@ -77,6 +77,7 @@ left_out=(
   "test_community_render CommunityCorpus.EveryLoadableSceneRendersInPhong  # the whole community corpus of ../shared rendered in phong, scene after scene"
   "test_error_report ErrorReport.CornellBoxReportsConvergeAndEstimateTheirError  # the error report's Cornell box: MSE against spp at the Monte Carlo rate over many renders and a long reference"
   "test_caustics_error CausticsErrorEstimate.CoversThePhotonMapWithinTwiceTheTrueError  # the photon map's error estimate against the truth, four seeds of 256 passes (its gathers: stiff_caustic_ground, test_caustics_paths, test_community_photons)"
+  "test_render_state RenderState.ResumedInProcessPhotonPassHasTheSameBits  # a photon-pass render resumed against an uninterrupted one, 96 passes twice: past 600 s even with one state of each kind (its stages run on the simulator in test_photon_pass and stiff_caustic_ground)"
 )
 
 # Every test as "binary test.name", parameterised ones included.

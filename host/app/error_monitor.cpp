@@ -19,6 +19,7 @@ ErrorMonitor::ErrorMonitor(ErrorMonitorOptions options) : options_(std::move(opt
 
 bool ErrorMonitor::on_pass(const Film& film, double seconds) {
   const int passes = film.passes();
+  if (options_.sparse_from > 0 && next_power_ < options_.sparse_from) next_power_ = options_.sparse_from;
   const bool geometric = passes >= next_power_;
   const bool target_check = next_target_check_ > 0 && passes >= next_target_check_;
   if (!geometric && !target_check) return true;
@@ -29,7 +30,9 @@ bool ErrorMonitor::on_pass(const Film& film, double seconds) {
   // Error falls as 1 / passes: the pass where the target is projected, at
   // least the next one. The geometric schedule bounds the jump.
   const double projected = std::ceil(passes * (*estimate_ / options_.target_error));
-  next_target_check_ = int(std::clamp(projected, double(passes + 1), double(next_power_)));
+  const double bound = options_.sparse_from > 0 ? 4.0 * passes : double(next_power_);
+  next_target_check_ = int(std::clamp(projected, double(passes + 1), std::max(bound, double(passes + 1))));
+  if (options_.sparse_from > 0) next_power_ = std::numeric_limits<int>::max();  // the projection alone
   return true;
 }
 

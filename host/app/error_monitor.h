@@ -10,6 +10,9 @@
 // With a target error, the next measurement is also placed where the
 // estimate, falling as 1 / passes, is projected to reach the target, so the
 // render stops at or just below it rather than at the next power of two.
+// A sparse monitor (MPI ranks with only a target error: each measurement
+// sums the ranks' films) measures first at `sparse_from` passes and then
+// only where the target is projected, at most 4x the passes apart.
 // The report file is rewritten after every measurement (a stopped render
 // keeps its rows); its header carries the build times and the time spent
 // measuring, which the rows' wall seconds include.
@@ -33,6 +36,7 @@ struct ErrorMonitorOptions {
   std::string plot_path;             // --plot: drawn from the report at the end; "" none
   std::optional<ImageF> reference;   // --reference, already checked against the image size
   double target_error = 0.0;         // --target-error (estimated relMSE); 0: none
+  int sparse_from = 0;               // > 0: sparse measurements from this pass count (rules above)
   float exposure_scale = 1.0f;       // what HDR outputs are multiplied by
   std::vector<std::pair<std::string, std::string>> header;  // report header lines (scene, mode, builds)
 };

@@ -18,12 +18,6 @@
 
 namespace caustica::test {
 
-inline std::string write_scene(const std::string& name, const std::string& text) {
-  const std::string path = temp_dir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
-
 struct PathRender {
   ImageF image, half;  // half: the mean of the film's half buffer
   RenderStats stats;
@@ -72,6 +66,37 @@ inline PathRender render_path(const std::string& scene, int spp, const PathRende
     out.estimated_rel_mse = caustica::estimated_rel_mse(out.image, out.half, out.spp, out.half_counts, &separate);
   }
   return out;
+}
+
+// A render of any mode through the session's own renderer, with the camera
+// that made it (tests that find where image positions land in the scene).
+struct CameraRender {
+  ImageF image;
+  CameraGPU camera;
+};
+struct CameraRenderOptions {
+  int spp = 1;
+  CausticsMode caustics = CausticsMode::Off;
+  int size = 0;  // width and height; 0: the scene's
+  uint32_t seed = 0;
+};
+inline CameraRender render_with_camera(const std::string& scene_path, RenderMode mode,
+                                       const CameraRenderOptions& options = {}) {
+  SessionOptions o;
+  if (options.size > 0) o.width = o.height = options.size;
+  o.scene_path = scene_path;
+  o.device = device_spec();
+  o.mode = mode;
+  o.spp = options.spp;
+  o.seed = options.seed;
+  o.caustics = options.caustics;
+  auto s = prepare_session(o);
+  RenderStats stats;
+  CameraRender r;
+  r.image = s->renderer->render(&stats, {}, {});
+  expect_finite_render(r.image, stats.film, scene_path);
+  r.camera = camera_for_image(s->scene.camera, r.image.width, r.image.height);
+  return r;
 }
 
 // Mean of channels 0..2 over the pixels where keep(x, y), and its standard error.
