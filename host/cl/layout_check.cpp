@@ -74,7 +74,7 @@ static_assert((0u PHOTON_FLAGS(FLAG_SUM)) == (0u PHOTON_FLAGS(FLAG_UNION)) && (t
 
 static_assert(sizeof(cs_packed3) == 12 && alignof(cs_packed3) == 4, "cs_packed3 layout");
 static_assert(sizeof(Photon) == 48 && offsetof(Photon, bounces) == 12 && offsetof(Photon, wi) == 16 &&
-                  offsetof(Photon, path_length) == 28 && offsetof(Photon, power) == 32,
+                  offsetof(Photon, phong_scale) == 28 && offsetof(Photon, power) == 32,
               "Photon layout");
 static_assert(sizeof(PhotonGridParams) == 32 && offsetof(PhotonGridParams, cell_size) == 16 &&
                   offsetof(PhotonGridParams, inv_cell_size) == 20 && offsetof(PhotonGridParams, table_size) == 24 &&

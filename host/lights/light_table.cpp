@@ -125,6 +125,12 @@ std::vector<Light> whitted_lights(const Scene& scene) {
   return lights;
 }
 
+std::vector<Light> phong_photon_lights(const Scene& scene) {
+  std::vector<Light> lights = whitted_lights(scene);
+  if (scene.environment) lights.push_back(environment_light(scene));
+  return emitting_lights(lights);
+}
+
 std::vector<Light> emitting_lights(const std::vector<Light>& lights) {
   std::vector<Light> out;
   std::vector<float> power;

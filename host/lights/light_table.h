@@ -35,9 +35,15 @@ LightTable build_light_table(const Scene& scene);
 // kind.
 std::vector<Light> whitted_lights(const Scene& scene);
 
-// The lights of `lights` that emit, with selection probabilities by power
-// (phong's photon pass picks from them).
+// The lights of `lights` that emit, with selection probabilities by power.
 std::vector<Light> emitting_lights(const std::vector<Light>& lights);
+
+// Phong's photon lights (--caustics on): its delta stand-ins that emit,
+// then the environment (the path tracer's entry, environment_light: the
+// same power and bounding sphere), picked by power. The stand-ins' power is
+// in phong's units (no distance falloff) and the sky's is flux: the mix
+// only sets how many photons each gets, not what they carry.
+std::vector<Light> phong_photon_lights(const Scene& scene);
 
 // select_probability and select_cdf of `lights` from their powers.
 void set_selection(std::vector<Light>& lights, const std::vector<float>& power);

@@ -7,8 +7,11 @@
 // launched (no shadow stage without lights, one wave without reflection or
 // refraction). Area and sphere lights are point-light stand-ins here
 // (whitted_lights). With --caustics on, a PhotonPass traces photons
-// from those lights before each pass and the shade stage gathers them
-// (lib/caustics.h); the passes are then averaged like path mode's.
+// from those lights and from the environment (phong_photon_lights) before
+// each pass and the shade stage gathers them (lib/caustics.h); the passes
+// are then averaged like path mode's. The environment is otherwise only
+// the background at misses, so its photons' caustics are light phong did
+// not have (docs/environment.md, "Phong").
 #include "host/render/device_scene.h"
 #include "host/render/integrator.h"
 #include "host/render/kernel_args.h"
@@ -103,7 +106,7 @@ PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& sce
   shade_ = StageKernel(program, "shade_surface_phong");
   shadow_stage_ = StageKernel(program, "intersect_shadow");
   if (settings.caustics) {
-    const std::vector<Light> photon_lights = emitting_lights(lights);
+    const std::vector<Light> photon_lights = phong_photon_lights(scene.scene());
     if (!photon_lights.empty()) {
       photon_lights_ = upload_buffer(ctx, photon_lights);
       photons_ = std::make_unique<PhotonPass>(launcher, scene, program, photon_lights_,

@@ -82,7 +82,8 @@ enum class PhotonGather { PerPixel, SharedRadius };
 class PhotonPass final : public SeparateEstimate {
  public:
   // `lights`: a Light table (light_count > 0): the path tracer's, or
-  // phong's delta lights (emitting_lights, host/lights/light_table.h).
+  // phong's delta lights and environment (phong_photon_lights,
+  // host/lights/light_table.h).
   PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program, const cl::Buffer& lights,
              uint32_t light_count, const RenderSettings& settings, PhotonGather gather = PhotonGather::PerPixel);
   ~PhotonPass() override;

@@ -66,7 +66,7 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
     f.caustics_reason = "phong: only with --caustics on";
   } else if (caustics == CausticsMode::Off) {
     f.caustics_reason = "--caustics off";
-  } else if (!f.lights) {
+  } else if (!f.lights && !f.environment) {  // phong's environment emits photons, though it is no shading light
     f.caustics_reason = "no lights";
   } else if (caustics == CausticsMode::On) {
     f.caustics = true;

@@ -52,9 +52,18 @@ inline Bsdf bsdf_of_visible_point(VisiblePoint v) {
  * adds the photons' irradiance within a radius shared by the whole pass
  * (Knaus & Zwicker's progressive photon mapping: the radius shrinks pass
  * by pass, the passes are averaged). Phong lights have no distance falloff
- * (its direct term is kd I cos), so a photon counts in phong's units: its
- * flux times the squared length it travelled, which turns the 1/d^2 of its
- * density back into phong's constant irradiance. */
+ * (its direct term is kd I cos), so a delta light's photon counts in
+ * phong's units: its flux times the squared length it travelled, which
+ * turns the 1/d^2 of its density back into phong's constant irradiance.
+ * The environment's photons (PHOTON_FROM_ENVIRONMENT) carry radiance from
+ * infinitely far, with no falloff to undo, and phong shows that radiance
+ * as it is at misses: their irradiance E reflects as a Lambertian's
+ * kd diffuse E / pi, the path tracer's caustic radiance for the same
+ * surface. Phong has no direct light from the sky (only its point lights
+ * and the ambient term), so this is light it did not have: the sky
+ * focused by casters onto receivers, nothing counted twice. The factor,
+ * d^2 or 1 / pi, is stored with the photon (Photon.phong_scale,
+ * bounce_photons.cl). */
 #ifdef CAUSTICA_LIB_PHOTON_GRID_H
 /* Bounded work (issue 19): the sum over this pass's photons within
  * `radius` of p (|x - p|^2 <= radius^2, each photon once, in grid order as
@@ -151,7 +160,7 @@ inline float3 phong_caustic_irradiance(PHOTON_GRID_PARAMS, float3 p, float3 n, f
   for (int slot; (slot = photon_query_next(&query, PHOTON_GRID_ARGS)) >= 0;) {
     const Photon photon = grid_photons[slot];
     if (dot(unpack3(photon.wi), n) <= 0.0f) continue; /* arrived on the other side */
-    sum += photon.power.xyz * (photon.path_length * photon.path_length);
+    sum += photon.power.xyz * photon.phong_scale;
   }
   return sum / (M_PI_F * radius * radius);
 }

@@ -9,7 +9,10 @@
  * ends unstored (direct light is the path tracer's). Stored photons go to
  * slot = photon index of `candidates` with flag 1 in `stored`, so the
  * compaction that follows keeps them in photon order whatever order the
- * queues ran in: the photon map is the same bits on any device. */
+ * queues ran in: the photon map is the same bits on any device. A stored
+ * photon keeps what phong's gather multiplies its flux by (lib/caustics.h):
+ * the squared length it travelled from a delta light, 1 / pi from the
+ * environment. */
 
 #include "lib/caustics.h"
 #include "lib/material.h"
@@ -17,6 +20,10 @@
 #include "lib/rng.h"
 #include "lib/surface.h"
 #include "lib/texture.h"
+
+inline float phong_scale(PhotonRecord photon, float length) {
+  return (photon.flags & PHOTON_FROM_ENVIRONMENT) ? M_1_PI_F : length * length;
+}
 
 __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PHOTON_QUEUE_PARAMS(in),
                              __global const Hit* restrict hits, PHOTON_QUEUE_PARAMS(next), uint ray_capacity,
@@ -46,7 +53,7 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PHOT
       p.position = pack3(sp.position);
       p.bounces = (float)photon.depth;
       p.wi = pack3(-d);
-      p.path_length = photon.path_length + hit.t;
+      p.phong_scale = phong_scale(photon, photon.path_length + hit.t);
       p.power = photon.power;
       candidates[photon.index] = p;
       stored[photon.index] = 1u;
@@ -76,6 +83,6 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PHOT
   child.power = (float4)(flux, 0.0f);
   child.depth = photon.depth + 1u;
   child.path_length = photon.path_length + hit.t; /* phong's gather, lib/caustics.h */
-  child.flags = PHOTON_AFTER_CASTER;
+  child.flags = PHOTON_AFTER_CASTER | (photon.flags & PHOTON_FROM_ENVIRONMENT);
   photon_push(PHOTON_QUEUE_ARGS(next), ray_capacity, child);
 }

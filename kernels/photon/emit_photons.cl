@@ -30,7 +30,8 @@
  * (lib/lights/environment_light.h: environment_emit_through), of the
  * scene's bounding sphere, or, guided, of a sphere around every caster
  * bound (every line that meets a caster crosses it), starting outside the
- * scene either way. */
+ * scene either way; they are flagged PHOTON_FROM_ENVIRONMENT (the length
+ * they travel from that disk means nothing to phong's gather). */
 
 #include "lib/caustics.h"
 #include "lib/lights.h"
@@ -119,8 +120,10 @@ __kernel void emit_photons(__global const Light* restrict lights, __global const
   float3 p_error, n; /* the point's error bound, as sample_light's (spawn_ray_origin), and its normal */
   const float3 point = light_emission_point(l, environment, u_point, &p_error, &n);
   float3 origin, dir, flux;
+  uint flags = 0u;
 #if HAS_ENVIRONMENT
   if (l->kind == LIGHT_ENVIRONMENT) {
+    flags = PHOTON_FROM_ENVIRONMENT;
     flux = environment_emit_through(environment, l, caster_count > 0u ? enclosing_sphere(casters, caster_count) : l->p0,
                                     point, u_dir, &origin, &dir);
   } else
@@ -139,6 +142,6 @@ __kernel void emit_photons(__global const Light* restrict lights, __global const
   photon.index = i;
   photon.depth = 0u;
   photon.path_length = 0.0f;
-  photon.flags = 0u;
+  photon.flags = flags;
   photon_store(PHOTON_QUEUE_ARGS(out), i, photon);
 }

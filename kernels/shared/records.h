@@ -65,8 +65,9 @@
   F(q, cs_uint, flags)      /* PHOTON_* bits (PHOTON_FLAGS) */
 
 /* PhotonRecord.flags: F(name, bit), each a distinct bit (layout_check.cpp). */
-#define PHOTON_FLAGS(F) \
-  F(PHOTON_AFTER_CASTER, 0) /* scattered at a caster at least once: stored at the next receiver */
+#define PHOTON_FLAGS(F)                                                                      \
+  F(PHOTON_AFTER_CASTER, 0)      /* scattered at a caster at least once: stored at the next receiver */ \
+  F(PHOTON_FROM_ENVIRONMENT, 1)  /* left the environment: no distance falloff (phong's gather, lib/caustics.h) */
 
 /* A segment toward a light, with what it adds to the film when unoccluded. */
 #define SHADOW_RECORD_FIELDS(F, q)                                         \

@@ -38,7 +38,7 @@
   X(__builtin_offsetof(VisiblePoint, kind)) X(__builtin_offsetof(VisiblePoint, alpha))                             \
   X(__builtin_offsetof(VisiblePoint, specular)) X(__builtin_offsetof(VisiblePoint, ior))                           \
   X(sizeof(SppmPixel)) X(__builtin_offsetof(SppmPixel, radius2)) X(__builtin_offsetof(SppmPixel, sum_r2))          \
-  X(sizeof(cs_packed3)) X(__builtin_offsetof(Photon, bounces)) X(__builtin_offsetof(Photon, path_length))           \
+  X(sizeof(cs_packed3)) X(__builtin_offsetof(Photon, bounces)) X(__builtin_offsetof(Photon, phong_scale))           \
   X(__builtin_offsetof(PathRecord, cone_width)) X(__builtin_offsetof(PathRecord, cone_spread))                      \
   X(sizeof(PhotonRecord)) X(__builtin_offsetof(PhotonRecord, power)) X(__builtin_offsetof(PhotonRecord, index))      \
   X(__builtin_offsetof(PhotonRecord, depth)) X(__builtin_offsetof(PhotonRecord, path_length))                       \
