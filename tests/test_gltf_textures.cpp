@@ -80,7 +80,8 @@ std::string floor_file(const Texels& t, bool textured) {
 std::string floor_scene(const std::string& name, const std::string& gltf) {
   test::write_scene(name + ".gltf", gltf);
   return test::write_scene(name + ".json", R"({"rendermode": "pathtracer", "nbounces": 4,
-    "camera": {"width": 32, "height": 16, "position": [0, 1.6, 2.2], "lookAt": [0, 0, 0], "upVector": [0, 1, 0], "fov": 40},
+    "camera": {"width": 32, "height": 16, "position": [0, 1.6, 2.2], "lookAt": [0, 0, 0], "upVector": [0, 1, 0],
+               "fov": 40},
     "scene": {"backgroundcolor": [0.2, 0.25, 0.3],
       "lightsources": [{"type": "pointlight", "position": [0.3, 1.5, 0.8], "intensity": [3, 3, 3]}],
       "shapes": [{"type": "mesh", "file": ")" + name + R"(.gltf"}]}})");
@@ -135,7 +136,8 @@ TEST(GltfTextures, APerTexelFloorRendersAsTwoConstantMaterials) {
   const int spp = int(test::sized(64, 8));
   test::PathRenderOptions o;
   o.caustics = CausticsMode::Off;  // the same estimator on both sides
-  const test::PathRender textured = test::render_path(floor_scene("mr_tex", floor_file(kRoughPlasticAndGlossyMetal, true)), spp, o);
+  const test::PathRender textured =
+      test::render_path(floor_scene("mr_tex", floor_file(kRoughPlasticAndGlossyMetal, true)), spp, o);
   o.seed = 7;
   const test::PathRender constant =
       test::render_path(floor_scene("mr_const", floor_file(kRoughPlasticAndGlossyMetal, false)), spp, o);

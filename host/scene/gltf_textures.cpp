@@ -86,7 +86,8 @@ int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::st
   }
   if (why.empty()) return ctx.texture_indices[key] = index;
   if (linear_data) {
-    ctx.warn(pointer, "texture /textures/" + std::to_string(t) + " cannot be read: " + why + "; its factors are used alone");
+    ctx.warn(pointer,
+             "texture /textures/" + std::to_string(t) + " cannot be read: " + why + "; its factors are used alone");
     return ctx.texture_indices[key] = -1;
   }
   ctx.warn(pointer, "texture /textures/" + std::to_string(t) + " cannot be read: " + why +
