@@ -15,6 +15,7 @@
 #include "host/scene/features.h"
 #include "host/scene/gltf.h"
 #include "host/scene/load_scene.h"
+#include "host/scene/textures.h"
 #include "tests/support/gltf_doc.h"
 #include "tests/support/path_render.h"
 #include "tests/support/test_support.h"
@@ -110,6 +111,30 @@ TEST(GltfTextures, MetallicRoughnessTexelsAreStoredLinearAndSampledWithoutAWarni
   EXPECT_NEAR(texel(7, 1), 77 / 255.0, 1e-3);
   EXPECT_NEAR(texel(7, 2), 1.0, 1e-3);
   EXPECT_NEAR(texel(0, 2), 0.0, 1e-6);
+}
+
+// One image as both a colour and a data texture: two textures, the colour
+// one sRGB-decoded, the data one as stored.
+TEST(GltfTextures, AnImageUsedForColourAndDataIsStoredBothWays) {
+  Doc d;
+  d.mesh({1, 0, 0, 0, 1, 0, 0, 0, 1});
+  d.node({{"mesh", 0}});
+  d.j["images"] = {{{"bufferView", d.view(ppm({204, 0, 77, 255}))}, {"mimeType", "image/png"}}};
+  d.j["textures"] = {{{"source", 0}}};
+  d.j["materials"] = {{{"pbrMetallicRoughness",
+                        {{"baseColorTexture", {{"index", 0}}}, {"metallicRoughnessTexture", {{"index", 0}}}}}}};
+  d.j["meshes"][0]["primitives"][0]["material"] = 0;
+  Scene scene;
+  TextureLibrary textures(scene);
+  const GltfModel g = import_gltf_bytes("both.gltf", d.text(), ".", textures, /*allow_files=*/false);
+  ASSERT_EQ(g.materials.size(), 1u);
+  const Material& m = g.materials[0];
+  ASSERT_GE(m.texture, 0);
+  ASSERT_GE(m.roughness_texture, 0);
+  ASSERT_NE(m.texture, m.roughness_texture);
+  auto g_of = [&](int t) { return glm::unpackHalf1x16(scene.texels[size_t(scene.textures[size_t(t)].offset) * 4 + 1]); };
+  EXPECT_NEAR(g_of(m.texture), srgb_byte_to_linear(204), 1e-3);
+  EXPECT_NEAR(g_of(m.roughness_texture), 204 / 255.0, 1e-3);
 }
 
 // The photon pass's split (host/scene/features.cpp): a material whose
