@@ -24,10 +24,11 @@ static_assert(sizeof(BvhNode8) == 256 && offsetof(BvhNode8, hi_x) == 32 && offse
                   offsetof(BvhNode8, height) == 224,
               "BvhNode8 layout");
 static_assert(sizeof(TriangleBlock4) == 160 && offsetof(TriangleBlock4, ref) == 144, "TriangleBlock4 layout");
-static_assert(sizeof(Material) == 80 && offsetof(Material, specular) == 16 && offsetof(Material, emission) == 32 &&
+static_assert(sizeof(Material) == 96 && offsetof(Material, specular) == 16 && offsetof(Material, emission) == 32 &&
                   offsetof(Material, specular_exponent) == 48 && offsetof(Material, ka) == 60 &&
                   offsetof(Material, flags) == 64 && offsetof(Material, texture) == 68 &&
-                  offsetof(Material, roughness) == 72 && offsetof(Material, metallic) == 76,
+                  offsetof(Material, roughness) == 72 && offsetof(Material, metallic) == 76 &&
+                  offsetof(Material, roughness_texture) == 80,
               "Material layout");
 static_assert(sizeof(Light) == 80 && offsetof(Light, emitted) == 48 && offsetof(Light, kind) == 64 &&
                   offsetof(Light, select_cdf) == 72,

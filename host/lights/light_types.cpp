@@ -95,6 +95,7 @@ uint32_t add_emissive_material(Scene& scene, const glm::vec3& radiance) {
   m.specular_exponent = 1.0f;
   m.ior = 1.0f;
   m.texture = -1;
+  m.roughness_texture = -1;
   m.roughness = -1.0f;
   scene.materials.push_back(m);
   return uint32_t(scene.materials.size() - 1);

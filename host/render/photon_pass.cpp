@@ -30,7 +30,7 @@ constexpr size_t kMostCasterBounds = 64;
 std::vector<cs_float4> caster_bounds(const Scene& scene) {
   std::vector<cs_float4> bounds;
   auto casts = [&](uint32_t material) {
-    return material < scene.materials.size() && material_casts_caustics(scene.materials[material]);
+    return material < scene.materials.size() && material_casts_caustics(scene, scene.materials[material]);
   };
   for (const Sphere& s : scene.spheres)
     if (casts(s.material)) bounds.push_back(s.center_radius);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/gtc/packing.hpp>
+
 #include "host/error.h"
 #include "host/lights/light_types.h"
 #include "lib/material.h"
@@ -16,10 +18,62 @@ CausticsMode parse_caustics_mode(const std::string& name) {
   throw Error("--caustics " + name + ": expected auto, on or off");
 }
 
+namespace {
+
+// The texel scales (lib/material.h's material_texel_scale: x = G^2 for
+// alpha, y = B for metallic) at the two ends of m's roughness_texture: the
+// smoothest, most metallic corner and the roughest, least metallic one.
+// Channels are bounded independently, so a texture whose smoothest texel
+// is not its most metallic one still counts as a possible caster: the
+// classification errs toward casting (conservative), never away from it.
+struct TexelScaleRange {
+  float2 smoothest = make_float2(1.0f, 1.0f);
+  float2 roughest = make_float2(1.0f, 1.0f);
+};
+
+TexelScaleRange texel_scale_range(const Scene& scene, const Material& m) {
+  TexelScaleRange r;
+  if (m.roughness_texture < 0 || size_t(m.roughness_texture) >= scene.textures.size()) return r;
+  const Texture& tex = scene.textures[size_t(m.roughness_texture)];
+  float g_lo = 1.0f, g_hi = 0.0f, b_lo = 1.0f, b_hi = 0.0f;
+  auto widen = [&](float g, float b) {
+    g = std::clamp(g, 0.0f, 1.0f), b = std::clamp(b, 0.0f, 1.0f);  // as the kernel clamps (NaN -> 0 below)
+    g_lo = std::min(g_lo, g), g_hi = std::max(g_hi, g), b_lo = std::min(b_lo, b), b_hi = std::max(b_hi, b);
+  };
+  if (tex.kind == TEXTURE_CHECKER) {
+    widen(tex.color1.y, tex.color1.z);
+    widen(tex.color2.y, tex.color2.z);
+  } else {
+    // Bilinear filtering stays within the texels' range.
+    const size_t first = size_t(tex.offset) * 4, count = size_t(tex.width) * tex.height;
+    for (size_t t = 0; t < count && first + t * 4 + 2 < scene.texels.size(); ++t) {
+      const float g = glm::unpackHalf1x16(scene.texels[first + t * 4 + 1]);
+      const float b = glm::unpackHalf1x16(scene.texels[first + t * 4 + 2]);
+      widen(g == g ? g : 0.0f, b == b ? b : 0.0f);
+    }
+  }
+  if (g_lo > g_hi) return r;  // no texels
+  r.smoothest = make_float2(g_lo * g_lo, b_hi);
+  r.roughest = make_float2(g_hi * g_hi, b_lo);
+  return r;
+}
+
+bool casts(const Material& m, float2 texel_scale) {
+  return bsdf_casts_caustics(bsdf_of_material(&m, m.diffuse.xyz, texel_scale));
+}
+
+}  // namespace
+
 // The kernels' own material mapping and caster test (kernels/lib/material.h,
 // compiled here through kernels/shared/compat.h): the scene analysis and
 // the photon pass cannot disagree about which surfaces cast.
-bool material_casts_caustics(const Material& m) { return bsdf_casts_caustics(bsdf_of_material(&m, m.diffuse.xyz)); }
+bool material_casts_caustics(const Scene& scene, const Material& m) {
+  return casts(m, texel_scale_range(scene, m).smoothest);
+}
+
+bool material_receives_caustics(const Scene& scene, const Material& m) {
+  return !casts(m, texel_scale_range(scene, m).roughest);
+}
 
 SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode caustics) {
   SceneFeatures f;
@@ -48,7 +102,9 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
     if (can_bounce && (m.flags & MATERIAL_REFLECTIVE) && !(m.flags & MATERIAL_REFRACTIVE) && m.reflectivity > 0.0f)
       f.reflection = true;
     if (std::max(m.emission.x, std::max(m.emission.y, m.emission.z)) > 0.0f) f.area_lights = true;
-    (material_casts_caustics(m) ? casters : receivers) = true;
+    if (m.roughness_texture >= 0) f.textures = true;
+    casters = casters || material_casts_caustics(scene, m);
+    receivers = receivers || material_receives_caustics(scene, m);
   }
   // Path mode samples area lights (rectangles, spheres, emissive shapes);
   // phong sees every light as a delta light.

@@ -19,9 +19,14 @@ enum class CausticsMode { Auto, On, Off };
 CausticsMode parse_caustics_mode(const std::string& name);  // auto | on | off
 
 // Does the path tracer treat this material as a caustic caster (smooth or
-// glossy metal and glass)? bsdf_casts_caustics(bsdf_of_material(m)), the
-// kernels' own functions (kernels/lib/material.h) compiled for the host.
-bool material_casts_caustics(const Material& m);
+// glossy metal and glass) anywhere on its surface? bsdf_casts_caustics(
+// bsdf_of_material(m)), the kernels' own functions (kernels/lib/material.h)
+// compiled for the host. A material with a roughness_texture (glTF
+// metallicRoughnessTexture) is judged at its smoothest, most metallic texel
+// values (conservative: it casts if any texel might), and receives if its
+// roughest, least metallic values do not cast; it can do both.
+bool material_casts_caustics(const Scene& scene, const Material& m);
+bool material_receives_caustics(const Scene& scene, const Material& m);
 
 struct SceneFeatures {
   RenderMode mode = RenderMode::Phong;

@@ -42,7 +42,8 @@ class Context {
   GltfModel& out;
   TextureLibrary& textures;
   std::map<size_t, std::vector<DecodedPrimitive>> decoded_meshes;  // by mesh index
-  std::map<size_t, int> texture_indices;  // /textures/<i> -> index in `textures`, once decoded
+  // (/textures/<i>, stored as linear data) -> index in `textures`, once decoded
+  std::map<std::pair<size_t, bool>, int> texture_indices;
 
  private:
   struct Once {
@@ -99,8 +100,12 @@ void convert_materials(Context& ctx);
 // --- gltf_textures.cpp --------------------------------------------------
 // The texture /textures/<info.index> in ctx.textures (decoded once per
 // image); the magenta/black fallback, with a warning, when its image is
-// missing or unreadable.
-int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::string& pointer);
+// missing or unreadable. With linear_data (glTF's data textures:
+// metallicRoughnessTexture) the texels hold the 8-bit codes / 255 as they
+// are, not sRGB-decoded, and an unreadable image gives -1 (the factors
+// alone, with a warning): a checker would be read as roughness.
+int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::string& pointer,
+                  bool linear_data = false);
 // Mean texel of /textures/<texture> (rgb; with linear_data the 8-bit codes
 // as stored, without sRGB decoding, as glTF's data textures are); 1 when the
 // image cannot be read (with a warning).

@@ -6,9 +6,9 @@
 // (diffuse and specular colours map one to one); KHR_materials_transmission
 // makes a dielectric of KHR_materials_ior's index; emissiveFactor times
 // KHR_materials_emissive_strength is the emission, values above 1 honoured.
-// Our materials carry one texture (the diffuse colour): the
-// metallicRoughness, specularGlossiness and emissive textures are reduced to
-// their mean, with a warning saying so.
+// The metallicRoughnessTexture is sampled per texel (Material's
+// roughness_texture); the emissive texture is reduced to its mean, with a
+// warning saying so, and specularGlossinessTexture is ignored (warned).
 #include <algorithm>
 #include <cmath>
 
@@ -51,16 +51,11 @@ class MaterialMapper {
       roughness = unit(pbr.roughnessFactor, mp + "/pbrMetallicRoughness/roughnessFactor");
       if (pbr.baseColorTexture.index >= 0)
         out.texture = texture(pbr.baseColorTexture, mp + "/pbrMetallicRoughness/baseColorTexture");
-      if (pbr.metallicRoughnessTexture.index >= 0) {
-        const std::string tp = mp + "/pbrMetallicRoughness/metallicRoughnessTexture";
-        const glm::vec3 mean = mean_of(pbr.metallicRoughnessTexture.index, tp, /*linear_data=*/true);
-        roughness *= mean.y;
-        metallic *= mean.z;
-        ctx_.warn_once("metallicRoughnessTexture", tp,
-                       "per-texel metallic and roughness are not supported (one texture per material); the "
-                       "texture's mean (roughness x" + std::to_string(mean.y) + ", metallic x" +
-                           std::to_string(mean.z) + ") scales the factors");
-      }
+      // Per texel (lib/material.h): roughness x G, metallic x B, linear.
+      if (pbr.metallicRoughnessTexture.index >= 0)
+        out.roughness_texture = image_texture(ctx_, pbr.metallicRoughnessTexture,
+                                              mp + "/pbrMetallicRoughness/metallicRoughnessTexture",
+                                              /*linear_data=*/true);
       out.specular = to_float4(glm::vec3(1.0f), static_cast<float>(f0));
       out.metallic = static_cast<float>(metallic);
     }

@@ -51,7 +51,7 @@ double srgb_encode(double linear) {
 
 }  // namespace
 
-int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::string& pointer) {
+int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::string& pointer, bool linear_data) {
   const size_t t = checked_index(ctx, info.index, ctx.model.textures.size(), pointer + "/index", "textures");
   if (info.texCoord != 0)
     ctx.warn_once("texCoord", pointer + "/texCoord", "texture coordinate sets other than TEXCOORD_0 are not "
@@ -68,17 +68,31 @@ int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::st
       ctx.warn_once("wrap", "/samplers/" + std::to_string(s),
                     "clamped and mirrored texture wrapping are not supported; textures repeat");
   }
-  // Decoded once per texture however many materials use it.
-  if (auto it = ctx.texture_indices.find(t); it != ctx.texture_indices.end()) return it->second;
+  // Decoded once per texture and use (colour or data) however many
+  // materials use it.
+  const std::pair<size_t, bool> key(t, linear_data);
+  if (auto it = ctx.texture_indices.find(key); it != ctx.texture_indices.end()) return it->second;
   LinearImage img;
   size_t image_index = 0;
   std::string why = decode(ctx, t, pointer, img, &image_index);
   int index = -1;
-  if (why.empty()) why = ctx.textures.add_image(ctx.file + "#image" + std::to_string(image_index), img, &index);
-  if (why.empty()) return ctx.texture_indices[t] = index;
+  if (why.empty()) {
+    // The decoder turned 8-bit codes into linear light; data textures mean
+    // the codes themselves.
+    if (linear_data)
+      for (float& v : img.rgb) v = static_cast<float>(srgb_encode(v));
+    why = ctx.textures.add_image(ctx.file + "#image" + std::to_string(image_index) + (linear_data ? "#linear" : ""),
+                                 img, &index);
+  }
+  if (why.empty()) return ctx.texture_indices[key] = index;
+  if (linear_data) {
+    ctx.warn(pointer,
+             "texture /textures/" + std::to_string(t) + " cannot be read: " + why + "; its factors are used alone");
+    return ctx.texture_indices[key] = -1;
+  }
   ctx.warn(pointer, "texture /textures/" + std::to_string(t) + " cannot be read: " + why +
                         "; using a magenta/black checker");
-  return ctx.texture_indices[t] = ctx.textures.fallback();
+  return ctx.texture_indices[key] = ctx.textures.fallback();
 }
 
 glm::vec3 texture_mean(Context& ctx, int texture, const std::string& pointer, bool linear_data) {

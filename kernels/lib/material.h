@@ -9,7 +9,9 @@
  *     layer of normal reflectance ks x specularcolor with
  *     alpha = sqrt(2 / (specularexponent + 2)) unless `roughness` is given;
  *     `metallic` m moves it toward a conductor: specular = mix(specular,
- *     diffuse, m), diffuse x (1 - m), a pure conductor at m = 1.
+ *     diffuse, m), diffuse x (1 - m), a pure conductor at m = 1;
+ *   a roughness_texture (glTF's metallicRoughnessTexture) scales alpha by
+ *     G^2 and metallic by B per texel (texel_scale).
  * Colours are clamped to [0, 1]; emission is added where a path hits the
  * surface, not here. */
 #ifndef CAUSTICA_LIB_MATERIAL_H
@@ -18,8 +20,12 @@
 #include "lib/bsdf.h"
 #include "shared/photon.h"
 #include "shared/types.h"
+#include "lib/texture.h"
 
-inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour) {
+/* texel_scale: what a roughness_texture (shared/types.h) makes of the
+ * material's numbers at this point: x multiplies GGX alpha, y metallic;
+ * (1, 1) without one (material_texel_scale below). */
+inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour, float2 texel_scale) {
   Bsdf b;
   b.ior = m->ior;
   b.diffuse = splat_float3(0.0f);
@@ -27,16 +33,16 @@ inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour) 
   const bool given = m->roughness >= 0.0f;
   if (m->flags & MATERIAL_REFRACTIVE) {
     b.kind = BSDF_DIELECTRIC;
-    b.alpha = given ? m->roughness : 0.0f;
+    b.alpha = (given ? m->roughness : 0.0f) * texel_scale.x;
   } else if (m->flags & MATERIAL_REFLECTIVE) {
     b.kind = BSDF_CONDUCTOR;
     b.specular = clamp(m->reflectivity * m->specular.xyz, 0.0f, 1.0f);
-    b.alpha = given ? m->roughness : 0.0f;
+    b.alpha = (given ? m->roughness : 0.0f) * texel_scale.x;
   } else {
-    b.alpha = given ? m->roughness : sqrt(2.0f / (fmax(m->specular_exponent, 0.0f) + 2.0f));
+    b.alpha = (given ? m->roughness : sqrt(2.0f / (fmax(m->specular_exponent, 0.0f) + 2.0f))) * texel_scale.x;
     const float3 diffuse = clamp(m->diffuse.w * diffuse_colour, 0.0f, 1.0f);
     const float3 specular = clamp(m->specular.w * m->specular.xyz, 0.0f, 1.0f);
-    const float metallic = clamp(m->metallic, 0.0f, 1.0f);
+    const float metallic = clamp(m->metallic * texel_scale.y, 0.0f, 1.0f);
     if (metallic >= 1.0f) {
       b.kind = BSDF_CONDUCTOR;
       b.specular = diffuse;
@@ -48,6 +54,18 @@ inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour) 
   }
   return b;
 }
+
+#if HAS_TEXTURES
+/* The texel scales of m's roughness_texture at uv: glTF's roughness is
+ * G x factor and alpha its square, so alpha scales by G^2; metallic by B.
+ * Texels are linear data (host/scene/gltf_textures.cpp stores them so). */
+inline float2 material_texel_scale(__global const Material* m, __global const Texture* textures,
+                                   __global const half* texels, float2 uv) {
+  if (m->roughness_texture < 0) return make_float2(1.0f, 1.0f);
+  const float3 t = clamp(texture_lookup(textures, texels, m->roughness_texture, uv), 0.0f, 1.0f);
+  return make_float2(t.y * t.y, t.z);
+}
+#endif
 
 /* A caster of caustics: a smooth enough conductor or dielectric (the photon
  * pass's caster/receiver split, shared/photon.h); plastic receives. The

@@ -45,8 +45,11 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PHOT
   float3 diffuse_colour = mat->diffuse.xyz;
 #if HAS_TEXTURES
   if (mat->texture >= 0) diffuse_colour = texture_lookup(textures, (__global const half*)texels, mat->texture, sp.uv);
+  const float2 texel_scale = material_texel_scale(mat, textures, (__global const half*)texels, sp.uv);
+#else
+  const float2 texel_scale = make_float2(1.0f, 1.0f);
 #endif
-  const Bsdf bsdf = bsdf_of_material(mat, diffuse_colour);
+  const Bsdf bsdf = bsdf_of_material(mat, diffuse_colour, texel_scale);
   if (!bsdf_casts_caustics(bsdf)) {
     if (photon.flags & PHOTON_AFTER_CASTER) {
       Photon p;

@@ -181,7 +181,13 @@ typedef struct {
   cs_int texture; /* index into the Texture table modulating the diffuse colour; -1: none */
   float roughness; /* path mode: GGX alpha as written ("roughness"); < 0: not given */
   float metallic;  /* path mode: 0 dielectric-coated ... 1 conductor ("metallic") */
-} Material; /* 80 bytes */
+  /* path mode: a glTF metallicRoughnessTexture (linear texels, not sRGB):
+   * at a hit, roughness is scaled by G^2 (alpha = roughness x G^2, as glTF's
+   * perceptual roughness is G x factor and alpha its square) and metallic by
+   * B (lib/material.h); -1: none */
+  cs_int roughness_texture;
+  cs_uint pad0, pad1, pad2;
+} Material; /* 96 bytes */
 
 /* A light, in the one form every integrator and the photon pass read, from
  * the scene loader to the device. What p0, p1, p2 and emitted hold is
