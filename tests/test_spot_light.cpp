@@ -26,6 +26,7 @@
 #include "host/scene/load_scene.h"
 #include "kernels/shared/camera.h"
 #include "tests/support/path_render.h"
+#include "tests/support/photon_emission.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -175,21 +176,16 @@ TEST(SpotLight, PowerIsTheIntegralOfItsIntensity) {
 
 TEST(SpotLight, UnguidedPhotonsCarryItsPower) {
   const Light l = spot(10, 35, glm::normalize(glm::vec3(1.0f, -1.0f, 0.5f)));
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
   const int n = 1 << 18;
   double sum = 0.0, sum2 = 0.0;
-  for (int k = 0; k < n; ++k) {
-    float3 p_error, normal, origin, dir;
-    const float3 point = light_emission_point(&l, nullptr, make_float2(u01(rng), u01(rng)), &p_error, &normal);
-    const float3 flux = light_emit(&l, nullptr, point, p_error, normal, make_float2(u01(rng), u01(rng)), u01(rng), &origin, &dir);
+  test::emit_photons(l, nullptr, n, 7, [&](float3 origin, float3 dir, float3 flux) {
     EXPECT_EQ(origin.x, 0.0f);
     EXPECT_LE(std::abs(glm::length(glm::vec3(dir.x, dir.y, dir.z)) - 1.0f), 1e-5f);
     // Never outside the outer cone.
     EXPECT_GE(dir.x * l.p1.x + dir.y * l.p1.y + dir.z * l.p1.z, l.p1.w - 1e-6f);
     sum += flux.y;
     sum2 += double(flux.y) * flux.y;
-  }
+  });
   const double mean = sum / n, se = std::sqrt((sum2 / n - mean * mean) / n);
   const double power = light_type(LIGHT_SPOT).power(l) / luminance(glm::vec3(4, 2, 1)) * 2.0;
   std::printf("[measure] spot photons' mean flux %.5f (se %.5f), power %.5f\n", mean, se, power);
