@@ -25,6 +25,7 @@
 #include "host/lights/light_table.h"
 #include "host/lights/light_types.h"
 #include "host/render/photon_pass.h"
+#include "tests/support/photon_emission.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -95,27 +96,7 @@ const char* kAllLights = R"({"nbounces": 4, "rendermode": "pathtracer",
 // emit_photons without casters: n photons from the table's lights; one
 // field of each photon record (power, dir, ...).
 std::vector<cs_float4> emit_unguided(Session& s, const LightTable& table, uint32_t n, const char* field) {
-  StageLauncher launcher(*s.runtime, 64);
-  const cl::Buffer lights = upload_buffer(s.runtime->context(), table.lights);
-  DeviceQueue out(s.runtime->context(), photon_record_layout(), n);
-  StageKernel emit(s.program.program, "emit_photons");
-  PhotonPassParams p{};
-  p.photon_count = n;
-  p.light_count = cl_uint(table.lights.size());
-  const cl::Buffer no_casters(s.runtime->context(), CL_MEM_READ_ONLY, sizeof(cs_float4));
-  KernelArgs args(emit);
-  args.arg("lights", lights);
-  s.device_scene->bind_environment(args)
-      .arg("params", p)
-      .arg("casters", no_casters)
-      .arg("caster_count", cl_uint(0))
-      .queue("out", out)
-      .arg("next_count", out.count())  // no bounce follows: any counter will do
-      .finish();
-  launcher.launch(emit, n, nullptr);
-  std::vector<cs_float4> values(n);
-  s.runtime->queue().enqueueReadBuffer(out.field(field), CL_TRUE, 0, n * sizeof(cs_float4), values.data());
-  return values;
+  return test::emit_photons_on_device(s, table, n, field);
 }
 
 TEST(PhotonPass, EmittedFluxSumsToTheLightsPower) {

@@ -28,7 +28,7 @@ static_assert(sizeof(Material) == 96 && offsetof(Material, specular) == 16 && of
                   offsetof(Material, specular_exponent) == 48 && offsetof(Material, ka) == 60 &&
                   offsetof(Material, flags) == 64 && offsetof(Material, texture) == 68 &&
                   offsetof(Material, roughness) == 72 && offsetof(Material, metallic) == 76 &&
-                  offsetof(Material, roughness_texture) == 80,
+                  offsetof(Material, roughness_texture) == 80 && offsetof(Material, emission_texture) == 84,
               "Material layout");
 static_assert(sizeof(Light) == 80 && offsetof(Light, emitted) == 48 && offsetof(Light, kind) == 64 &&
                   offsetof(Light, select_cdf) == 72,

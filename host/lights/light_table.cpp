@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "host/lights/environment_light.h"
 #include "host/lights/light_types.h"
+#include "host/scene/textures.h"
 
 namespace caustica {
 namespace {
@@ -40,9 +42,15 @@ LightTable build_light_table(const Scene& scene) {
   t.light_of_cylinder.assign(scene.cylinders.size(), LIGHT_NONE);
   t.light_of_triangle.assign(scene.triangles.size(), LIGHT_NONE);
   std::vector<float> power;
-  auto add = [&](Light l) {
+  // mean_texel: an emission texture's mean, which scales the power the
+  // light is picked by (its flux exactly when the texture covers the
+  // triangle once; otherwise an estimate, > 0 wherever the light emits, so
+  // the estimators stay unbiased).
+  auto add = [&](Light l, const glm::vec3& mean_texel_of_texture = glm::vec3(1.0f)) {
     const LightType& type = light_type(l.kind);
-    const float p = type.power(l);
+    Light mean = l;
+    mean.emitted = to_float4(to_vec3(l.emitted) * mean_texel_of_texture, l.emitted.w);
+    const float p = type.power(mean);
     if (!(p > 0.0f) || !std::isfinite(p)) return false;
     t.lights.push_back(l);
     power.push_back(p);
@@ -66,12 +74,16 @@ LightTable build_light_table(const Scene& scene) {
     if (type == PRIM_TRIANGLE) geometry_triangle[index] = true;
   }
   // Emissive shapes of the file: one light of `kind` with corners p0..p2
-  // and `area` per emissive shape.
+  // and `area` per emissive shape. A triangle whose material has an
+  // emission texture (glTF's; only triangles have one) names itself and
+  // the texture (kernels/lib/lights/triangle_light.h).
+  std::map<int, glm::vec3> texture_means;
   auto add_shape = [&](uint32_t material, uint32_t kind, cs_float4 p0, cs_float4 p1, cs_float4 p2, float area,
                        std::vector<uint32_t>& index_of_shape, size_t shape) {
-    const glm::vec3 e = to_vec3(scene.materials[material].emission);
+    const Material& m = scene.materials[material];
+    const glm::vec3 e = to_vec3(m.emission);
     if (!(max3(e) > 0.0f)) return;
-    const bool two_sided = kind == LIGHT_TRIANGLE && (scene.materials[material].flags & MATERIAL_TWO_SIDED);
+    const bool two_sided = kind == LIGHT_TRIANGLE && (m.flags & MATERIAL_TWO_SIDED);
     Light l{};
     l.kind = kind;
     l.p0 = p0;
@@ -79,7 +91,16 @@ LightTable build_light_table(const Scene& scene) {
     l.p2 = p2;
     l.flags = two_sided ? LIGHT_TWO_SIDED : 0u;
     l.emitted = to_float4(e, area);
-    if (add(l)) index_of_shape[shape] = uint32_t(t.lights.size() - 1);
+    glm::vec3 mean(1.0f);
+    if (kind == LIGHT_TRIANGLE && m.emission_texture >= 0 && size_t(m.emission_texture) < scene.textures.size()) {
+      l.flags |= LIGHT_EMISSION_TEXTURE;
+      l.p0.w = as_float(uint32_t(shape));
+      l.p1.w = as_float(uint32_t(m.emission_texture));
+      auto it = texture_means.find(m.emission_texture);
+      if (it == texture_means.end()) it = texture_means.emplace(m.emission_texture, mean_texel(scene, m.emission_texture)).first;
+      mean = it->second;
+    }
+    if (add(l, mean)) index_of_shape[shape] = uint32_t(t.lights.size() - 1);
   };
   for (size_t i = 0; i < scene.triangles.size(); ++i) {
     if (geometry_triangle[i]) continue;

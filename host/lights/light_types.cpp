@@ -96,6 +96,7 @@ uint32_t add_emissive_material(Scene& scene, const glm::vec3& radiance) {
   m.ior = 1.0f;
   m.texture = -1;
   m.roughness_texture = -1;
+  m.emission_texture = -1;
   m.roughness = -1.0f;
   scene.materials.push_back(m);
   return uint32_t(scene.materials.size() - 1);

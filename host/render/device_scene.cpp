@@ -47,6 +47,8 @@ KernelArgs& DeviceScene::bind_surfaces(KernelArgs& args) const {
               {"spheres", "cylinders", "triangles", "triangle_shading", "materials", "textures", "texels", "environment"});
 }
 
-KernelArgs& DeviceScene::bind_environment(KernelArgs& args) const { return bind(args, {"environment"}); }
+KernelArgs& DeviceScene::bind_light_data(KernelArgs& args) const {
+  return bind(args, {"triangle_shading", "textures", "texels", "environment"});
+}
 
 }  // namespace caustica

@@ -29,8 +29,10 @@ class DeviceScene {
   KernelArgs& bind_geometry(KernelArgs& args) const;
   // SCENE_SURFACE_PARAMS (kernels/lib/surface.h), in order.
   KernelArgs& bind_surfaces(KernelArgs& args) const;
-  // The environment map alone (emit_photons).
-  KernelArgs& bind_environment(KernelArgs& args) const;
+  // What the lights' emission reads beyond the light table (emit_photons):
+  // triangle_shading, textures and texels (emission textures,
+  // lib/lights.h: light_emission_texel) and the environment map, in order.
+  KernelArgs& bind_light_data(KernelArgs& args) const;
 
   const Scene& scene() const { return scene_; }
   const SceneFeatures& features() const { return features_; }

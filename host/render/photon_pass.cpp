@@ -210,7 +210,7 @@ void PhotonPass::trace(RenderStats* stats) {
   const PhotonPassParams p = params(pass_index);
   KernelArgs emit(emit_);
   emit.arg("lights", lights_);
-  scene_.bind_environment(emit)
+  scene_.bind_light_data(emit)
       .arg("params", p)
       .arg("casters", casters_)
       .arg("caster_count", caster_count_)

@@ -102,7 +102,7 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
     if (can_bounce && (m.flags & MATERIAL_REFLECTIVE) && !(m.flags & MATERIAL_REFRACTIVE) && m.reflectivity > 0.0f)
       f.reflection = true;
     if (std::max(m.emission.x, std::max(m.emission.y, m.emission.z)) > 0.0f) f.area_lights = true;
-    if (m.roughness_texture >= 0) f.textures = true;
+    if (m.roughness_texture >= 0 || m.emission_texture >= 0) f.textures = true;
     casters = casters || material_casts_caustics(scene, m);
     receivers = receivers || material_receives_caustics(scene, m);
   }

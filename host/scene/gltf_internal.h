@@ -106,9 +106,5 @@ void convert_materials(Context& ctx);
 // alone, with a warning): a checker would be read as roughness.
 int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::string& pointer,
                   bool linear_data = false);
-// Mean texel of /textures/<texture> (rgb; with linear_data the 8-bit codes
-// as stored, without sRGB decoding, as glTF's data textures are); 1 when the
-// image cannot be read (with a warning).
-glm::vec3 texture_mean(Context& ctx, int texture, const std::string& pointer, bool linear_data);
 
 }  // namespace caustica::gltf_detail

@@ -6,9 +6,9 @@
 // (diffuse and specular colours map one to one); KHR_materials_transmission
 // makes a dielectric of KHR_materials_ior's index; emissiveFactor times
 // KHR_materials_emissive_strength is the emission, values above 1 honoured.
-// The metallicRoughnessTexture is sampled per texel (Material's
-// roughness_texture); the emissive texture is reduced to its mean, with a
-// warning saying so, and specularGlossinessTexture is ignored (warned).
+// The metallicRoughnessTexture and the emissiveTexture are sampled per
+// texel (Material's roughness_texture and emission_texture);
+// specularGlossinessTexture is ignored (warned).
 #include <algorithm>
 #include <cmath>
 
@@ -108,16 +108,12 @@ class MaterialMapper {
         ctx_.fail(ep, "expected non-negative finite numbers");
     }
     e *= static_cast<float>(extension_number(in, "KHR_materials_emissive_strength", "emissiveStrength", 1.0, mp));
-    if (in.emissiveTexture.index >= 0 && glm::any(glm::greaterThan(e, glm::vec3(0.0f)))) {
-      const std::string tp = mp + "/emissiveTexture";
-      const glm::vec3 mean = mean_of(in.emissiveTexture.index, tp, /*linear_data=*/false);
-      e *= mean;
-      ctx_.warn_once("emissiveTexture", tp, "per-texel emission is not supported; the texture's mean colour (" +
-                                                std::to_string(mean.x) + ", " + std::to_string(mean.y) + ", " +
-                                                std::to_string(mean.z) + ") scales emissiveFactor");
-    }
     if (!std::isfinite(e.x + e.y + e.z)) ctx_.fail(mp, "emission (emissiveFactor x emissiveStrength) overflows");
     out.emission = to_float4(e);
+    // Per texel (lib/material.h, lib/lights/triangle_light.h): sRGB-decoded
+    // as a colour; no factor, no emission, so no texture to read.
+    if (in.emissiveTexture.index >= 0 && glm::any(glm::greaterThan(e, glm::vec3(0.0f))))
+      out.emission_texture = texture(in.emissiveTexture, mp + "/emissiveTexture");
   }
 
   double number(const tinygltf::Value& obj, const char* key, double fallback, const std::string& pointer) {
@@ -168,9 +164,6 @@ class MaterialMapper {
 
   int texture(const tinygltf::TextureInfo& info, const std::string& pointer) {
     return image_texture(ctx_, info, pointer);
-  }
-  glm::vec3 mean_of(int texture, const std::string& pointer, bool linear_data) {
-    return texture_mean(ctx_, texture, pointer, linear_data);
   }
 
   Context& ctx_;

@@ -95,26 +95,4 @@ int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::st
   return ctx.texture_indices[key] = ctx.textures.fallback();
 }
 
-glm::vec3 texture_mean(Context& ctx, int texture, const std::string& pointer, bool linear_data) {
-  const size_t t = checked_index(ctx, texture, ctx.model.textures.size(), pointer + "/index", "textures");
-  LinearImage img;
-  size_t image_index = 0;
-  const std::string why = decode(ctx, t, pointer, img, &image_index);
-  if (!why.empty() || img.rgb.empty()) {
-    ctx.warn(pointer, "texture /textures/" + std::to_string(t) + " cannot be read: " +
-                          (why.empty() ? std::string("empty image") : why) + "; its factor is used alone");
-    return glm::vec3(1.0f);
-  }
-  glm::dvec3 sum(0.0);
-  const size_t texels = img.rgb.size() / 3;
-  for (size_t i = 0; i < texels; ++i)
-    for (int c = 0; c < 3; ++c) {
-      const double v = img.rgb[i * 3 + size_t(c)];
-      // The decoder turned 8-bit codes into linear light; data textures
-      // (metallic, roughness) mean the codes themselves.
-      sum[c] += linear_data ? srgb_encode(v) : v;
-    }
-  return glm::vec3(sum / double(texels));
-}
-
 }  // namespace caustica::gltf_detail

@@ -131,6 +131,7 @@ Material default_material() {
   out.ka = kDefaultAmbient;
   out.texture = -1;
   out.roughness_texture = -1;
+  out.emission_texture = -1;
   out.roughness = -1.0f;
   out.metallic = 0.0f;
   return out;

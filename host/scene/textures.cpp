@@ -295,6 +295,16 @@ std::string executable_dir() {
 
 float srgb_byte_to_linear(unsigned char value) { return srgb_table()[value]; }
 
+glm::vec3 mean_texel(const Scene& scene, int index) {
+  const Texture& t = scene.textures.at(size_t(index));
+  if (t.kind == TEXTURE_CHECKER) return 0.5f * (to_vec3(t.color1) + to_vec3(t.color2));
+  glm::dvec3 sum(0.0);
+  const size_t n = size_t(t.width) * t.height;
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) sum[c] += glm::unpackHalf1x16(scene.texels.at((size_t(t.offset) + i) * 4 + size_t(c)));
+  return n > 0 ? glm::vec3(sum / double(n)) : glm::vec3(0.0f);
+}
+
 std::vector<std::string> texture_search_candidates(const std::string& written, const std::string& scene_dir) {
   std::vector<std::string> out;
   auto add = [&](const fs::path& p) {

@@ -42,6 +42,13 @@ struct LinearImage {
 // it directly.
 std::string decode_texture_image(const std::string& data, LinearImage& out);
 
+// The mean of the scene's texture `index` over its image (linear rgb as
+// stored; a checker's two colours averaged): the integral over a whole
+// tile of what the kernels' lookup returns (lib/texture.h: bilinear with
+// wrap keeps the mean). An emission texture's light is picked by it
+// (host/lights/light_table.cpp).
+glm::vec3 mean_texel(const Scene& scene, int index);
+
 class TextureLibrary {
  public:
   explicit TextureLibrary(Scene& scene) : scene_(scene) {}

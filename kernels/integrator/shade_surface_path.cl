@@ -136,7 +136,9 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   const float cone_width = ray.cone_width + ray.cone_spread * hit.t; /* the footprint here */
 
   /* Emission seen by this path: from the front side (sp.normal is the
-   * outward / counter-clockwise normal), or either side of a two-sided one. */
+   * outward / counter-clockwise normal), or either side of a two-sided one;
+   * an emission texture's texel at the hit scales it (a triangle light's
+   * emitted.xyz is its material's emission). */
   const bool arrived_by_delta = (ray.flags & PATH_SPECULAR) != 0u;
   bool sees_front = dot(d, sp.normal) < 0.0f || (mat->flags & MATERIAL_TWO_SIDED) != 0u;
   const uint light_index = params->light_count > 0u
@@ -163,9 +165,11 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
         weight = power_heuristic(ray.bsdf_pdf, light_pdf(light, environment, light->select_probability, ray.origin.xyz,
                                                          sp.position, d));
     }
-    if (weight > 0.0f) film_add(FILM_ARGS, ray.pixel, throughput * light->emitted.xyz * weight);
-  } else if (max3_of(mat->emission.xyz) > 0.0f) {
-    film_add(FILM_ARGS, ray.pixel, throughput * mat->emission.xyz); /* not sampled: BSDF rays find it alone */
+    if (weight > 0.0f)
+      film_add(FILM_ARGS, ray.pixel,
+               throughput * light->emitted.xyz * material_emission_texel(mat, textures, texels, sp.uv) * weight);
+  } else if (max3_of(mat->emission.xyz) > 0.0f) { /* not sampled: BSDF rays find it alone */
+    film_add(FILM_ARGS, ray.pixel, throughput * mat->emission.xyz * material_emission_texel(mat, textures, texels, sp.uv));
   }
   if (ray.depth >= params->max_depth) return false;
 
@@ -231,11 +235,12 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
     __global const Light* light = &lights[li];
     LightSample ls;
     if (sample_light(light, environment, light->select_probability, sp.position, u_light, &ls)) {
+      ls.radiance *= light_emission_texel(light, triangle_shading, textures, texels, u_light); /* same pdf */
       const float3 wi = frame_to_local(ls.wi, t, b, n);
       const float side = dot(ls.wi, ng);
       if (!opaque || side > 0.0f) {
         const float3 f = bsdf_eval(bsdf, wo, wi);
-        if (max3_of(f) > 0.0f) {
+        if (max3_of(f * ls.radiance) > 0.0f) {
           const float weight = ls.delta || params->strategy == PATH_STRATEGY_NEE
                                    ? 1.0f
                                    : power_heuristic(ls.pdf, bsdf_pdf(bsdf, wo, wi));

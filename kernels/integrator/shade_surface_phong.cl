@@ -15,6 +15,7 @@
 #include "lib/caustics.h"
 #include "lib/film.h"
 #include "lib/lights.h"
+#include "lib/material.h"
 #include "lib/optics.h"
 #include "lib/queue.h"
 #include "lib/surface.h"
@@ -129,7 +130,7 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const Light* re
   /* An image or checker texture replaces the diffuse colour. */
   if (mat->texture >= 0) diffuse_colour = texture_lookup(textures, (__global const half*)texels, mat->texture, sp.uv);
 #endif
-  film_add(FILM_ARGS, pixel, weight * mat->emission.xyz);
+  film_add(FILM_ARGS, pixel, weight * mat->emission.xyz * material_emission_texel(mat, textures, texels, sp.uv));
 
   /* Split the ray's weight between the local Phong term and the specular
    * children: mirror by reflectivity; dielectric by Fresnel. */

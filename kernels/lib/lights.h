@@ -154,4 +154,23 @@ inline float3 light_emitted_toward(__global const Light* l, __global const float
   return splat_float3(0.0f);
 }
 
+/* What scales light l's radiance at the point u places on it (the u given
+ * to sample_light or light_emission_point), and so a shadow ray's radiance
+ * and a photon's flux: its emission texture's texel for a textured triangle
+ * light (LIGHT_EMISSION_TEXTURE, lights/triangle_light.h), else 1. The
+ * densities are unchanged (the point is still uniform by area). */
+inline float3 light_emission_texel(__global const Light* l, __global const TriangleShading* triangle_shading,
+                                   __global const Texture* textures, __global const ushort* texels, float2 u) {
+#if HAS_TEXTURES
+  if (l->flags & LIGHT_EMISSION_TEXTURE)
+    return triangle_light_texel(l, triangle_shading, textures, (__global const half*)texels, u);
+#endif
+  (void)l;
+  (void)triangle_shading;
+  (void)textures;
+  (void)texels;
+  (void)u;
+  return splat_float3(1.0f);
+}
+
 #endif /* CAUSTICA_LIB_LIGHTS_H */

@@ -13,7 +13,8 @@
  *   a roughness_texture (glTF's metallicRoughnessTexture) scales alpha by
  *     G^2 and metallic by B per texel (texel_scale).
  * Colours are clamped to [0, 1]; emission is added where a path hits the
- * surface, not here. */
+ * surface, not here (material_emission_texel: what an emission texture
+ * makes of it at a point). */
 #ifndef CAUSTICA_LIB_MATERIAL_H
 #define CAUSTICA_LIB_MATERIAL_H
 
@@ -66,6 +67,21 @@ inline float2 material_texel_scale(__global const Material* m, __global const Te
   return make_float2(t.y * t.y, t.z);
 }
 #endif
+
+/* What scales m's emission at uv: its emission_texture's texel (glTF's
+ * emissiveTexture, stored linear like base colour), 1 without one (or
+ * without HAS_TEXTURES, where no material has one). */
+inline float3 material_emission_texel(__global const Material* m, __global const Texture* textures,
+                                      __global const ushort* texels, float2 uv) {
+#if HAS_TEXTURES
+  if (m->emission_texture >= 0) return texture_lookup(textures, (__global const half*)texels, m->emission_texture, uv);
+#endif
+  (void)m;
+  (void)textures;
+  (void)texels;
+  (void)uv;
+  return splat_float3(1.0f);
+}
 
 /* A caster of caustics: a smooth enough conductor or dielectric (the photon
  * pass's caster/receiver split, shared/photon.h); plastic receives. The

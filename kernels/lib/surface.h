@@ -81,6 +81,23 @@ inline void cylinder_uv_frame(float3 a, float3* t1, float3* t2) {
   *t2 = cross(a, *t1);
 }
 
+/* Triangle `index`'s texture coordinates at barycentrics (b1, b2), the
+ * weights of v1 and v2 (a Hit's u and v): see the header. A triangle
+ * light's sampled point reads its emission texture here too
+ * (lib/lights/triangle_light.h), so both ways of reaching a point agree. */
+inline float2 triangle_uv(__global const TriangleShading* triangle_shading, uint index, float b1, float b2) {
+#if HAS_TRIANGLE_SHADING
+  __global const TriangleShading* ts = &triangle_shading[index];
+  /* Edge form, as the position: tiled UVs (1000.25...) keep their fraction. */
+  const float2 uv0 = make_float2(ts->u0, ts->v0);
+  return uv0 + b1 * (make_float2(ts->u1, ts->v1) - uv0) + b2 * (make_float2(ts->u2, ts->v2) - uv0);
+#else
+  (void)triangle_shading;
+  (void)index;
+  return make_float2(b1, b2);
+#endif
+}
+
 CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder* cylinders,
                         __global const Triangle* triangles, __global const TriangleShading* triangle_shading, Hit hit,
                         float3 o, float3 d) {
@@ -179,12 +196,9 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
     const float3 e1 = v1 - v0, e2 = v2 - v0;
     sp.p_error = error_gamma(7.0f) * (fabs(v0) + fabs(hit.u * e1) + fabs(hit.v * e2)) +
                  splat_float3(error_gamma(32.0f) * (max_abs3(e1) + max_abs3(e2)));
+    sp.uv = triangle_uv(triangle_shading, index, hit.u, hit.v);
 #if HAS_TRIANGLE_SHADING
     __global const TriangleShading* ts = &triangle_shading[index];
-    /* Edge form for the same reason as the position: tiled UVs (1000.25...)
-     * keep their fraction. */
-    const float2 uv0 = make_float2(ts->u0, ts->v0);
-    sp.uv = uv0 + hit.u * (make_float2(ts->u1, ts->v1) - uv0) + hit.v * (make_float2(ts->u2, ts->v2) - uv0);
     const float3 n = (1.0f - hit.u - hit.v) * ts->n0.xyz + hit.u * ts->n1.xyz + hit.v * ts->n2.xyz;
     const float n2 = dot(n, n);
     /* Opposite vertex normals can cancel; the geometric normal stands in. */
@@ -192,8 +206,6 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
       const float3 sn = n * rsqrt(n2);
       sp.shading_normal = dot(sn, sp.normal) < 0.0f ? -sn : sn;
     }
-#else
-    sp.uv = make_float2(hit.u, hit.v);
 #endif
   }
 #endif

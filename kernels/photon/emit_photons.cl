@@ -10,7 +10,10 @@
  * divided by p_pick and by the pass's photon count so that a pass's photons sum to the
  * lights' power. Random numbers come from the photon's index, the pass and
  * the seed (a counter-based hash), so every photon is the same on any
- * device; its index rides in the record (PhotonRecord.index).
+ * device; its index rides in the record (PhotonRecord.index). A textured
+ * emitter's photon carries the texel at its start point (lights.h:
+ * light_emission_texel) on top of the flux for emitted.xyz: the point's
+ * density is uniform by area still, so the flux is Le(point) |cos| A / pdf.
  *
  * Guided emission (issue 19): only photons that meet a caster before any
  * receiver are ever stored, and on scenes where small glass and metal
@@ -103,8 +106,10 @@ inline float3 sample_toward_casters(__global const float4* restrict casters, uin
   return w;
 }
 
-__kernel void emit_photons(__global const Light* restrict lights, __global const float* restrict environment,
-                           PhotonPassParams params,
+__kernel void emit_photons(__global const Light* restrict lights,
+                           __global const TriangleShading* restrict triangle_shading,
+                           __global const Texture* restrict textures, __global const ushort* restrict texels,
+                           __global const float* restrict environment, PhotonPassParams params,
                            __global const float4* restrict casters, uint caster_count, PHOTON_QUEUE_PARAMS(out),
                            __global uint* restrict next_count) {
   const uint i = get_global_id(0);
@@ -135,6 +140,7 @@ __kernel void emit_photons(__global const Light* restrict lights, __global const
   } else {
     flux = light_emit(l, environment, point, p_error, n, u_dir, photon_random(i, params, 5u), &origin, &dir);
   }
+  flux *= light_emission_texel(l, triangle_shading, textures, texels, u_point); /* the texel at the point */
   PhotonRecord photon;
   photon.origin = (float4)(origin, 0.0f);
   photon.dir = (float4)(dir, 0.0f);

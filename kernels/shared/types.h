@@ -186,7 +186,12 @@ typedef struct {
    * perceptual roughness is G x factor and alpha its square) and metallic by
    * B (lib/material.h); -1: none */
   cs_int roughness_texture;
-  cs_uint pad0, pad1, pad2;
+  /* a glTF emissiveTexture (rgb, sRGB-decoded like base colour): the
+   * radiance emitted at a point is emission.xyz x its texel there
+   * (lib/material.h: material_emission_texel; a triangle light's sampled
+   * point reads it too, lib/lights/triangle_light.h); -1: none */
+  cs_int emission_texture;
+  cs_uint pad1, pad2;
 } Material; /* 96 bytes */
 
 /* A light, in the one form every integrator and the photon pass read, from
@@ -201,6 +206,10 @@ typedef struct {
  * select_probability (host/lights/light_table.cpp). */
 #define LIGHT_NONE 0xFFFFFFFFu
 #define LIGHT_TWO_SIDED 1u /* Light.flags */
+/* Light.flags: a triangle light whose material has an emission texture; its
+ * p0.w and p1.w hold the triangle's and the texture's indices
+ * (lib/lights/triangle_light.h) */
+#define LIGHT_EMISSION_TEXTURE 2u
 
 typedef struct {
   cs_float4 p0, p1, p2;
@@ -208,7 +217,7 @@ typedef struct {
   cs_uint kind;
   float select_probability;
   float select_cdf;
-  cs_uint flags; /* LIGHT_TWO_SIDED */
+  cs_uint flags; /* LIGHT_TWO_SIDED, LIGHT_EMISSION_TEXTURE */
 } Light; /* 80 bytes */
 
 /* Pinhole camera (host: camera_for_image; the ray: shared/camera.h). */
