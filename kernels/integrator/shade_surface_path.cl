@@ -240,7 +240,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
       const float side = dot(ls.wi, ng);
       if (!opaque || side > 0.0f) {
         const float3 f = bsdf_eval(bsdf, wo, wi);
-        if (max3_of(f * ls.radiance) > 0.0f) {
+        if (max3_of(f) > 0.0f) {
           const float weight = ls.delta || params->strategy == PATH_STRATEGY_NEE
                                    ? 1.0f
                                    : power_heuristic(ls.pdf, bsdf_pdf(bsdf, wo, wi));
