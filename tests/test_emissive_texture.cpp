@@ -7,7 +7,8 @@
 // Checked against what the texture says, not against the code:
 // - the import: the factor and the texture, no warning; the light table's
 //   triangle lights name their triangle and texture and are picked by the
-//   texture's mean;
+//   texture's mean; an unreadable image and a texture coordinate set other
+//   than 0 are named in warnings by their JSON pointers;
 // - a camera-facing quad: pixels whose whole footprint reads one quadrant
 //   of a 4 x 4 texture of four colours see factor x that texel, in path
 //   mode and in phong;
@@ -201,6 +202,27 @@ TEST(EmissiveTexture, ImportKeepsTheFactorAndTheTextureWithoutAWarning) {
     EXPECT_EQ(as_uint(l.p1.w), uint32_t(m.emission_texture));
     EXPECT_NEAR(l.select_probability, 0.5f, 1e-6f);
   }
+}
+
+// What is still not read is named by its JSON pointer: a texture
+// coordinate set other than 0 (TEXCOORD_0 is used); an unreadable image
+// emits the visible magenta/black checker, with a warning.
+TEST(EmissiveTexture, UnreadableImagesAndOtherCoordinateSetsAreNamed) {
+  json file = json::parse(emitter_file(kFacing, "not an image", /*double_sided=*/true, false));
+  file["materials"][0]["emissiveTexture"]["texCoord"] = 1;
+  std::vector<std::string> warnings;
+  LoadOptions o;
+  o.warnings = &warnings;
+  const Scene s = load_scene(scene_file("unreadable", file.dump(), kFacingCamera, 2), o);
+  std::string all;
+  for (const std::string& w : warnings) all += w + "\n";
+  EXPECT_TRUE(test::Contains(all, {"/materials/0/emissiveTexture/texCoord", "TEXCOORD_0 is used"})) << all;
+  EXPECT_TRUE(test::Contains(all, {"/materials/0/emissiveTexture: warning: texture /textures/0 cannot be read",
+                                   "magenta/black checker"}))
+      << all;
+  const Material& m = s.materials[s.triangles[0].material];
+  ASSERT_GE(m.emission_texture, 0);
+  EXPECT_EQ(s.textures[size_t(m.emission_texture)].kind, TEXTURE_CHECKER);
 }
 
 TEST(EmissiveTexture, PathModeSeesFactorTimesTexel) {
