@@ -31,7 +31,10 @@
  * scene's bounding sphere, or, guided, of a sphere around every caster
  * bound (every line that meets a caster crosses it), starting outside the
  * scene either way; they are flagged PHOTON_FROM_ENVIRONMENT (the length
- * they travel from that disk means nothing to phong's gather). */
+ * they travel from that disk means nothing to phong's gather). A
+ * directional light's photons cross the same disks along its one direction
+ * (lib/lights/directional_light.h: directional_emit_through), flagged
+ * PHOTON_FROM_DISTANT_LIGHT. */
 
 #include "lib/caustics.h"
 #include "lib/lights.h"
@@ -121,14 +124,18 @@ __kernel void emit_photons(__global const Light* restrict lights, __global const
   const float3 point = light_emission_point(l, environment, u_point, &p_error, &n);
   float3 origin, dir, flux;
   uint flags = 0u;
+  /* The disk the photons of a light at infinity cross. */
+  const float4 disk = caster_count > 0u ? enclosing_sphere(casters, caster_count) : l->p0;
 #if HAS_ENVIRONMENT
   if (l->kind == LIGHT_ENVIRONMENT) {
     flags = PHOTON_FROM_ENVIRONMENT;
-    flux = environment_emit_through(environment, l, caster_count > 0u ? enclosing_sphere(casters, caster_count) : l->p0,
-                                    point, u_dir, &origin, &dir);
+    flux = environment_emit_through(environment, l, disk, point, u_dir, &origin, &dir);
   } else
 #endif
-  if (caster_count > 0u) {
+  if (l->kind == LIGHT_DIRECTIONAL) {
+    flags = PHOTON_FROM_DISTANT_LIGHT;
+    flux = directional_emit_through(l, disk, point, &origin, &dir);
+  } else if (caster_count > 0u) {
     float pdf;
     dir = sample_toward_casters(casters, caster_count, point, photon_random(i, params, 5u), u_dir, &pdf);
     flux = light_emitted_toward(l, environment, point, p_error, n, &dir, pdf, &origin);
