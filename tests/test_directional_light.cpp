@@ -291,63 +291,72 @@ TEST(DirectionalLight, AnOccluderCastsASharpShadow) {
 // The photon pass: a glass ball (radius 0.3, index 1.5, centre 0.5 above
 // the floor) under a light tilted 30 degrees focuses what crosses it near
 // the floor. Pure path tracing cannot find that light (a delta light seen
-// through smooth glass): with caustics off the shadow is dark (below a
-// tenth of the lit floor: only the lit floor seen through the glass). With the
-// photon pass the caustic carries, within 0.4 of the axis's foot, 0.72 of
-// the E pi r^2 the ball intercepts (ray-traced in double: two refractions
-// with Fresnel, 0.82 in all); its peak is several times the lit floor's
-// E cos. The camera looks from the side away from the ball.
+// through smooth glass), nor can phong's shadow rays: with caustics off
+// the shadow is dark (below a tenth of the lit floor; path mode sees the
+// lit floor through the glass). With the photon pass the caustic carries,
+// within 0.4 of the axis's foot, 0.72 of the E pi r^2 the ball intercepts
+// (ray-traced in double: two refractions with Fresnel, 0.82 in all), in
+// path mode as reflected radiance (rho / pi) E_c and in phong (--caustics
+// on) as its direct term counts irradiance, kd diffuse E_c; its peak is
+// several times the lit floor's. The camera looks from the side away from
+// the ball.
 TEST(DirectionalLight, PhotonPassFindsTheCausticOfAGlassBall) {
   const double rho = 0.5, e = 2.0, r = 0.3, theta = 30.0;
   const glm::dvec3 d = tilted(theta), foot(0.5 * std::tan(theta * kPi / 180), 0, 0);
+  const std::string floor_material = R"("material": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]})";
   const std::string scene = R"({"nbounces": 6, "rendermode": "pathtracer",
   "camera": {"type": "pinhole", "width": 32, "height": 32, "position": [2.789, 2.5, 0], "lookAt": [0.289, 0, 0],
              "upVector": [0, 1, 0], "fov": 30},
-  "scene": {"backgroundcolor": [0, 0, 0],
+  "scene": {"backgroundcolor": [0, 0, 0], "ambientlight": [0, 0, 0],
     "lightsources": [)" + directional(d, glm::dvec3(e)) + R"(],
     "shapes": [
       {"type": "sphere", "center": [0, 0.5, 0], "radius": 0.3,
        "material": {"isrefractive": true, "refractiveindex": 1.5, "kd": 0, "ks": 0}},
-      {"type": "triangle", "v0": [-3, 0, -3], "v1": [3, 0, 3], "v2": [3, 0, -3], "material": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
-      {"type": "triangle", "v0": [-3, 0, -3], "v1": [-3, 0, 3], "v2": [3, 0, 3], "material": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}}]}})";
+      {"type": "triangle", "v0": [-3, 0, -3], "v1": [3, 0, 3], "v2": [3, 0, -3], )" + floor_material + R"(},
+      {"type": "triangle", "v0": [-3, 0, -3], "v1": [-3, 0, 3], "v2": [3, 0, 3], )" + floor_material + "}]}}";
   const std::string path = write_scene("dir_caustic.json", scene);
-  const int spp = int(test::sized(16, 4));
-  test::PathRenderOptions on, off;
-  on.caustics = CausticsMode::On;
-  off.caustics = CausticsMode::Off;
-  const test::PathRender with = test::render_path(path, spp, on), without = test::render_path(path, spp, off);
-  const CameraGPU camera = camera_for_image(load_scene(path).camera, with.image.width, with.image.height);
-  const double lit = rho / kPi * e * std::cos(theta * kPi / 180);
-  double flux = 0.0, peak = 0.0;
-  int shadowed = 0;
-  for (int py = 0; py < with.image.height; ++py)
-    for (int px = 0; px < with.image.width; ++px) {
-      const glm::dvec3 p = floor_point(camera, px + 0.5, py + 0.5);
-      // The floor area the pixel covers (a parallelogram of its corners).
-      const glm::dvec3 p00 = floor_point(camera, px, py), p10 = floor_point(camera, px + 1, py),
-                       p01 = floor_point(camera, px, py + 1);
-      const double area = glm::length(glm::cross(p10 - p00, p01 - p00));
-      const double on_value = with.image.at(px, py)[1], off_value = without.image.at(px, py)[1];
-      // Off: inside the ball's shadow (well inside: the line toward the
-      // light passes the centre within r - 0.05) only the lit floor seen
-      // through the glass remains, dim.
-      const glm::dvec3 centre(0, 0.5, 0);
-      const double t = glm::dot(centre - p, -d);
-      if (glm::length(centre - (p - t * d)) < r - 0.05) {
-        EXPECT_LT(off_value, 0.1 * lit) << "pixel " << px << ", " << py;
-        ++shadowed;
+  for (RenderMode mode : {RenderMode::Path, RenderMode::Phong}) {
+    const bool path_mode = mode == RenderMode::Path;
+    const int spp = int(path_mode ? test::sized(16, 4) : test::sized(8, 2));  // phong: photon passes
+    test::CameraRenderOptions on, off;
+    on.spp = off.spp = spp;
+    on.caustics = CausticsMode::On;
+    off.caustics = CausticsMode::Off;
+    const test::CameraRender with = test::render_with_camera(path, mode, on),
+                             without = test::render_with_camera(path, mode, off);
+    // What the floor shows per unit irradiance.
+    const double reflects = path_mode ? rho / kPi : rho;
+    const double lit = reflects * e * std::cos(theta * kPi / 180);
+    double flux = 0.0, peak = 0.0;
+    int shadowed = 0;
+    for (int py = 0; py < with.image.height; ++py)
+      for (int px = 0; px < with.image.width; ++px) {
+        const glm::dvec3 p = floor_point(with.camera, px + 0.5, py + 0.5);
+        // The floor area the pixel covers (a parallelogram of its corners).
+        const glm::dvec3 p00 = floor_point(with.camera, px, py), p10 = floor_point(with.camera, px + 1, py),
+                         p01 = floor_point(with.camera, px, py + 1);
+        const double area = glm::length(glm::cross(p10 - p00, p01 - p00));
+        const double on_value = with.image.at(px, py)[1], off_value = without.image.at(px, py)[1];
+        // Well inside the ball's shadow (the line toward the light passes
+        // the centre within r - 0.05).
+        const glm::dvec3 centre(0, 0.5, 0);
+        const double t = glm::dot(centre - p, -d);
+        if (glm::length(centre - (p - t * d)) < r - 0.05) {
+          EXPECT_LT(off_value, 0.1 * lit) << "pixel " << px << ", " << py;
+          ++shadowed;
+        }
+        if (glm::length(p - foot) < 0.4) {
+          flux += (on_value - off_value) / reflects * area;
+          peak = std::max(peak, on_value);
+        }
       }
-      if (glm::length(p - foot) < 0.4) {
-        flux += (on_value - off_value) * kPi / rho * area;
-        peak = std::max(peak, on_value);
-      }
-    }
-  const double intercepted = e * kPi * r * r;
-  std::printf("[measure] caustic flux %.4f of the ball's %.4f (%.3f); peak %.4f, lit floor %.4f; %d shadowed pixels\n",
-              flux, intercepted, flux / intercepted, peak, lit, shadowed);
-  EXPECT_GT(shadowed, 10);
-  EXPECT_NEAR(flux / intercepted, 0.72, 0.12);
-  EXPECT_GT(peak, 2.0 * lit);
+    const double intercepted = e * kPi * r * r;
+    std::printf("[measure] %s: caustic flux %.4f of the ball's %.4f (%.3f); peak %.4f, lit floor %.4f; %d shadowed pixels\n",
+                path_mode ? "path" : "phong", flux, intercepted, flux / intercepted, peak, lit, shadowed);
+    EXPECT_GT(shadowed, 10);
+    EXPECT_NEAR(flux / intercepted, 0.72, 0.12) << (path_mode ? "path" : "phong");
+    EXPECT_GT(peak, 2.0 * lit) << (path_mode ? "path" : "phong");
+  }
 }
 
 }  // namespace
