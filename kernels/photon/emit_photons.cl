@@ -79,6 +79,13 @@ inline float4 enclosing_sphere(__global const float4* restrict casters, uint cou
   return (float4)(centre, radius * 1.0001f);
 }
 
+/* The sphere whose disk the photons of a light at infinity cross: the
+ * scene's bounding sphere (the light's p0), or, guided, one around every
+ * caster bound. */
+inline float4 distant_light_disk(__global const Light* l, __global const float4* restrict casters, uint count) {
+  return count > 0u ? enclosing_sphere(casters, count) : l->p0;
+}
+
 /* A direction from o toward the casters and its density (above). */
 inline float3 sample_toward_casters(__global const float4* restrict casters, uint count, float3 o, float pick,
                                     float2 u, float* pdf) {
@@ -124,17 +131,16 @@ __kernel void emit_photons(__global const Light* restrict lights, __global const
   const float3 point = light_emission_point(l, environment, u_point, &p_error, &n);
   float3 origin, dir, flux;
   uint flags = 0u;
-  /* The disk the photons of a light at infinity cross. */
-  const float4 disk = caster_count > 0u ? enclosing_sphere(casters, caster_count) : l->p0;
 #if HAS_ENVIRONMENT
   if (l->kind == LIGHT_ENVIRONMENT) {
     flags = PHOTON_FROM_ENVIRONMENT;
-    flux = environment_emit_through(environment, l, disk, point, u_dir, &origin, &dir);
+    flux = environment_emit_through(environment, l, distant_light_disk(l, casters, caster_count), point, u_dir,
+                                    &origin, &dir);
   } else
 #endif
   if (l->kind == LIGHT_DIRECTIONAL) {
     flags = PHOTON_FROM_DISTANT_LIGHT;
-    flux = directional_emit_through(l, disk, point, &origin, &dir);
+    flux = directional_emit_through(l, distant_light_disk(l, casters, caster_count), point, &origin, &dir);
   } else if (caster_count > 0u) {
     float pdf;
     dir = sample_toward_casters(casters, caster_count, point, photon_random(i, params, 5u), u_dir, &pdf);
