@@ -143,6 +143,11 @@ std::vector<Row> make_rows() {
   write_file("huge_ks.json", scene(R"([{"type": "sphere", "center": [0, 0, 0], "radius": 1,
                                         "material": {"ks": 1e29}}])"));
 
+  // A directional light without a direction to travel, or without its irradiance.
+  write_file("directional_zero.json",
+             scene(kSphere, R"({"type": "directional", "direction": [0, 0, 0], "intensity": [1, 1, 1]})"));
+  write_file("directional_no_intensity.json", scene(kSphere, R"({"type": "directional", "direction": [0, -1, 0]})"));
+
   const std::string missing = quote(d + "/no_such_scene.json");
   std::vector<Row> rows = {
       {"reflectance_1e29", "render " + quote(d + "/huge_diffuse.json"), true,
@@ -170,6 +175,10 @@ std::vector<Row> make_rows() {
        {"bounces.json: /nbounces: expected an integer in [0, 1024], got 1000000000"}},
       {"lights_100000_phong", "render " + quote(d + "/lights.json") + dev, true,
        {"lights.json: /scene/lightsources", "100000 lights", "limit is 1024"}},
+      {"directional_zero_direction", "render " + quote(d + "/directional_zero.json") + dev, true,
+       {"directional_zero.json: /scene/lightsources/0/direction: expected a direction of nonzero length", "[0,0,0]"}},
+      {"directional_no_intensity", "render " + quote(d + "/directional_no_intensity.json") + dev, true,
+       {"directional_no_intensity.json: /scene/lightsources/0/intensity: required key \"intensity\" is missing"}},
       {"exposure_empty", "render " + quote(ok) + " --exposure ''", true, {"--exposure '': expected", "[-64, 64]"}},
       {"exposure_nan", "render " + quote(ok) + " --exposure nan", true, {"--exposure 'nan': expected"}},
       {"exposure_huge", "render " + quote(ok) + " --exposure 1e9", true, {"--exposure '1e9': expected"}},

@@ -12,7 +12,8 @@
 // - renders: a furnace under a constant map equals the constant background;
 //   a map with one bright texel lights a floor as a directional light of
 //   irradiance (texel radiance x its solid angle's cosine integral), with
-//   the shadow along it; on a sun 1e5 x the sky, importance sampling's
+//   the shadow along it, as the real directional light ("directional",
+//   tests/test_directional_light.cpp) of that irradiance renders it; on a sun 1e5 x the sky, importance sampling's
 //   error at equal samples is 10x below BSDF sampling's.
 #include <gtest/gtest.h>
 
@@ -320,7 +321,8 @@ TEST(Environment, OneBrightTexelLightsLikeADirectionalLight) {
     "material": {"type": "diffuse", "albedo": [0, 0, 0]}},)";
   const std::string scene =
       write_scene("env_sun_floor.json", env_scene(file_env(map), blocker + std::string(kFloor), floor_camera()));
-  const test::PathRender r = test::render_path(scene, int(test::sized(16, 2)));
+  const int spp = int(test::sized(16, 2));
+  const test::PathRender r = test::render_path(scene, spp);
   const int size = r.image.width;
   const CameraGPU camera = camera_for_image(load_scene(scene).camera, size, size);
   const double expected = 0.5 / kPi * texel_irradiance(w, h, sx, sy, 1000.0);
@@ -329,6 +331,18 @@ TEST(Environment, OneBrightTexelLightsLikeADirectionalLight) {
   const double u = (sx + 0.5) / w, v = (sy + 0.5) / h, th = kPi * v, ph = 2.0 * kPi * (u - 0.5);
   const glm::dvec3 to_sun(std::sin(th) * std::sin(ph), std::cos(th), std::sin(th) * std::cos(ph));
   const glm::dvec3 shadow = glm::dvec3(0, 1, 0) - to_sun * (1.0 / to_sun.y);
+  // The same scene under the directional light of the texel's centre
+  // direction whose irradiance on the floor, E cos, is the texel's.
+  char light[256];
+  const double sun_e = texel_irradiance(w, h, sx, sy, 1000.0) / to_sun.y;
+  std::snprintf(light, sizeof light,
+                R"({"type": "directional", "direction": [%.9g, %.9g, %.9g], "intensity": [%.9g, %.9g, %.9g]})",
+                -to_sun.x, -to_sun.y, -to_sun.z, sun_e, sun_e, sun_e);
+  const test::PathRender sun = test::render_path(
+      write_scene("dir_sun_floor.json", R"({"nbounces": 1, "rendermode": "pathtracer", "camera": )" + floor_camera() +
+                                            R"(, "scene": {"backgroundcolor": [0, 0, 0], "lightsources": [)" + light +
+                                            R"(], "shapes": [)" + blocker + kFloor + "]}}"),
+      spp);
   int lit = 0, dark = 0;
   for (int py = 0; py < size; ++py)
     for (int px = 0; px < size; ++px) {
@@ -339,11 +353,17 @@ TEST(Environment, OneBrightTexelLightsLikeADirectionalLight) {
       const double from_shadow = glm::length(glm::dvec2(p.x - shadow.x, p.z - shadow.z));
       const double from_sphere = glm::length(glm::dvec2(p.x, p.z));
       const float value = r.image.at(px, py)[1];
+      const float directional = sun.image.at(px, py)[1];
       if (from_shadow < 0.3 && from_sphere > 0.8) {
         EXPECT_LT(value, 1e-3 * expected) << "in the shadow at " << px << "," << py;
+        EXPECT_EQ(directional, 0.0f) << "in the directional light's shadow at " << px << "," << py;
         ++dark;
       } else if (from_shadow > 1.0 && from_sphere > 0.8) {
         EXPECT_NEAR(value, expected, 0.02 * expected) << px << "," << py;
+        // The directional light is exact per sample; the map's texel, a
+        // 5.6 x 5.6 degree sun, is sampled: the same within its noise.
+        EXPECT_NEAR(directional, expected, 1e-4 * expected) << px << "," << py;
+        EXPECT_NEAR(value, directional, 0.02 * directional) << px << "," << py;
         ++lit;
       }
     }

@@ -29,6 +29,8 @@ using nlohmann::json;
 
 using test::Doc;
 
+constexpr double kPi = 3.14159265358979323846;
+
 const std::vector<float> kTriangle = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
 GltfModel import(const std::string& text) {
@@ -285,19 +287,20 @@ TEST(Gltf, NoCameraFramesTheBoundsAndNoLightMeansAWhiteSky) {
   EXPECT_TRUE(test::Contains(all, {"no camera", "no lights and no emissive materials"}));
 }
 
-TEST(Gltf, PunctualLightsMapToPointSpotAndAFarPointForDirectional) {
+TEST(Gltf, PunctualLightsMapToPointSpotAndDirectional) {
   Doc d;
   d.mesh({-1, -1, 0, 1, -1, 0, 1, 1, 0});
   d.node({{"mesh", 0}});
   d.node({{"translation", {2, 3, 4}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
   d.node({{"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
-  d.node({{"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
+  // Turned 60 degrees about y: -z becomes (-sin 60, 0, -cos 60).
+  d.node({{"rotation", {0, 0.5, 0, std::sqrt(0.75)}}, {"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
   d.j["extensionsUsed"] = {"KHR_lights_punctual"};
   d.j["extensions"] = {{"KHR_lights_punctual",
                         {{"lights",
                           {{{"type", "point"}, {"color", {1, 0.5, 0}}, {"intensity", 10}},
                            {{"type", "spot"}, {"intensity", 3}, {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.4}}}},
-                           {{"type", "directional"}, {"intensity", 2}}}}}}};
+                           {{"type", "directional"}, {"color", {1, 0.5, 0.25}}, {"intensity", 2}}}}}}};
   std::vector<std::string> warnings;
   LoadOptions o;
   o.warnings = &warnings;
@@ -310,13 +313,54 @@ TEST(Gltf, PunctualLightsMapToPointSpotAndAFarPointForDirectional) {
   expect_near(to_vec3(s.lights[1].p1), {0, 0, -1}, "spot axis: the node's -z");
   EXPECT_NEAR(s.lights[1].p1.w, std::cos(0.4), 1e-6);
   EXPECT_NEAR(s.lights[1].p2.x, std::cos(0.2), 1e-6);
-  // Directional along -z: a point light far along +z whose irradiance at
-  // the centre, I / d^2, is the light's 2.
-  EXPECT_EQ(s.lights[2].kind, uint32_t(LIGHT_POINT));
-  const glm::vec3 centre(0, 0, 0), at = to_vec3(s.lights[2].p0);
-  const float dist = glm::length(at - centre);
-  EXPECT_GT(at.z, 100.0f);
-  EXPECT_NEAR(s.lights[2].emitted.x / (dist * dist), 2.0f, 1e-3f);
+  // Directional: travelling along the node's -z, mirrored in x; colour x
+  // intensity is its irradiance. No stand-in, so no warning.
+  EXPECT_EQ(s.lights[2].kind, uint32_t(LIGHT_DIRECTIONAL));
+  expect_near(to_vec3(s.lights[2].p1), {float(std::sqrt(0.75)), 0, -0.5f}, "directional: the node's -z, mirrored");
+  expect_near(to_vec3(s.lights[2].emitted), {2, 1, 0.5f}, "directional: colour x intensity");
+  for (const std::string& w : warnings) EXPECT_EQ(w.find("directional"), std::string::npos) << w;
+}
+
+// A glTF file's sun renders as the directional light it is: a Lambertian
+// plane (base colour 0.5, metallic 0, KHR_materials_ior 1: no specular
+// layer) seen from above by the file's camera, under a directional light
+// 60 degrees from the plane's normal of colour x intensity (1, 2, 4) x 1.5,
+// shows (0.5 / pi) E cos 60 at every pixel (exact: a delta light).
+TEST(Gltf, DirectionalLightLightsAPlaneWithItsIrradiance) {
+  Doc d;
+  // The plane y = 0, wound to face +y, 20 wide.
+  d.mesh({-10, 0, -10, -10, 0, 10, 10, 0, 10, -10, 0, -10, 10, 0, 10, 10, 0, -10});
+  d.j["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"metallicFactor", 0},
+                                                 {"roughnessFactor", 1}}},
+                       {"extensions", {{"KHR_materials_ior", {{"ior", 1.0}}}}}}};
+  d.j["meshes"][0]["primitives"][0]["material"] = 0;
+  d.j["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_ior"};
+  d.j["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"aspectRatio", 1.0}, {"znear", 0.01}}}}};
+  d.j["extensions"] = {{"KHR_lights_punctual",
+                        {{"lights", {{{"type", "directional"}, {"color", {1, 2, 4}}, {"intensity", 1.5}}}}}}};
+  const double h = std::sqrt(0.5);
+  d.node({{"mesh", 0}});
+  // The camera 5 above, looking down (-z turned -90 degrees about x).
+  d.node({{"camera", 0}, {"translation", {0, 5, 0}}, {"rotation", {-h, 0, 0, h}}});
+  // The light: -z turned -30 degrees about x, travelling down at 60 degrees
+  // from -y: (0, -sin 30, -cos 30).
+  d.node({{"rotation", {-std::sin(kPi / 12), 0, 0, std::cos(kPi / 12)}},
+          {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  const std::string path = test::write_scene("sun.gltf", d.text({0, 1, 2}));
+  const Scene s = load_scene(path);
+  ASSERT_EQ(s.lights.size(), 1u);
+  expect_near(to_vec3(s.lights[0].p1), {0, -0.5f, -float(std::sqrt(0.75))}, "the light's direction");
+  test::CameraRenderOptions o;
+  o.spp = 2;
+  o.size = 16;
+  const test::CameraRender r = test::render_with_camera(path, RenderMode::Path, o);
+  const glm::dvec3 e = 1.5 * glm::dvec3(1, 2, 4);
+  for (int py = 0; py < r.image.height; ++py)
+    for (int px = 0; px < r.image.width; ++px)
+      for (int c = 0; c < 3; ++c) {
+        const double expected = 0.5 / kPi * e[c] * 0.5;
+        ASSERT_NEAR(r.image.at(px, py)[c], expected, 1e-4 * expected) << "pixel " << px << ", " << py << ", channel " << c;
+      }
 }
 
 TEST(Gltf, ACourseworkSceneCanPlaceAGltfMeshWithATransform) {
@@ -337,17 +381,17 @@ TEST(Gltf, ACourseworkSceneCanPlaceAGltfMeshWithATransform) {
 }
 
 // The repository's example (tools/make_gltf_example.py) loads with its
-// camera, both lights and every material, and warns only about what
-// FORMAT.md says it stands in for (the directional light).
+// camera, both lights (the sun a directional light) and every material,
+// without a warning.
 TEST(Gltf, TheExampleSceneLoadsWhole) {
   std::vector<std::string> warnings;
   LoadOptions o;
   o.warnings = &warnings;
   const Scene s = load_scene(test::source_dir() + "/scenes/gltf_example.gltf", o);
-  ASSERT_EQ(warnings.size(), 1u) << warnings[0];
-  EXPECT_TRUE(test::Contains(warnings[0], {"/extensions/KHR_lights_punctual/lights/0", "directional"}));
+  EXPECT_TRUE(warnings.empty()) << warnings[0];
   EXPECT_EQ(s.mode, RenderMode::Path);
-  EXPECT_EQ(s.lights.size(), 2u);
+  ASSERT_EQ(s.lights.size(), 2u);
+  EXPECT_EQ(s.lights[0].kind, uint32_t(LIGHT_DIRECTIONAL));
   EXPECT_EQ(s.camera.width, 800);
   EXPECT_EQ(s.camera.height, 533);
   EXPECT_EQ(s.textures.size(), 1u);  // the embedded checker

@@ -188,6 +188,43 @@ TEST(PhotonPass, EnvironmentPhotonsCarryItsPower) {
   EXPECT_NEAR(sum, power, 5.0 * se + 1e-4 * power);
 }
 
+// A directional light's photons (emit_photons on the device): each
+// travels along its direction from outside the scene's bounding sphere,
+// crossing that sphere's disk, and carries E pi R^2 / n, so that they sum
+// to the power the table picks it by.
+TEST(PhotonPass, DirectionalLightPhotonsCarryItsPower) {
+  auto s = caustics_session(write_scene("sun.json", R"({"nbounces": 4, "rendermode": "pathtracer",
+    "camera": {"type": "pinhole", "width": 8, "height": 8, "position": [0, 0, -6], "lookAt": [0, 0, 0],
+               "upVector": [0, 1, 0], "fov": 45},
+    "scene": {"backgroundcolor": [0, 0, 0],
+      "lightsources": [{"type": "directional", "direction": [1, -2, 0.5], "intensity": [3, 3, 3]}],
+      "shapes": [{"type": "sphere", "center": [0, -3, 0], "radius": 1,
+                  "material": {"isrefractive": true, "refractiveindex": 1.5}}]}})"));
+  const LightTable table = build_light_table(s->scene);
+  ASSERT_EQ(table.lights.size(), 1u);
+  const Light& sun = table.lights[0];
+  ASSERT_EQ(sun.kind, uint32_t(LIGHT_DIRECTIONAL));
+  const double r = sun.p0.w, power = 3.0 * kPi * r * r;
+  EXPECT_NEAR(r, 1.001 * std::sqrt(3.0), 1e-5);  // the sphere's bounding box's half diagonal
+  EXPECT_NEAR(light_type(LIGHT_DIRECTIONAL).power(sun), power, 1e-5 * power);
+  const uint32_t n = uint32_t(test::sized(1u << 16, 1u << 10));
+  const std::vector<cs_float4> flux = emit_unguided(*s, table, n, "power"), dir = emit_unguided(*s, table, n, "dir"),
+                               origin = emit_unguided(*s, table, n, "origin");
+  const glm::dvec3 d = glm::normalize(glm::dvec3(1, -2, 0.5));
+  double sum = 0.0;
+  for (uint32_t i = 0; i < n; ++i) {
+    sum += flux[i].x;
+    ASSERT_NEAR(flux[i].x, power / n, 1e-5 * power / n) << "photon " << i;
+    ASSERT_NEAR(glm::length(glm::dvec3(dir[i].x, dir[i].y, dir[i].z) - d), 0.0, 1e-6) << "photon " << i;
+    const glm::dvec3 o(origin[i].x, origin[i].y - (-3.0), origin[i].z);
+    ASSERT_GT(glm::length(o), r) << "photon " << i << " starts inside the scene";
+    ASSERT_LT(glm::dot(o, d), 0.0) << "photon " << i;
+    ASSERT_LT(glm::length(o - glm::dot(o, d) * d), 1.0001 * r) << "photon " << i;
+  }
+  std::printf("[measure] emit_photons: directional flux %.4f, power %.4f\n", sum, power);
+  EXPECT_NEAR(sum, power, 1e-4 * power);
+}
+
 // Fresnel reflectance of an unpolarised dielectric interface, in double.
 double fresnel(double cos_i, double eta) {
   const double sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);

@@ -195,22 +195,9 @@ std::vector<float> environment_device_data(const Scene& scene) {
 }
 
 Light environment_light(const Scene& scene) {
-  glm::vec3 lo(INFINITY), hi(-INFINITY);
-  auto grow = [&](const glm::vec3& p, float r) {
-    lo = glm::min(lo, p - glm::vec3(r));
-    hi = glm::max(hi, p + glm::vec3(r));
-  };
-  for (const Sphere& s : scene.spheres) grow(to_vec3(s.center_radius), s.center_radius.w);
-  for (const Cylinder& c : scene.cylinders) grow(to_vec3(c.center_radius), c.center_radius.w + c.axis_half.w);
-  for (const Triangle& t : scene.triangles)
-    for (const cs_float4* v : {&t.v0, &t.v1, &t.v2}) grow(to_vec3(*v), 0.0f);
   Light l{};
   l.kind = LIGHT_ENVIRONMENT;
-  const bool empty = !(lo.x <= hi.x);
-  const glm::vec3 centre = empty ? glm::vec3(0.0f) : 0.5f * (lo + hi);
-  // A little beyond the box's half diagonal, so photon disks cover it whole.
-  const float radius = empty ? 1.0f : std::max(1e-6f, 1.001f * 0.5f * glm::length(hi - lo));
-  l.p0 = to_float4(centre, radius);
+  l.p0 = scene_bounding_sphere(scene);
   const Scene::Environment& env = *scene.environment;
   l.p1 = cs_float4{float(environment_luminance_integral(env)), 0.0f, 0.0f, 0.0f};
   glm::vec3 most(0.0f);

@@ -62,7 +62,7 @@ LightTable build_light_table(const Scene& scene) {
   for (uint32_t i : lights_by_kind(scene)) {
     const LightType& type = light_type(scene.lights[i].kind);
     if (!type.delta && !g.added) continue;  // an area light without its geometry: not sampled
-    if (add(scene.lights[i])) table_index[i] = uint32_t(t.lights.size() - 1);
+    if (add(light_in_scene(scene, i))) table_index[i] = uint32_t(t.lights.size() - 1);
   }
   std::vector<bool> geometry_sphere(scene.spheres.size(), false), geometry_triangle(scene.triangles.size(), false);
   for (const Scene::LightPrimitive& p : g.prims) {
@@ -141,7 +141,7 @@ std::vector<Light> whitted_lights(const Scene& scene) {
   std::vector<Light> lights;
   for (uint32_t i : lights_by_kind(scene)) {
     const LightType& type = light_type(scene.lights[i].kind);
-    if (type.whitted_stand_in) lights.push_back(type.whitted_stand_in(scene.lights[i]));
+    if (type.whitted_stand_in) lights.push_back(type.whitted_stand_in(light_in_scene(scene, i)));
   }
   return lights;
 }

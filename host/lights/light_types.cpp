@@ -1,12 +1,15 @@
 #include "host/lights/light_types.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "host/error.h"
 
 namespace caustica {
 
 // The registry: one line per light type, in the order of the device's
 // LIGHT_TYPES rows (kernels/lib/lights.h), which number the kinds.
-#define HOST_LIGHT_TYPES(X) X(point) X(rect) X(sphere) X(triangle) X(cylinder) X(spot) X(environment)
+#define HOST_LIGHT_TYPES(X) X(point) X(rect) X(sphere) X(triangle) X(cylinder) X(spot) X(environment) X(directional)
 
 #define DECLARE_LIGHT_TYPE(type) LightType type##_light_type();
 HOST_LIGHT_TYPES(DECLARE_LIGHT_TYPE)
@@ -63,6 +66,28 @@ std::vector<Light> lights_of_kind(const Scene& scene, uint32_t kind) {
   for (const Light& l : scene.lights)
     if (l.kind == kind) out.push_back(l);
   return out;
+}
+
+Light light_in_scene(const Scene& scene, uint32_t i) {
+  const Light& l = scene.lights.at(i);
+  const LightType& type = light_type(l.kind);
+  return type.in_scene ? type.in_scene(l, scene) : l;
+}
+
+cs_float4 scene_bounding_sphere(const Scene& scene) {
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  auto grow = [&](const glm::vec3& p, float r) {
+    lo = glm::min(lo, p - glm::vec3(r));
+    hi = glm::max(hi, p + glm::vec3(r));
+  };
+  for (const Sphere& s : scene.spheres) grow(to_vec3(s.center_radius), s.center_radius.w);
+  for (const Cylinder& c : scene.cylinders) grow(to_vec3(c.center_radius), c.center_radius.w + c.axis_half.w);
+  for (const Triangle& t : scene.triangles)
+    for (const cs_float4* v : {&t.v0, &t.v1, &t.v2}) grow(to_vec3(*v), 0.0f);
+  const bool empty = !(lo.x <= hi.x);
+  const glm::vec3 centre = empty ? glm::vec3(0.0f) : 0.5f * (lo + hi);
+  const float radius = empty ? 1.0f : std::max(1e-6f, 1.001f * 0.5f * glm::length(hi - lo));
+  return to_float4(centre, radius);
 }
 
 float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }

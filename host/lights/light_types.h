@@ -45,6 +45,11 @@ struct LightType {
   // emissive material that reflects nothing) and names it in
   // scene.light_geometry; nullptr for delta lights and shape lights.
   void (*add_geometry)(Scene& scene, uint32_t light_index) = nullptr;
+  // The light as the device reads it, given the scene it lights: what the
+  // file cannot say (the directional light: the scene's bounding sphere,
+  // which its shadow rays and photons need). nullptr: the light as read.
+  // The tables (light_table.cpp) apply it before power and stand-in.
+  Light (*in_scene)(const Light& l, const Scene& scene) = nullptr;
 };
 
 const std::vector<LightType>& light_types();  // in kind order
@@ -53,11 +58,19 @@ const LightType* light_type_of_file(const std::string& file_type);  // nullptr: 
 // "\"pointlight\", \"arealight\", ..." for error messages.
 std::string light_file_types();
 
-// Does the scene have a point or spot light (reached only by next-event
-// estimation and photons)?
+// Does the scene have a delta light (point, spot, directional: reached
+// only by next-event estimation and photons)?
 bool has_delta_light(const Scene& scene);
 // The scene's lights of one kind, in file order.
 std::vector<Light> lights_of_kind(const Scene& scene, uint32_t kind);
+
+// Scene::lights[i] as the device reads it (LightType::in_scene).
+Light light_in_scene(const Scene& scene, uint32_t i);
+// A sphere bounding every shape of the scene (xyz centre, w radius), a
+// little beyond its box's half diagonal so that a disk of it covers the
+// scene whole; the unit sphere about the origin for an empty scene. Lights
+// at infinity shoot shadow rays past it and photons across it.
+cs_float4 scene_bounding_sphere(const Scene& scene);
 
 // Helpers the type files share.
 float luminance(const glm::vec3& c);
@@ -73,6 +86,10 @@ Light delta_light_at(const glm::vec3& p, const glm::vec3& intensity);
 // the caller has checked 0 <= inner < outer and 0.5 <= outer <= 90.
 Light spot_light_at(const glm::vec3& position, const glm::vec3& unit_direction, const glm::vec3& intensity,
                     double inner_degrees, double outer_degrees);
+// A directional light (directional_light.cpp) travelling along
+// unit_direction with irradiance E; its scene bounds are filled in later
+// (LightType::in_scene).
+Light directional_light_along(const glm::vec3& unit_direction, const glm::vec3& irradiance);
 // An emissive material that reflects nothing, appended to the scene.
 uint32_t add_emissive_material(Scene& scene, const glm::vec3& radiance);
 

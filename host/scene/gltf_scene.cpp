@@ -23,8 +23,6 @@ using namespace scene_detail;
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kDefaultLongSide = 800;       // pixels, when the file's camera gives only an aspect
 constexpr float kDefaultAspect = 4.0f / 3.0f;
-// A directional light becomes a point light this many bounding radii away.
-constexpr double kDirectionalDistanceRadii = 1000.0;
 
 void size_image(CameraDesc& c, float aspect) {
   if (!(aspect > 0.0f)) aspect = kDefaultAspect;
@@ -69,8 +67,6 @@ CameraDesc pick_camera(const Reader& r, const GltfModel& model, const LoadOption
 }
 
 void add_lights(const Reader& r, const GltfModel& model, Scene& scene) {
-  const glm::vec3 centre = 0.5f * (model.lo + model.hi);
-  const double radius = std::max(0.5 * glm::length(glm::dvec3(model.hi - model.lo)), 1e-3);
   for (const GltfLight& l : model.lights) {
     if (l.type == GltfLight::Type::Point) {
       scene.lights.push_back(delta_light_at(l.position, l.intensity));
@@ -86,14 +82,8 @@ void add_lights(const Reader& r, const GltfModel& model, Scene& scene) {
       }
       scene.lights.push_back(spot_light_at(l.position, l.direction, l.intensity, inner, outer));
     } else {
-      // No directional light type: a point light far along -direction whose
-      // irradiance at the scene's centre equals the light's (lux as W/m^2).
-      const double d = kDirectionalDistanceRadii * radius;
-      r.warn_once("directional", l.pointer, "directional lights are rendered as a point light " +
-                                                std::to_string(int(kDirectionalDistanceRadii)) +
-                                                " scene radii away with the same irradiance at the scene's centre");
-      scene.lights.push_back(delta_light_at(glm::vec3(glm::dvec3(centre) - glm::dvec3(l.direction) * d),
-                                            glm::vec3(glm::dvec3(l.intensity) * d * d)));
+      // Along the node's -z (GltfLight::direction); lux read as W/m^2.
+      scene.lights.push_back(directional_light_along(l.direction, l.intensity));
     }
   }
 }

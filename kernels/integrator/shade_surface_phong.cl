@@ -33,8 +33,12 @@ inline float blinn_lobe(float n_dot_h, float exponent) {
   return exp2(exponent * log2(n_dot_h));
 }
 
-/* Blinn-Phong for one delta light (a point or spot light, or the point
- * that stands in for an area light: host/lights/), pushed as a shadow ray. */
+/* Blinn-Phong for one delta light (a point, spot or directional light, or
+ * the point that stands in for an area light: host/lights/), pushed as a
+ * shadow ray. The registry's next-event estimation gives the direction
+ * toward the light and how far the shadow ray goes (to the light's
+ * position, or past the scene for a light at infinity); phong takes the
+ * light's intensity in place of its radiance (no distance falloff). */
 inline void shade_point_light(__global const Light* light, __global const float* environment, __global const Material* mat, float3 diffuse_colour,
                               SurfacePoint sp, float3 n_facing, float3 view, float3 weight, uint pixel,
                               uint slot, SHADOW_QUEUE_PARAMS(shadow)) {
@@ -42,10 +46,10 @@ inline void shade_point_light(__global const Light* light, __global const float*
    * shading normal only weights the light. */
   const float3 geometric = dot(sp.normal, n_facing) >= 0.0f ? sp.normal : -sp.normal;
   const float3 origin = spawn_ray_origin(sp.position, sp.p_error, sp.normal, geometric);
-  const float3 to_light = light->p0.xyz - origin;
-  const float dist = length(to_light);
-  if (!(dist > 0.0f)) return;
-  const float3 l = to_light / dist;
+  LightSample toward;
+  if (!sample_light(light, environment, 1.0f, origin, (float2)(0.0f), &toward)) return;
+  const float3 l = toward.wi;
+  const float dist = toward.distance;
   const float n_dot_l = dot(n_facing, l);
   if (n_dot_l <= 0.0f) return;
   const float3 h = normalize(l + view);

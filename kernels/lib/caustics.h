@@ -61,9 +61,11 @@ inline Bsdf bsdf_of_visible_point(VisiblePoint v) {
  * kd diffuse E / pi, the path tracer's caustic radiance for the same
  * surface. Phong has no direct light from the sky (only its point lights
  * and the ambient term), so this is light it did not have: the sky
- * focused by casters onto receivers, nothing counted twice. The factor,
- * d^2 or 1 / pi, is stored with the photon (Photon.phong_scale,
- * bounce_photons.cl). */
+ * focused by casters onto receivers, nothing counted twice. A directional
+ * light's photons (PHOTON_FROM_DISTANT_LIGHT) have no falloff either, and
+ * phong's direct term for it is kd E cos: their irradiance counts as it
+ * is. The factor, d^2, 1 / pi or 1, is stored with the photon
+ * (Photon.phong_scale, bounce_photons.cl). */
 #ifdef CAUSTICA_LIB_PHOTON_GRID_H
 /* Bounded work (issue 19): the sum over this pass's photons within
  * `radius` of p (|x - p|^2 <= radius^2, each photon once, in grid order as

@@ -28,6 +28,7 @@
 #include "lib/lights/cylinder_light.h"
 #include "lib/lights/spot_light.h"
 #include "lib/lights/environment_light.h"
+#include "lib/lights/directional_light.h"
 
 /*                 kind            type      class */
 #define LIGHT_TYPES(X)                       \
@@ -37,7 +38,8 @@
   X(LIGHT_TRIANGLE, triangle, 1)             \
   X(LIGHT_CYLINDER, cylinder, 1)             \
   X(LIGHT_SPOT,     spot,     0)             \
-  X(LIGHT_ENVIRONMENT, environment, 2)
+  X(LIGHT_ENVIRONMENT, environment, 2)       \
+  X(LIGHT_DIRECTIONAL, directional, 0)
 
 #define LIGHT_KIND_ENUM(kind, type, class_) kind,
 enum { LIGHT_TYPES(LIGHT_KIND_ENUM) LIGHT_KIND_COUNT };

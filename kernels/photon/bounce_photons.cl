@@ -12,7 +12,7 @@
  * queues ran in: the photon map is the same bits on any device. A stored
  * photon keeps what phong's gather multiplies its flux by (lib/caustics.h):
  * the squared length it travelled from a delta light, 1 / pi from the
- * environment. */
+ * environment, 1 from a directional light. */
 
 #include "lib/caustics.h"
 #include "lib/material.h"
@@ -22,6 +22,7 @@
 #include "lib/texture.h"
 
 inline float phong_scale(PhotonRecord photon, float length) {
+  if (photon.flags & PHOTON_FROM_DISTANT_LIGHT) return 1.0f;
   return (photon.flags & PHOTON_FROM_ENVIRONMENT) ? M_1_PI_F : length * length;
 }
 
@@ -86,6 +87,6 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PHOT
   child.power = (float4)(flux, 0.0f);
   child.depth = photon.depth + 1u;
   child.path_length = photon.path_length + hit.t; /* phong's gather, lib/caustics.h */
-  child.flags = PHOTON_AFTER_CASTER | (photon.flags & PHOTON_FROM_ENVIRONMENT);
+  child.flags = PHOTON_AFTER_CASTER | (photon.flags & (PHOTON_FROM_ENVIRONMENT | PHOTON_FROM_DISTANT_LIGHT));
   photon_push(PHOTON_QUEUE_ARGS(next), ray_capacity, child);
 }

@@ -34,7 +34,10 @@
  * scene's bounding sphere, or, guided, of a sphere around every caster
  * bound (every line that meets a caster crosses it), starting outside the
  * scene either way; they are flagged PHOTON_FROM_ENVIRONMENT (the length
- * they travel from that disk means nothing to phong's gather). */
+ * they travel from that disk means nothing to phong's gather). A
+ * directional light's photons cross the same disks along its one direction
+ * (lib/lights/directional_light.h: directional_emit_through), flagged
+ * PHOTON_FROM_DISTANT_LIGHT. */
 
 #include "lib/caustics.h"
 #include "lib/lights.h"
@@ -77,6 +80,13 @@ inline float4 enclosing_sphere(__global const float4* restrict casters, uint cou
   float radius = 0.0f;
   for (uint j = 0u; j < count; ++j) radius = fmax(radius, length(casters[j].xyz - centre) + casters[j].w);
   return (float4)(centre, radius * 1.0001f);
+}
+
+/* The sphere whose disk the photons of a light at infinity cross: the
+ * scene's bounding sphere (the light's p0), or, guided, one around every
+ * caster bound. */
+inline float4 distant_light_disk(__global const Light* l, __global const float4* restrict casters, uint count) {
+  return count > 0u ? enclosing_sphere(casters, count) : l->p0;
 }
 
 /* A direction from o toward the casters and its density (above). */
@@ -129,11 +139,14 @@ __kernel void emit_photons(__global const Light* restrict lights,
 #if HAS_ENVIRONMENT
   if (l->kind == LIGHT_ENVIRONMENT) {
     flags = PHOTON_FROM_ENVIRONMENT;
-    flux = environment_emit_through(environment, l, caster_count > 0u ? enclosing_sphere(casters, caster_count) : l->p0,
-                                    point, u_dir, &origin, &dir);
+    flux = environment_emit_through(environment, l, distant_light_disk(l, casters, caster_count), point, u_dir,
+                                    &origin, &dir);
   } else
 #endif
-  if (caster_count > 0u) {
+  if (l->kind == LIGHT_DIRECTIONAL) {
+    flags = PHOTON_FROM_DISTANT_LIGHT;
+    flux = directional_emit_through(l, distant_light_disk(l, casters, caster_count), point, &origin, &dir);
+  } else if (caster_count > 0u) {
     float pdf;
     dir = sample_toward_casters(casters, caster_count, point, photon_random(i, params, 5u), u_dir, &pdf);
     flux = light_emitted_toward(l, environment, point, p_error, n, &dir, pdf, &origin);

@@ -38,7 +38,7 @@ typedef struct {
   cs_packed3 position;
   float bounces;     /* the specular bounces its light path took (the gather keeps paths within nbounces) */
   cs_packed3 wi;     /* unit direction toward where the photon came from */
-  float phong_scale; /* what phong's gather multiplies the flux by (lib/caustics.h): d^2 or 1 / pi */
+  float phong_scale; /* what phong's gather multiplies the flux by (lib/caustics.h): d^2, 1 / pi or 1 */
   cs_float4 power;   /* rgb flux; w unused */
 } Photon; /* 48 bytes */
 

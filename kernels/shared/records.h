@@ -67,7 +67,8 @@
 /* PhotonRecord.flags: F(name, bit), each a distinct bit (layout_check.cpp). */
 #define PHOTON_FLAGS(F)                                                                      \
   F(PHOTON_AFTER_CASTER, 0)      /* scattered at a caster at least once: stored at the next receiver */ \
-  F(PHOTON_FROM_ENVIRONMENT, 1)  /* left the environment: no distance falloff (phong's gather, lib/caustics.h) */
+  F(PHOTON_FROM_ENVIRONMENT, 1)  /* left the environment: no distance falloff (phong's gather, lib/caustics.h) */ \
+  F(PHOTON_FROM_DISTANT_LIGHT, 2) /* left a directional light: phong's gather takes its irradiance as it is */
 
 /* A segment toward a light, with what it adds to the film when unoccluded. */
 #define SHADOW_RECORD_FIELDS(F, q)                                         \

@@ -12,6 +12,9 @@
 //     light's power can give (L (r / R)^2 rho / (1 - rho), all flux absorbed
 //     by the wall), and the photon pass (caustics on) agrees with plain
 //     path tracing (off): it must not count the same paths twice.
+//   A directional light over floors 1e-3 and 1e3 across, 1e5 from the
+//     origin, and at 0.5 degrees above the horizon: the closed form at
+//     every pixel (its shadow rays reach past the scene at every scale).
 // Found: the film's fixed-point scale came from the largest radiance of
 // any light, so the 1e12 light left 1/16 of resolution and every ordinary
 // contribution rounded to 0 (the image was black); a light
@@ -273,6 +276,40 @@ TEST(LightLimits, ADimRoomUnderTheSunKeepsSixteenBitsAtAnyIntensity) {
               dim.image.rgb.size());
   EXPECT_GT(brightest / std::max(darkest, 1e-30f), 1e3f);  // a sunlit patch and dim corners
   EXPECT_GT(kept, int(dim.image.rgb.size() / 2));
+}
+
+// A directional light's shadow rays aim past the scene's bounding sphere,
+// a distance that scales with the scene: over a floor 1e-3 across, one
+// 1e5 from the origin and under a light 0.5 degrees above the horizon,
+// every pixel of the Lambertian floor is (rho / pi) E cos theta, exactly
+// as next-event estimation toward a delta light gives it (no shadow ray
+// stopped by the floor it leaves, no NaN from the distance it aims at).
+TEST(LightLimits, DirectionalLightAtAnyScaleDistanceAndGrazingAngle) {
+  struct Case {
+    double scale, offset, theta_deg;
+  };
+  for (const Case c : {Case{1e-3, 0.0, 30.0}, Case{1.0, 1e5, 30.0}, Case{1e3, -1e5, 45.0}, Case{1.0, 0.0, 89.5}}) {
+    char text[2048];
+    const double s = c.scale, o = c.offset, t = c.theta_deg * 3.14159265358979323846 / 180.0;
+    std::snprintf(text, sizeof text, R"({"nbounces": 2, "rendermode": "pathtracer",
+      "camera": {"type": "pinhole", "width": 16, "height": 16, "position": [%.17g, %.17g, %.17g],
+                 "lookAt": [%.17g, 0, %.17g], "upVector": [0, 0, 1], "fov": 60},
+      "scene": {"backgroundcolor": [0, 0, 0],
+        "lightsources": [{"type": "directional", "direction": [%.17g, %.17g, 0], "intensity": [2, 2, 2]}],
+        "shapes": [
+          {"type": "triangle", "v0": [%.17g, 0, %.17g], "v1": [%.17g, 0, %.17g], "v2": [%.17g, 0, %.17g],
+           "material": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
+          {"type": "triangle", "v0": [%.17g, 0, %.17g], "v1": [%.17g, 0, %.17g], "v2": [%.17g, 0, %.17g],
+           "material": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}}]}})",
+                  o, 4 * s, o, o, o, std::sin(t), -std::cos(t),  //
+                  o - 9 * s, o - 9 * s, o - 9 * s, o + 9 * s, o + 9 * s, o + 9 * s,  //
+                  o - 9 * s, o - 9 * s, o + 9 * s, o + 9 * s, o + 9 * s, o - 9 * s);
+    const PathRender r = test::render_path(write_scene("directional_limits.json", text), 2);
+    expect_clean(r, "directional");
+    const double expected = 0.5 / 3.14159265358979323846 * 2.0 * std::cos(t);
+    for (float v : r.image.rgb)
+      ASSERT_NEAR(v, expected, 1e-4 * expected) << "scale " << s << ", offset " << o << ", " << c.theta_deg << " degrees";
+  }
 }
 
 }  // namespace

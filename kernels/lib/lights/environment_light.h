@@ -121,12 +121,7 @@ inline bool environment_light_sample(__global const float* env, __global const L
   float pdf;
   const float3 wi = environment_sample_direction(env, u, &pdf);
   if (!(pdf > 0.0f)) return false;
-  const float3 to_centre = l->p0.xyz - p;
-  s->wi = wi;
-  s->distance = 2.0f * (length(to_centre) + l->p0.w) + 1.0f;
-  s->point = p + s->distance * wi;
-  s->p_error = splat_float3(0.0f);
-  s->normal = splat_float3(0.0f);
+  sample_from_infinity(l->p0, p, wi, s);
   s->radiance = environment_radiance(env, wi);
   s->pdf = pdf;
   return true;
@@ -158,27 +153,21 @@ inline float3 environment_light_emission_point(__global const float* env, __glob
 }
 
 /* A photon arriving from direction wi (drawn from the map) through the
- * disk of sphere `target` (xyz centre, w radius) facing wi: it starts
- * that disk's point moved back along wi past the scene's bounding sphere
- * (so that everything in the scene may stop it) and travels along -wi;
- * flux L(wi) pi r^2 / pdf(wi). `target` is the scene's bounding sphere,
- * or (guided emission, emit_photons.cl) one around the casters: every
- * line along -wi that meets a caster crosses its disk. */
+ * disk of sphere `target` (xyz centre, w radius) facing wi, from outside
+ * the scene (start_from_infinity, light_common.h); flux
+ * L(wi) pi r^2 / pdf(wi). `target` is the scene's bounding sphere, or
+ * (guided emission, emit_photons.cl) one around the casters: every line
+ * along -wi that meets a caster crosses its disk. */
 inline float3 environment_emit_through(__global const float* env, __global const Light* l, float4 target,
                                        float3 point, float2 u, float3* origin, float3* dir) {
   float pdf;
   const float3 wi = environment_sample_direction(env, u, &pdf);
-  float3 t, b;
-  frame_from_normal(wi, &t, &b);
-  const float back = length(target.xyz - l->p0.xyz) + l->p0.w + target.w;
-  *origin = target.xyz + back * wi + target.w * (point.x * t + point.y * b);
-  *dir = -wi;
-  const float r = target.w;
+  const float area = start_from_infinity(l->p0, target, wi, point, origin, dir);
   if (!(pdf > 0.0f)) {
     *dir = splat_float3(0.0f);
     return splat_float3(0.0f);
   }
-  return environment_radiance(env, wi) * (M_PI_F * r * r / pdf);
+  return environment_radiance(env, wi) * (area / pdf);
 }
 
 inline float3 environment_light_emit(__global const float* env, __global const Light* l, float3 point,

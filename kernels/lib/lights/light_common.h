@@ -90,6 +90,35 @@ inline bool sample_delta_light_position(__global const Light* l, float3 p, Light
   return true;
 }
 
+/* Light from infinitely far (the environment, a directional light) arriving
+ * at p along -wi, `bounds` the scene's bounding sphere (xyz centre, w
+ * radius): the shadow ray aims at a point past that sphere along wi
+ * (nothing beyond it can occlude), a distance that scales with the scene. */
+inline void sample_from_infinity(float4 bounds, float3 p, float3 wi, LightSample* s) {
+  s->wi = wi;
+  s->distance = 2.0f * (length(bounds.xyz - p) + bounds.w) + 1.0f;
+  s->point = p + s->distance * wi;
+  s->p_error = splat_float3(0.0f);
+  s->normal = splat_float3(0.0f);
+}
+
+/* A photon from infinitely far, arriving from direction wi, through the
+ * disk of sphere `target` (xyz centre, w radius) that faces wi, at `point`
+ * of the unit disk (z = 0: the type's emission_point): it starts that
+ * disk's point moved back along wi past the scene's bounding sphere
+ * `bounds` (so that everything in the scene may stop it) and travels
+ * along -wi. Returns the disk's area pi r^2, what its flux is per unit
+ * irradiance. */
+inline float start_from_infinity(float4 bounds, float4 target, float3 wi, float3 point, float3* origin,
+                                 float3* dir) {
+  float3 t, b;
+  frame_from_normal(wi, &t, &b);
+  const float back = length(target.xyz - bounds.xyz) + bounds.w + target.w;
+  *origin = target.xyz + back * wi + target.w * (point.x * t + point.y * b);
+  *dir = -wi;
+  return M_PI_F * target.w * target.w;
+}
+
 /* An area light's unguided photon: the side (both of a two-sided
  * emitter), a cosine-distributed direction over it, and the flux
  * Le * area * pi * sides. */
