@@ -41,6 +41,12 @@ struct DistributedResult {
   // ... and apart: reading the film, waiting for the slowest rank, the
   // MPI calls, restoring the sum on rank 0.
   double read_seconds = 0.0, wait_seconds = 0.0, mpi_seconds = 0.0, restore_seconds = 0.0;
+  // Shared by pixels (the photon pass): the photon maps' bytes gathered to
+  // rank 0 and its seconds in those gathers (waits for the slowest rank
+  // included), over the render.
+  bool by_pixels = false;
+  uint64_t photon_bytes = 0;
+  double photon_seconds = 0.0;
 };
 
 // Rank 0's checkpoints: `write` gets the summed film's renderer every
@@ -61,6 +67,9 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
 // Every rank's film, summed on rank 0 (the union of their passes; on
 // other ranks the returned state is their own, unchanged in meaning).
 // Collective.
-FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine);
+// `by_pixels`: the ranks shared the render by pixels, each holding the same
+// passes of its own pixels (and zeros elsewhere): the pass sets must be
+// equal, and rank 0's per-pixel counts are the image's.
+FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine, bool by_pixels = false);
 
 }  // namespace caustica

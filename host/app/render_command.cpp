@@ -338,11 +338,14 @@ int run_render(RenderArgs& a) {
   if (distributed && session->settings.adaptive)
     throw Error(ranks_text(a) + ": adaptive sampling plans each wave from the error of the whole film, which no "
                 "rank holds: add --no-adaptive (docs/distributed.md)");
-  if (distributed && session->settings.caustics)
-    throw Error(ranks_text(a) + ": the photon pass (--caustics " +
-                std::string(a.session.caustics == CausticsMode::On ? "on" : "auto, which found caustics here") +
-                ") keeps per-pixel statistics that are not sums of passes, so ranks cannot add them: add --caustics "
-                "off (docs/distributed.md)");
+  // The photon pass is shared by pixels (docs/distributed.md), with a map
+  // every pass; `auto` picks its interval and whether to keep it from the
+  // whole film, which no rank holds.
+  if (distributed && session->mode == RenderMode::Path && session->settings.caustics &&
+      session->settings.caustics_auto)
+    throw Error(ranks_text(a) + ": --caustics auto (which found caustics here) decides the photon pass from the "
+                "error of the whole film, which no rank holds: add --caustics on (a photon map every pass, shared "
+                "among the ranks) or --caustics off (docs/distributed.md)");
   if (!a.passes.empty()) {
     if (session->mode != RenderMode::Path)
       throw Error("--passes " + a.passes + ": only path mode takes several passes (binary and phong take one)");
@@ -471,6 +474,12 @@ int run_render(RenderArgs& a) {
                    a.ranks->size(), shown->film().held().describe().c_str(), summed.reductions,
                    summed.reduction_seconds, summed.read_seconds, summed.wait_seconds, summed.mpi_seconds,
                    summed.restore_seconds);
+    if (a.verbose && summed.by_pixels)
+      std::fprintf(stderr,
+                   "[caustica] %d ranks shared the photon pass by pixels: %u photon maps gathered to every rank, "
+                   "%.0f bytes a map, %.4f s a map in the gathers (waits for the slowest rank included)\n",
+                   a.ranks->size(), stats.photon_maps, double(summed.photon_bytes) / std::max(1u, stats.photon_maps),
+                   summed.photon_seconds / std::max(1u, stats.photon_maps));
   }
   const ImageF image = distributed ? summed.image : session->renderer->render(
       &stats, [&](const PassProgress& p) { progress.update(p); },

@@ -24,6 +24,7 @@
 #include "host/render/adaptive_sampling.h"
 #include "host/render/film.h"
 #include "host/render/photon_stats.h"
+#include "host/render/pixel_share.h"
 #include "host/scene/scene.h"
 
 namespace caustica {
@@ -162,6 +163,22 @@ class Integrator {
   virtual void restore_state(Film& /*film*/, const std::string& bytes, const std::string& what) {
     if (!bytes.empty()) throw Error(what + ": integrator state for a " + name_ + " render that keeps none");
   }
+
+  // A render shared by pixels among processes (host/render/pixel_share.h):
+  // true when this integrator keeps per-pixel state beyond the film (path
+  // mode's photon pass) and so from now on traces its share of each photon
+  // map and updates its window's statistics only (the driver then traces
+  // that window: StopConditions); false: nothing to share by pixels, the
+  // processes split passes instead.
+  virtual bool share_pixels(PixelShare* /*share*/) { return false; }
+  // Shared by pixels, between waves: this process's per-pixel state of its
+  // window as bytes, and (rank 0) every other process's put into its own,
+  // so that state() is the whole image's.
+  virtual std::string pixel_slice() const { return {}; }
+  virtual void put_pixel_slices(const std::vector<std::string>& /*by_rank*/) {}
+  // Shared by pixels: photon map bytes gathered to this process and the
+  // seconds it spent in those gathers, over the render.
+  virtual std::pair<uint64_t, double> shared_photon_traffic() const { return {0, 0.0}; }
 
   const char* name() const { return name_; }  // the mode, as --mode spells it
   // Pixels per chunk its queues are sized for.

@@ -194,6 +194,23 @@ class PathIntegrator final : public Integrator {
     // Added to the image even when no pass is left to run.
     film.set_separate_estimate(photons_.get());
   }
+  // The photon pass under ranks (docs/distributed.md): shared by pixels.
+  // `auto` decides from this process's film, which would differ by
+  // process: the caller refuses it.
+  bool share_pixels(PixelShare* share) override {
+    if (!photons_) return false;
+    if (settings_.caustics_auto) throw Error("path: --caustics auto cannot be shared by pixels among processes");
+    photons_->share(share);
+    return true;
+  }
+  std::string pixel_slice() const override { return photons_ ? photons_->pixel_slice() : std::string(); }
+  void put_pixel_slices(const std::vector<std::string>& by_rank) override {
+    if (photons_) photons_->put_pixel_slices(by_rank);
+  }
+  std::pair<uint64_t, double> shared_photon_traffic() const override {
+    return photons_ ? std::make_pair(photons_->exchanged_bytes(), photons_->exchange_seconds())
+                    : std::make_pair(uint64_t(0), 0.0);
+  }
   void collect(RenderStats* stats) override {
     if (photons_ && stats) {
       photons_->read_counters(stats);

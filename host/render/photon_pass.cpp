@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <tuple>
 
 #include "host/cl/runtime.h"
 #include "host/render/device_scene.h"
@@ -146,7 +147,70 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
   // query meets near it small numbers.
   const glm::vec3 eye = scene.scene().camera.position;
   origin_ = {eye.x, eye.y, eye.z};
+  pixel_end_ = pixel_count_;
+  photon_end_ = photons_per_pass_;
   clear();
+}
+
+void PhotonPass::share(PixelShare* share) {
+  if (gather_mode_ != PhotonGather::PerPixel)
+    throw Error("photon pass: only path mode's per-pixel statistics are shared by pixels");
+  share_ = share && share->size() > 1 ? share : nullptr;
+  const int rank = share_ ? share_->rank() : 0, size = share_ ? share_->size() : 1;
+  std::tie(first_pixel_, pixel_end_) = share_of(pixel_count_, rank, size);
+  const auto [first, end] = share_of(photons_per_pass_, rank, size);
+  first_photon_ = uint32_t(first);
+  photon_end_ = uint32_t(end);
+}
+
+std::string PhotonPass::pixel_slice() const {
+  const size_t n = pixel_end_ - first_pixel_;
+  std::string out(n * (sizeof(SppmPixel) + sizeof(VisiblePoint)), '\0');
+  if (n == 0) return out;
+  auto& queue = launcher_.runtime().queue();
+  queue.enqueueReadBuffer(pixels_, CL_TRUE, first_pixel_ * sizeof(SppmPixel), n * sizeof(SppmPixel), out.data());
+  queue.enqueueReadBuffer(visible_points_, CL_TRUE, first_pixel_ * sizeof(VisiblePoint), n * sizeof(VisiblePoint),
+                          out.data() + n * sizeof(SppmPixel));
+  return out;
+}
+
+void PhotonPass::put_pixel_slices(const std::vector<std::string>& by_rank) {
+  if (!share_) return;
+  if (by_rank.size() != size_t(share_->size()))
+    throw Error("photon pass: " + std::to_string(by_rank.size()) + " pixel slices for " +
+                std::to_string(share_->size()) + " processes");
+  auto& queue = launcher_.runtime().queue();
+  for (int r = 0; r < share_->size(); ++r) {
+    if (r == share_->rank()) continue;
+    const auto [first, end] = share_of(pixel_count_, r, share_->size());
+    const size_t n = end - first;
+    const std::string& bytes = by_rank[size_t(r)];
+    if (bytes.size() != n * (sizeof(SppmPixel) + sizeof(VisiblePoint)))
+      throw Error("photon pass: process " + std::to_string(r) + " sent " + std::to_string(bytes.size()) +
+                  " bytes of SPPM pixels for its " + std::to_string(n) + " pixels");
+    if (n == 0) continue;
+    queue.enqueueWriteBuffer(pixels_, CL_TRUE, first * sizeof(SppmPixel), n * sizeof(SppmPixel), bytes.data());
+    queue.enqueueWriteBuffer(visible_points_, CL_TRUE, first * sizeof(VisiblePoint), n * sizeof(VisiblePoint),
+                             bytes.data() + n * sizeof(SppmPixel));
+  }
+}
+
+void PhotonPass::exchange_photons(RenderStats* stats) {
+  Runtime& rt = launcher_.runtime();
+  const uint32_t mine = launcher_.read_count(stored_count_, stats);
+  std::string bytes(size_t(mine) * sizeof(Photon), '\0');
+  if (mine > 0) rt.queue().enqueueReadBuffer(photons_, CL_TRUE, 0, bytes.size(), bytes.data());
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string all = share_->gather_bytes_to_all(bytes);
+  exchange_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // A photon path stores one photon at most: the map fits the buffer.
+  const size_t total = all.size() / sizeof(Photon);
+  if (total > photons_per_pass_)
+    throw Error("photon pass: " + std::to_string(total) + " photons gathered for a map of " +
+                std::to_string(photons_per_pass_));
+  if (!all.empty()) rt.queue().enqueueWriteBuffer(photons_, CL_TRUE, 0, all.size(), all.data());
+  launcher_.write_count(stored_count_, uint32_t(total), stats);
+  exchanged_bytes_ += all.size();
 }
 
 PhotonPass::~PhotonPass() = default;
@@ -198,6 +262,10 @@ PhotonPassParams PhotonPass::params(uint32_t map_index) const {
   // footprint; never above one cell of this pass's grid.
   p.radius_cap = fixed_radius_ ? std::min(first_cell_size_, cell_size_) : cell_size_;
   p.footprint_radius = fixed_radius_ ? 0u : 1u;
+  p.first_photon = first_photon_;
+  p.photon_end = photon_end_;
+  p.first_pixel = cl_uint(first_pixel_);
+  p.pixel_end = cl_uint(pixel_end_);
   return p;
 }
 
@@ -217,8 +285,11 @@ void PhotonPass::trace(RenderStats* stats) {
       .queue("out", queues_[0], loop_->traced_count(0))
       .arg("next_count", loop_->pushed_count(0))
       .finish();
-  launcher_.launch(emit_, photons_per_pass_, stats);
+  // This process's photons only (all of them in one process); the flags
+  // of the others stay 0, so the compaction packs its share from slot 0.
+  const uint32_t traced = photon_end_ - first_photon_;
   launcher_.runtime().fill(stored_, cl_uint(0), 0, size_t(photons_per_pass_) * sizeof(cl_uint));
+  if (traced > 0) launcher_.launch(emit_, traced, stats);
   auto enqueue = [&](uint32_t j, size_t bound) {
     const DeviceQueue& current = queues_[j % 2];
     const DeviceQueue& next = queues_[(j + 1) % 2];
@@ -244,8 +315,8 @@ void PhotonPass::trace(RenderStats* stats) {
     const cl_uint remaining = std::min(after.queue_count(seen + 1), photons_per_pass_);
     return remaining == 0 ? WaveLoop::kStop : remaining;
   };
-  loop_->run(photons_per_pass_, ~0u, enqueue, decide, stats);
-  const cl_uint rays = loop_->last().extra(0) - photon_rays_seen_;  // the counter runs over the render (mod 2^32)
+  if (traced > 0) loop_->run(traced, ~0u, enqueue, decide, stats);
+  const cl_uint rays = traced > 0 ? loop_->last().extra(0) - photon_rays_seen_ : 0u;  // the counter runs over the render (mod 2^32)
   photon_rays_seen_ += rays;
   if (stats) stats->photon_rays += rays;
   last_photon_rays_ = rays;
@@ -263,6 +334,7 @@ void PhotonPass::trace(RenderStats* stats) {
       .finish();
   launcher_.launch(compact_, photons_per_pass_, stats);
   launcher_.runtime().copy(offsets_, stored_count_, size_t(photons_per_pass_) * sizeof(cl_uint), 0, sizeof(cl_uint));
+  if (share_) exchange_photons(stats);
   PhotonGridShape shape;
   shape.origin = origin_;
   if (gather_mode_ == PhotonGather::SharedRadius) cell_size_ = shared_radius(pass_index);
@@ -354,9 +426,9 @@ void PhotonPass::gather(RenderStats* stats) {
       .arg("pixels", pixels_)
       .arg("gather_counters", gather_counters_)
       .finish();
-  launcher_.launch(gather_, pixel_count_, stats);
+  launcher_.launch(gather_, pixel_end_ - first_pixel_, stats);
   ++gathered_;
-  read_counters(stats);
+  read_counters(stats, /*summed=*/true);
   stats_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // The next grid's cells follow the visible points' radii.
   uint64_t radii = 0;
@@ -376,12 +448,17 @@ void PhotonPass::gather(RenderStats* stats) {
   }
 }
 
-void PhotonPass::read_counters(RenderStats* stats) {
+void PhotonPass::read_counters(RenderStats* stats) { read_counters(stats, false); }
+
+void PhotonPass::read_counters(RenderStats* stats, bool summed) {
   if (gather_mode_ != PhotonGather::PerPixel) return;
-  std::array<cl_ulong, GATHER_COUNTERS> c{};
-  launcher_.runtime().queue().enqueueReadBuffer(gather_counters_, CL_TRUE, 0, sizeof(c), c.data());
+  std::vector<uint64_t> c(GATHER_COUNTERS, 0);
+  launcher_.runtime().queue().enqueueReadBuffer(gather_counters_, CL_TRUE, 0, c.size() * sizeof(cl_ulong), c.data());
   launcher_.runtime().fill(gather_counters_, cl_ulong(0), 0, GATHER_COUNTERS * sizeof(cl_ulong));
   if (stats) ++stats->blocking_transfers;
+  // Shared by pixels: the whole image's counts (the radius histogram sizes
+  // every process's next cells alike).
+  if (summed && share_) share_->sum_to_all(c);
   PhotonGatherStats g;
   g.visits_d1 = c[GATHER_COUNT_VISITS_D1];
   g.visits_later = c[GATHER_COUNT_VISITS_LATER];

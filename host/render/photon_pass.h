@@ -29,6 +29,7 @@
 #include "host/render/film.h"
 #include "host/render/kernel_args.h"
 #include "host/render/photon_grid.h"
+#include "host/render/pixel_share.h"
 #include "host/render/photon_stats.h"
 
 namespace caustica {
@@ -89,6 +90,20 @@ class PhotonPass final : public SeparateEstimate {
   ~PhotonPass() override;
 
   void clear();  // a new render: radii back to the initial one, no photons
+  // A render shared by pixels among processes (pixel_share.h; PerPixel
+  // only): from now on this process traces its slice of each map's
+  // photons, gathers every process's stored photons in rank order (photon
+  // order: the map one process would build) and updates the SPPM
+  // statistics of its window of pixels only; the gather counters (the
+  // radius histogram the next cells follow) are summed over the processes.
+  // `share` outlives the pass.
+  void share(PixelShare* share);
+  std::pair<size_t, size_t> pixel_window() const { return {first_pixel_, pixel_end_}; }
+  // The SPPM statistics and visible points of this process's window, as
+  // bytes, and (rank 0) putting every other process's into its own buffers
+  // (before save(): the state of the whole image). Between waves.
+  std::string pixel_slice() const;
+  void put_pixel_slices(const std::vector<std::string>& by_rank);
   // Render state files (host/render/render_state.h), between waves: the
   // schedule (maps, gathers, on or off, the cells), every pixel's SPPM
   // statistics and visible point, the gather counters of the passes since
@@ -151,6 +166,10 @@ class PhotonPass final : public SeparateEstimate {
   void add_to(ImageF& image, const std::vector<uint32_t>& spp) const override;
 
   const PhotonPassStats& stats() const { return stats_; }
+  // Shared by pixels: the bytes of stored photons gathered to this process
+  // so far (each map's whole photon map).
+  uint64_t exchanged_bytes() const { return exchanged_bytes_; }
+  double exchange_seconds() const { return exchange_seconds_; }
   const PhotonGrid& grid() const { return grid_; }  // this pass's photon map
 
  private:
@@ -159,6 +178,11 @@ class PhotonPass final : public SeparateEstimate {
   double film_share(size_t p, const std::vector<uint32_t>& spp) const;
 
   std::vector<SppmPixel> read_pixels() const;
+  // read_counters, the gather's: summed over the processes first when shared.
+  void read_counters(RenderStats* stats, bool summed);
+  // Shared: every process's stored photons of this map into photons_ and
+  // stored_count_, in rank order.
+  void exchange_photons(RenderStats* stats);
 
   PhotonGather gather_mode_;
   StageLauncher& launcher_;
@@ -166,6 +190,9 @@ class PhotonPass final : public SeparateEstimate {
   const cl::Buffer& lights_;
   uint32_t light_count_, photons_per_pass_, max_depth_, seed_, caster_count_ = 0;
   size_t pixel_count_;
+  PixelShare* share_ = nullptr;  // shared by pixels among processes; nullptr: one process
+  size_t first_pixel_ = 0, pixel_end_ = 0;  // this process's pixels (all of them in one)
+  uint32_t first_photon_ = 0, photon_end_ = 0;  // its photons of each map (all of them in one)
   float first_cell_size_;  // the first pass's cells
   std::array<float, 3> origin_{};
   float cell_size_;
@@ -187,6 +214,8 @@ class PhotonPass final : public SeparateEstimate {
   ExclusiveScan scan_;
   PhotonGrid grid_;
   PhotonPassStats stats_;
+  uint64_t exchanged_bytes_ = 0;  // shared: photons gathered from every process, over the render
+  double exchange_seconds_ = 0.0;  // ... and the time in the gathers (waits for the slowest process included)
 };
 
 }  // namespace caustica
