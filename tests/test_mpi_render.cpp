@@ -4,7 +4,9 @@
 // on a whole number of rounds, whose passes [0, N) a one-process render of
 // N spp reproduces bit for bit; rank 0's checkpoints are one process's
 // states and resume after a rank died; a rank that dies ends the job with
-// a clear message instead of a hang; what ranks cannot do is refused. Skipped
+// a clear message instead of a hang; the photon pass, shared by pixels,
+// gives one process's bits, checkpoints and resumes; what ranks cannot do
+// is refused. Skipped
 // where caustica was built without MPI. Small images, few spp: a second
 // or two each (mpirun's start included), under a timeout.
 #include <gtest/gtest.h>
@@ -178,6 +180,72 @@ TEST(MpiRender, CheckpointsOfRanksAreOneProcesssStatesAndResumeAfterARankDied) {
   }
 }
 
+// scenes/caustics.json (a glass sphere's caustic on the floor) at 64x48
+// with the photon pass every pass.
+std::string caustics_args(const std::string& rest) {
+  return "render '" + test::source_dir() + "/scenes/caustics.json' --mode path --width 64 --height 48 "
+         "--no-adaptive --device '" + test::device_spec() + "' " + rest;
+}
+
+// The photon pass under ranks is shared by pixels (docs/distributed.md):
+// each rank traces its slice of every map's photons, gathered to every
+// rank in photon order, and its window of pixels, whose SPPM statistics it
+// alone updates. 2 and 3 ranks give one process's bits; the photon pass
+// is really on (--caustics off gives other bits).
+TEST(MpiRender, PhotonPassSharedByPixelsGivesTheBitsOfOneProcess) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  ASSERT_EQ(test::run_cli(caustics_args("--caustics on --spp 5 -q -o '" + dir + "/one.pfm'")).status, 0);
+  ASSERT_EQ(test::run_cli(caustics_args("--caustics off --spp 5 -q -o '" + dir + "/off.pfm'")).status, 0);
+  const std::string bits = slurp(dir + "/one.pfm");
+  ASSERT_FALSE(bits.empty());
+  EXPECT_FALSE(bits == slurp(dir + "/off.pfm")) << "the photon pass added nothing: the test would prove nothing";
+  for (int ranks : {2, 3}) {
+    const std::string out = dir + "/ranks" + std::to_string(ranks) + ".pfm";
+    const test::CliResult r = run_mpi(ranks, caustics_args("--caustics on --spp 5 -v -o '" + out + "'"));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(Contains(r.output, {std::to_string(ranks) + " ranks shared the photon pass by pixels: 5 photon maps"}))
+        << r.output;
+    EXPECT_TRUE(slurp(out) == bits) << ranks << " ranks differ from one process";
+  }
+}
+
+// By pixels too: a target error decided on rank 0 from the assembled
+// statistics stops where one process does; rank 0's checkpoint is one
+// process's state byte for byte (film, schedule, every pixel's SPPM
+// statistics and visible point, the latest photon map); 3 ranks and one
+// resume it to the bits of an uninterrupted render.
+TEST(MpiRender, PhotonPassByPixelsStopsCheckpointsAndResumesAsOneProcess) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  test::CliResult r = run_mpi(2, caustics_args("--caustics on --target-error 0.02 -o '" + dir + "/te2.pfm'"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const int spp = spp_written(r.output);
+  ASSERT_GT(spp, 1) << r.output;
+  test::CliResult one = test::run_cli(caustics_args("--caustics on --spp " + std::to_string(spp) + " -o '" + dir +
+                                                    "/te1.pfm'"));
+  ASSERT_EQ(one.status, 0) << one.output;
+  EXPECT_TRUE(slurp(dir + "/te1.pfm") == slurp(dir + "/te2.pfm"));
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(estimated relMSE ([0-9.e+-]+))"))) << r.output;
+  EXPECT_TRUE(Contains(one.output, {"estimated relMSE " + std::string(m[1])})) << one.output;
+
+  ASSERT_EQ(test::run_cli(caustics_args("--caustics on --spp 6 -q --checkpoint '" + dir + "/one.cst' -o '" + dir +
+                                        "/a.pfm'"))
+                .status,
+            0);
+  r = run_mpi(2, caustics_args("--caustics on --spp 6 -q --checkpoint '" + dir + "/two.cst' -o '" + dir + "/b.pfm'"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(slurp(dir + "/one.cst") == slurp(dir + "/two.cst")) << "2 ranks' state differs from one process's";
+  ASSERT_EQ(test::run_cli(caustics_args("--caustics on --spp 10 -q -o '" + dir + "/whole.pfm'")).status, 0);
+  for (int ranks : {3, 1}) {
+    r = run_mpi(ranks, caustics_args("--caustics on --spp 10 -q --resume '" + dir + "/two.cst' -o '" + dir +
+                                     "/resumed.pfm'"));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(slurp(dir + "/resumed.pfm") == slurp(dir + "/whole.pfm")) << ranks << " ranks resumed differ";
+  }
+}
+
 TEST(MpiRender, WhatRanksCannotDoIsRefused) {
   SKIP_WITHOUT_MPI();
   const std::string dir = test::temp_dir();
@@ -188,8 +256,11 @@ TEST(MpiRender, WhatRanksCannotDoIsRefused) {
   EXPECT_NE(r.status, 0);
   EXPECT_TRUE(Contains(r.output, {" of 2: mpirun with 2 ranks: adaptive sampling plans each wave", "--no-adaptive"}))
       << r.output;
-  r = run_mpi(2, scene + "--caustics on --no-adaptive");
-  EXPECT_TRUE(Contains(r.output, {"mpirun with 2 ranks: the photon pass (--caustics on)", "add --caustics off"}))
+  // The photon pass's `auto` decides from the whole film (on and off work).
+  r = run_mpi(2, caustics_args("--spp 4 --caustics auto -o '" + dir + "/x.pfm'"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_TRUE(Contains(r.output, {"mpirun with 2 ranks: --caustics auto (which found caustics here)",
+                                  "add --caustics on"}))
       << r.output;
   r = run_mpi(2, scene + "--caustics off --no-adaptive --passes 0:4");
   EXPECT_TRUE(Contains(r.output, {"mpirun with 2 ranks: --passes is for one process"})) << r.output;
