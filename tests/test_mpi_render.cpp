@@ -97,7 +97,8 @@ TEST(MpiRender, TwoAndThreeRanksGiveTheBitsOfOneProcess) {
   }
 }
 
-// Binary and phong: one pass, which rank 0 traces; the others hold none.
+// Binary and phong: one pass, which rank 0 traces; the others hold none
+// (phong's photon pass: many, split as path mode's).
 TEST(MpiRender, BinaryAndPhongGiveTheBitsOfOneProcess) {
   SKIP_WITHOUT_MPI();
   const std::string dir = test::temp_dir();
@@ -109,6 +110,14 @@ TEST(MpiRender, BinaryAndPhongGiveTheBitsOfOneProcess) {
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(slurp(dir + "/" + mode + "1.pfm") == slurp(dir + "/" + mode + "2.pfm")) << mode;
   }
+  // Phong's photon pass: a map every pass with a radius shared by the
+  // pass, keyed by the absolute pass index, so ranks split the passes.
+  const std::string args = "render '" + test::source_dir() + "/scenes/caustics_point.json' --mode phong --width 48 "
+                           "--height 32 --caustics on -q --device '" + test::device_spec() + "' -o '" + dir + "/caustics";
+  ASSERT_EQ(test::run_cli(args + "1.pfm'").status, 0);
+  const test::CliResult r = run_mpi(3, args + "3.pfm'");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(slurp(dir + "/caustics1.pfm") == slurp(dir + "/caustics3.pfm")) << "phong's photon pass on 3 ranks";
 }
 
 // Rank 0 decides when to stop; the ranks then hold passes [0, N) between

@@ -115,6 +115,13 @@ class PhotonPass final : public SeparateEstimate {
   // one every few camera passes, integrator_path.cpp), before a camera
   // pass's chunks.
   void trace(RenderStats* stats);
+  // SharedRadius (phong: a map every pass): map `map_index`, the absolute
+  // pass index, whose radius and random numbers are the same however the
+  // passes are split (MPI ranks trace interleaved passes).
+  void trace_map(uint32_t map_index, RenderStats* stats) {
+    maps_ = map_index;
+    trace(stats);
+  }
   // After that pass's chunks: every pixel gathers the map (PerPixel).
   void gather(RenderStats* stats);
   uint32_t photon_passes() const { return maps_; }
