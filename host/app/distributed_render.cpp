@@ -121,13 +121,16 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
     out.summed = std::make_unique<Renderer>(*session.runtime, *session.device_scene, session.mode,
                                             session.program.program, settings);
   // Sums every rank's film into rank 0's `summed` renderer.
-  auto reduce = [&] {
+  // `for_state`: the summed renderer's state will be written (a
+  // checkpoint), so by pixels the ranks send every per-pixel value, not
+  // only what the image and its error estimate read.
+  auto reduce = [&](bool for_state) {
     using Clock = std::chrono::steady_clock;
     auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
     const auto r0 = Clock::now();
     FilmState mine = renderer.film().state();
     // Shared by pixels: each rank's window of the per-pixel statistics.
-    const std::string slice = by_pixels ? renderer.integrator().pixel_slice() : std::string();
+    const std::string slice = by_pixels ? renderer.integrator().pixel_slice(for_state) : std::string();
     out.read_seconds += since(r0);
     // The ranks' rounds end apart: the wait is the imbalance, not MPI's cost.
     const auto waited = Clock::now();
@@ -219,7 +222,8 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
     // film), then go on?
     const bool measure = rank == 0 && monitor && monitor->wants_measurement(done);
     const bool save = checkpoints && seconds() - last_checkpoint >= checkpoint.every_s;
-    if (ranks.broadcast(measure || save ? 1 : 0)) reduce();
+    const int sum_now = ranks.broadcast(save ? 2 : measure ? 1 : 0);
+    if (sum_now) reduce(sum_now == 2);
     if (save) {
       last_checkpoint = seconds();
       checkpoint.write(*out.summed);
@@ -235,10 +239,16 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
     decide_at = ranks.broadcast(next);
     if (decide_at == 0) break;
   }
-  reduce();
+  // The final state may be written (render_command.cpp's --checkpoint).
+  reduce(ranks.broadcast(checkpoints ? 1 : 0) != 0);
   out.seconds = seconds();
-  std::tie(out.photon_bytes, out.photon_seconds) = renderer.integrator().shared_photon_traffic();
+  out.photon_traffic = renderer.integrator().shared_photon_traffic();
   if (rank == 0) out.image = out.summed->finish(stats);
+  // By pixels, rank 0's own photon counters are the render's (the maps
+  // were gathered whole, the gather counters summed over the ranks; its
+  // photon rays and seconds are its own share); the summed renderer's,
+  // restored from a state, counted nothing.
+  if (rank == 0 && by_pixels) renderer.integrator().collect(stats);
   return out;
 }
 

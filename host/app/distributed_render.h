@@ -41,12 +41,10 @@ struct DistributedResult {
   // ... and apart: reading the film, waiting for the slowest rank, the
   // MPI calls, restoring the sum on rank 0.
   double read_seconds = 0.0, wait_seconds = 0.0, mpi_seconds = 0.0, restore_seconds = 0.0;
-  // Shared by pixels (the photon pass): the photon maps' bytes gathered to
-  // rank 0 and its seconds in those gathers (waits for the slowest rank
-  // included), over the render.
+  // Shared by pixels (the photon pass): what gathering the photon maps cost
+  // rank 0 (pixel_share.h).
   bool by_pixels = false;
-  uint64_t photon_bytes = 0;
-  double photon_seconds = 0.0;
+  SharedPhotonTraffic photon_traffic;
 };
 
 // Rank 0's checkpoints: `write` gets the summed film's renderer every

@@ -477,9 +477,11 @@ int run_render(RenderArgs& a) {
     if (a.verbose && summed.by_pixels)
       std::fprintf(stderr,
                    "[caustica] %d ranks shared the photon pass by pixels: %u photon maps gathered to every rank, "
-                   "%.0f bytes a map, %.4f s a map in the gathers (waits for the slowest rank included)\n",
-                   a.ranks->size(), stats.photon_maps, double(summed.photon_bytes) / std::max(1u, stats.photon_maps),
-                   summed.photon_seconds / std::max(1u, stats.photon_maps));
+                   "%.0f bytes a map; rank 0 waited %.4f s a map for the slowest rank and gathered in %.4f s a map\n",
+                   a.ranks->size(), stats.photon_maps,
+                   double(summed.photon_traffic.bytes) / std::max(1u, stats.photon_maps),
+                   summed.photon_traffic.wait_seconds / std::max(1u, stats.photon_maps),
+                   summed.photon_traffic.gather_seconds / std::max(1u, stats.photon_maps));
   }
   const ImageF image = distributed ? summed.image : session->renderer->render(
       &stats, [&](const PassProgress& p) { progress.update(p); },

@@ -172,13 +172,13 @@ class Integrator {
   // processes split passes instead.
   virtual bool share_pixels(PixelShare* /*share*/) { return false; }
   // Shared by pixels, between waves: this process's per-pixel state of its
-  // window as bytes, and (rank 0) every other process's put into its own,
-  // so that state() is the whole image's.
-  virtual std::string pixel_slice() const { return {}; }
+  // window as bytes (`for_state`: all of it; else what the image and its
+  // error estimate need), and (rank 0) every other process's put into its
+  // own, so that state() is the whole image's.
+  virtual std::string pixel_slice(bool /*for_state*/) const { return {}; }
   virtual void put_pixel_slices(const std::vector<std::string>& /*by_rank*/) {}
-  // Shared by pixels: photon map bytes gathered to this process and the
-  // seconds it spent in those gathers, over the render.
-  virtual std::pair<uint64_t, double> shared_photon_traffic() const { return {0, 0.0}; }
+  // Shared by pixels: what gathering the photon maps cost this process.
+  virtual SharedPhotonTraffic shared_photon_traffic() const { return {}; }
 
   const char* name() const { return name_; }  // the mode, as --mode spells it
   // Pixels per chunk its queues are sized for.

@@ -203,13 +203,14 @@ class PathIntegrator final : public Integrator {
     photons_->share(share);
     return true;
   }
-  std::string pixel_slice() const override { return photons_ ? photons_->pixel_slice() : std::string(); }
+  std::string pixel_slice(bool for_state) const override {
+    return photons_ ? photons_->pixel_slice(for_state) : std::string();
+  }
   void put_pixel_slices(const std::vector<std::string>& by_rank) override {
     if (photons_) photons_->put_pixel_slices(by_rank);
   }
-  std::pair<uint64_t, double> shared_photon_traffic() const override {
-    return photons_ ? std::make_pair(photons_->exchanged_bytes(), photons_->exchange_seconds())
-                    : std::make_pair(uint64_t(0), 0.0);
+  SharedPhotonTraffic shared_photon_traffic() const override {
+    return photons_ ? photons_->traffic() : SharedPhotonTraffic{};
   }
   void collect(RenderStats* stats) override {
     if (photons_ && stats) {

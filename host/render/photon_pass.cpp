@@ -163,14 +163,15 @@ void PhotonPass::share(PixelShare* share) {
   photon_end_ = uint32_t(end);
 }
 
-std::string PhotonPass::pixel_slice() const {
+std::string PhotonPass::pixel_slice(bool visible_points) const {
   const size_t n = pixel_end_ - first_pixel_;
-  std::string out(n * (sizeof(SppmPixel) + sizeof(VisiblePoint)), '\0');
+  std::string out(n * (sizeof(SppmPixel) + (visible_points ? sizeof(VisiblePoint) : 0)), '\0');
   if (n == 0) return out;
   auto& queue = launcher_.runtime().queue();
   queue.enqueueReadBuffer(pixels_, CL_TRUE, first_pixel_ * sizeof(SppmPixel), n * sizeof(SppmPixel), out.data());
-  queue.enqueueReadBuffer(visible_points_, CL_TRUE, first_pixel_ * sizeof(VisiblePoint), n * sizeof(VisiblePoint),
-                          out.data() + n * sizeof(SppmPixel));
+  if (visible_points)
+    queue.enqueueReadBuffer(visible_points_, CL_TRUE, first_pixel_ * sizeof(VisiblePoint), n * sizeof(VisiblePoint),
+                            out.data() + n * sizeof(SppmPixel));
   return out;
 }
 
@@ -185,13 +186,15 @@ void PhotonPass::put_pixel_slices(const std::vector<std::string>& by_rank) {
     const auto [first, end] = share_of(pixel_count_, r, share_->size());
     const size_t n = end - first;
     const std::string& bytes = by_rank[size_t(r)];
-    if (bytes.size() != n * (sizeof(SppmPixel) + sizeof(VisiblePoint)))
+    const bool visible_points = bytes.size() == n * (sizeof(SppmPixel) + sizeof(VisiblePoint));
+    if (!visible_points && bytes.size() != n * sizeof(SppmPixel))
       throw Error("photon pass: process " + std::to_string(r) + " sent " + std::to_string(bytes.size()) +
                   " bytes of SPPM pixels for its " + std::to_string(n) + " pixels");
     if (n == 0) continue;
     queue.enqueueWriteBuffer(pixels_, CL_TRUE, first * sizeof(SppmPixel), n * sizeof(SppmPixel), bytes.data());
-    queue.enqueueWriteBuffer(visible_points_, CL_TRUE, first * sizeof(VisiblePoint), n * sizeof(VisiblePoint),
-                             bytes.data() + n * sizeof(SppmPixel));
+    if (visible_points)
+      queue.enqueueWriteBuffer(visible_points_, CL_TRUE, first * sizeof(VisiblePoint), n * sizeof(VisiblePoint),
+                               bytes.data() + n * sizeof(SppmPixel));
   }
 }
 
@@ -200,9 +203,21 @@ void PhotonPass::exchange_photons(RenderStats* stats) {
   const uint32_t mine = launcher_.read_count(stored_count_, stats);
   std::string bytes(size_t(mine) * sizeof(Photon), '\0');
   if (mine > 0) rt.queue().enqueueReadBuffer(photons_, CL_TRUE, 0, bytes.size(), bytes.data());
+  // The map's total first: its wait is the ranks' imbalance (the slowest
+  // one's photons and pixels), the gather after it the transfer.
+  auto since = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
   const auto t0 = std::chrono::steady_clock::now();
+  std::vector<uint64_t> count = {mine};
+  share_->sum_to_all(count);
+  traffic_.wait_seconds += since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
   const std::string all = share_->gather_bytes_to_all(bytes);
-  exchange_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  traffic_.gather_seconds += since(t1);
+  if (all.size() != count[0] * sizeof(Photon))
+    throw Error("photon pass: " + std::to_string(all.size()) + " bytes of photons gathered, " +
+                std::to_string(count[0]) + " photons counted");
   // A photon path stores one photon at most: the map fits the buffer.
   const size_t total = all.size() / sizeof(Photon);
   if (total > photons_per_pass_)
@@ -210,7 +225,7 @@ void PhotonPass::exchange_photons(RenderStats* stats) {
                 std::to_string(photons_per_pass_));
   if (!all.empty()) rt.queue().enqueueWriteBuffer(photons_, CL_TRUE, 0, all.size(), all.data());
   launcher_.write_count(stored_count_, uint32_t(total), stats);
-  exchanged_bytes_ += all.size();
+  traffic_.bytes += all.size();
 }
 
 PhotonPass::~PhotonPass() = default;

@@ -99,10 +99,12 @@ class PhotonPass final : public SeparateEstimate {
   // `share` outlives the pass.
   void share(PixelShare* share);
   std::pair<size_t, size_t> pixel_window() const { return {first_pixel_, pixel_end_}; }
-  // The SPPM statistics and visible points of this process's window, as
-  // bytes, and (rank 0) putting every other process's into its own buffers
-  // (before save(): the state of the whole image). Between waves.
-  std::string pixel_slice() const;
+  // The SPPM statistics of this process's window, and its visible points
+  // when asked (only a state file needs them: the image and its error
+  // estimate read the statistics), as bytes; and (rank 0) putting every
+  // other process's into its own buffers (before save() or add_to: the
+  // whole image's). Between waves.
+  std::string pixel_slice(bool visible_points) const;
   void put_pixel_slices(const std::vector<std::string>& by_rank);
   // Render state files (host/render/render_state.h), between waves: the
   // schedule (maps, gathers, on or off, the cells), every pixel's SPPM
@@ -173,10 +175,8 @@ class PhotonPass final : public SeparateEstimate {
   void add_to(ImageF& image, const std::vector<uint32_t>& spp) const override;
 
   const PhotonPassStats& stats() const { return stats_; }
-  // Shared by pixels: the bytes of stored photons gathered to this process
-  // so far (each map's whole photon map).
-  uint64_t exchanged_bytes() const { return exchanged_bytes_; }
-  double exchange_seconds() const { return exchange_seconds_; }
+  // Shared by pixels: what gathering the maps cost so far (pixel_share.h).
+  SharedPhotonTraffic traffic() const { return traffic_; }
   const PhotonGrid& grid() const { return grid_; }  // this pass's photon map
 
  private:
@@ -221,8 +221,7 @@ class PhotonPass final : public SeparateEstimate {
   ExclusiveScan scan_;
   PhotonGrid grid_;
   PhotonPassStats stats_;
-  uint64_t exchanged_bytes_ = 0;  // shared: photons gathered from every process, over the render
-  double exchange_seconds_ = 0.0;  // ... and the time in the gathers (waits for the slowest process included)
+  SharedPhotonTraffic traffic_;  // shared by pixels: the maps' gathers, over the render
 };
 
 }  // namespace caustica

@@ -33,6 +33,15 @@ class PixelShare {
   virtual void sum_to_all(std::vector<uint64_t>& values) = 0;
 };
 
+// What sharing the photon maps cost a process, over a render: the bytes
+// of stored photons gathered to it (every map whole), the seconds waiting
+// for the slowest process before each gather (the imbalance of the
+// processes' photons and pixels), and the seconds in the gathers.
+struct SharedPhotonTraffic {
+  uint64_t bytes = 0;
+  double wait_seconds = 0.0, gather_seconds = 0.0;
+};
+
 // [begin, end) of `count` items that process `rank` of `size` takes:
 // contiguous, in rank order, sizes differing by one at most.
 inline std::pair<size_t, size_t> share_of(size_t count, int rank, int size) {
