@@ -18,7 +18,12 @@
 // measures: after 1, 2, 4, ... passes and where the target is projected);
 // rank 0 alone reads a resumed state and writes checkpoints, of the
 // summed film (passes [0, g) after a whole round: a state like any).
-// Adaptive sampling and the photon pass are refused before this is called
+// Path mode's photon pass (--caustics on) is shared by pixels instead:
+// every rank traces every pass over its window of pixels and its slice of
+// each photon map, the maps gathered whole to every rank, each pixel's SPPM
+// statistics updated by the rank that owns it and gathered to rank 0 at
+// each reduction (pixel_share.h; docs/distributed.md). Adaptive sampling
+// and the photon pass's `auto` are refused before this is called
 // (render_command.cpp says why). Progress comes from rank 0 only.
 #pragma once
 
