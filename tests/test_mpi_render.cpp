@@ -14,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cstdio>
@@ -22,6 +23,7 @@
 #include <regex>
 #include <string>
 
+#include "host/render/pixel_share.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -187,6 +189,25 @@ TEST(MpiRender, CheckpointsOfRanksAreOneProcesssStatesAndResumeAfterARankDied) {
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(slurp(dir + "/resumed.pfm") == slurp(dir + "/whole.pfm")) << ranks << " ranks resumed differ";
   }
+}
+
+// The windows of pixels and slices of photons (pixel_share.h): contiguous,
+// in rank order, covering every item once, sizes within one of each other.
+TEST(MpiRender, SharesCoverEveryItemOnceInRankOrder) {
+  for (size_t count : {size_t(0), size_t(1), size_t(5), size_t(3072), size_t(16384), size_t(1) << 40})
+    for (int size = 1; size <= 7; ++size) {
+      size_t next = 0, least = SIZE_MAX, most = 0;
+      for (int rank = 0; rank < size; ++rank) {
+        const auto [begin, end] = share_of(count, rank, size);
+        EXPECT_EQ(begin, next) << count << " items, rank " << rank << " of " << size;
+        ASSERT_LE(begin, end);
+        least = std::min(least, end - begin);
+        most = std::max(most, end - begin);
+        next = end;
+      }
+      EXPECT_EQ(next, count) << size;
+      EXPECT_LE(most - least, 1u) << count << " items on " << size;
+    }
 }
 
 // scenes/caustics.json (a glass sphere's caustic on the floor) at 64x48
