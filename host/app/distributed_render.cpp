@@ -179,6 +179,7 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
     std::fill(others.film.pixel_rays.begin(), others.film.pixel_rays.end(), 0u);
     std::fill(others.film.counters.begin(), others.film.counters.end(), 0u);
     renderer.begin(&others);
+    renderer.integrator().zero_shared_sums();
   } else {
     if (by_pixels && resumed > 0) ranks.gather_bytes_to_all(encode_render_state(*resume));
     renderer.begin(rank == 0 ? resume : nullptr);

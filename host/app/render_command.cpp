@@ -338,14 +338,6 @@ int run_render(RenderArgs& a) {
   if (distributed && session->settings.adaptive)
     throw Error(ranks_text(a) + ": adaptive sampling plans each wave from the error of the whole film, which no "
                 "rank holds: add --no-adaptive (docs/distributed.md)");
-  // The photon pass is shared by pixels (docs/distributed.md), with a map
-  // every pass; `auto` picks its interval and whether to keep it from the
-  // whole film, which no rank holds.
-  if (distributed && session->mode == RenderMode::Path && session->settings.caustics &&
-      session->settings.caustics_auto)
-    throw Error(ranks_text(a) + ": --caustics auto (which found caustics here) decides the photon pass from the "
-                "error of the whole film, which no rank holds: add --caustics on (a photon map every pass, shared "
-                "among the ranks) or --caustics off (docs/distributed.md)");
   if (!a.passes.empty()) {
     if (session->mode != RenderMode::Path)
       throw Error("--passes " + a.passes + ": only path mode takes several passes (binary and phong take one)");

@@ -177,6 +177,10 @@ class Integrator {
   // own, so that state() is the whole image's.
   virtual std::string pixel_slice(bool /*for_state*/) const { return {}; }
   virtual void put_pixel_slices(const std::vector<std::string>& /*by_rank*/) {}
+  // Shared by pixels, a process other than rank 0 resuming a state: zero
+  // the sums the processes keep apart (its film's are zeroed by the
+  // caller; the photon pass's gather counters here).
+  virtual void zero_shared_sums() {}
   // Shared by pixels: what gathering the photon maps cost this process.
   virtual SharedPhotonTraffic shared_photon_traffic() const { return {}; }
 

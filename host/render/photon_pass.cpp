@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <tuple>
 
@@ -163,15 +164,18 @@ void PhotonPass::share(PixelShare* share) {
   photon_end_ = uint32_t(end);
 }
 
-std::string PhotonPass::pixel_slice(bool visible_points) const {
+std::string PhotonPass::pixel_slice(bool whole_state) const {
   const size_t n = pixel_end_ - first_pixel_;
-  std::string out(n * (sizeof(SppmPixel) + (visible_points ? sizeof(VisiblePoint) : 0)), '\0');
-  if (n == 0) return out;
+  const size_t counters = GATHER_COUNTERS * sizeof(cl_ulong);
+  std::string out(n * sizeof(SppmPixel) + (whole_state ? n * sizeof(VisiblePoint) + counters : 0), '\0');
   auto& queue = launcher_.runtime().queue();
-  queue.enqueueReadBuffer(pixels_, CL_TRUE, first_pixel_ * sizeof(SppmPixel), n * sizeof(SppmPixel), out.data());
-  if (visible_points)
+  if (n > 0)
+    queue.enqueueReadBuffer(pixels_, CL_TRUE, first_pixel_ * sizeof(SppmPixel), n * sizeof(SppmPixel), out.data());
+  if (!whole_state) return out;
+  if (n > 0)
     queue.enqueueReadBuffer(visible_points_, CL_TRUE, first_pixel_ * sizeof(VisiblePoint), n * sizeof(VisiblePoint),
                             out.data() + n * sizeof(SppmPixel));
+  queue.enqueueReadBuffer(gather_counters_, CL_TRUE, 0, counters, out.data() + n * (sizeof(SppmPixel) + sizeof(VisiblePoint)));
   return out;
 }
 
@@ -181,21 +185,60 @@ void PhotonPass::put_pixel_slices(const std::vector<std::string>& by_rank) {
     throw Error("photon pass: " + std::to_string(by_rank.size()) + " pixel slices for " +
                 std::to_string(share_->size()) + " processes");
   auto& queue = launcher_.runtime().queue();
+  const size_t counters = GATHER_COUNTERS * sizeof(cl_ulong);
+  others_counters_.assign(GATHER_COUNTERS, 0);
   for (int r = 0; r < share_->size(); ++r) {
     if (r == share_->rank()) continue;
     const auto [first, end] = share_of(pixel_count_, r, share_->size());
     const size_t n = end - first;
     const std::string& bytes = by_rank[size_t(r)];
-    const bool visible_points = bytes.size() == n * (sizeof(SppmPixel) + sizeof(VisiblePoint));
-    if (!visible_points && bytes.size() != n * sizeof(SppmPixel))
+    const bool whole_state = bytes.size() == n * (sizeof(SppmPixel) + sizeof(VisiblePoint)) + counters;
+    if (!whole_state && bytes.size() != n * sizeof(SppmPixel))
       throw Error("photon pass: process " + std::to_string(r) + " sent " + std::to_string(bytes.size()) +
                   " bytes of SPPM pixels for its " + std::to_string(n) + " pixels");
-    if (n == 0) continue;
-    queue.enqueueWriteBuffer(pixels_, CL_TRUE, first * sizeof(SppmPixel), n * sizeof(SppmPixel), bytes.data());
-    if (visible_points)
+    if (n > 0)
+      queue.enqueueWriteBuffer(pixels_, CL_TRUE, first * sizeof(SppmPixel), n * sizeof(SppmPixel), bytes.data());
+    if (!whole_state) continue;
+    if (n > 0)
       queue.enqueueWriteBuffer(visible_points_, CL_TRUE, first * sizeof(VisiblePoint), n * sizeof(VisiblePoint),
                                bytes.data() + n * sizeof(SppmPixel));
+    // Its gather counters since the latest map (the passes' inline
+    // gathers, which `auto` weighs at the next map): the state's are the
+    // sum over the processes.
+    std::vector<uint64_t> c(GATHER_COUNTERS);
+    std::memcpy(c.data(), bytes.data() + n * (sizeof(SppmPixel) + sizeof(VisiblePoint)), counters);
+    for (size_t i = 0; i < c.size(); ++i) others_counters_[i] += c[i];
   }
+}
+
+void PhotonPass::gather_pixels_to_all() {
+  if (!share_) return;
+  const std::string all = share_->gather_bytes_to_all(pixel_slice(false));
+  if (all.size() != pixel_count_ * sizeof(SppmPixel))
+    throw Error("photon pass: " + std::to_string(all.size()) + " bytes of SPPM pixels gathered for " +
+                std::to_string(pixel_count_) + " pixels");
+  // Windows in rank order are the pixels in order: the whole buffer (this
+  // process's own window comes back unchanged).
+  if (!all.empty()) launcher_.runtime().queue().enqueueWriteBuffer(pixels_, CL_TRUE, 0, all.size(), all.data());
+}
+
+ImageF PhotonPass::whole_image(const ImageF& mine) const {
+  if (!share_) return mine;
+  if (mine.pixel_count() != pixel_count_) throw Error("photon pass: an image of another size than the render's");
+  const std::string bytes(reinterpret_cast<const char*>(mine.rgb.data() + 3 * first_pixel_),
+                          3 * (pixel_end_ - first_pixel_) * sizeof(float));
+  const std::string all = share_->gather_bytes_to_all(bytes);
+  ImageF whole(mine.width, mine.height);
+  if (all.size() != whole.rgb.size() * sizeof(float))
+    throw Error("photon pass: " + std::to_string(all.size()) + " bytes of an image gathered for " +
+                std::to_string(pixel_count_) + " pixels");
+  std::memcpy(whole.rgb.data(), all.data(), all.size());
+  return whole;
+}
+
+void PhotonPass::zero_counters() {
+  if (gather_mode_ == PhotonGather::PerPixel)
+    launcher_.runtime().fill(gather_counters_, cl_ulong(0), 0, GATHER_COUNTERS * sizeof(cl_ulong));
 }
 
 void PhotonPass::exchange_photons(RenderStats* stats) {
@@ -231,6 +274,7 @@ void PhotonPass::exchange_photons(RenderStats* stats) {
 PhotonPass::~PhotonPass() = default;
 
 void PhotonPass::clear() {
+  others_counters_.clear();
   cell_size_ = first_cell_size_;
   on_ = true;
   maps_ = gathered_ = 0;
@@ -389,7 +433,16 @@ void PhotonPass::save(StateWriter& out) const {
   const bool per_pixel = gather_mode_ == PhotonGather::PerPixel;
   out.blob(per_pixel ? read_bytes(rt, pixels_, pixel_count_ * sizeof(SppmPixel)) : std::string());
   out.blob(per_pixel ? read_bytes(rt, visible_points_, pixel_count_ * sizeof(VisiblePoint)) : std::string());
-  out.blob(per_pixel ? read_bytes(rt, gather_counters_, GATHER_COUNTERS * sizeof(cl_ulong)) : std::string());
+  std::string counters = per_pixel ? read_bytes(rt, gather_counters_, GATHER_COUNTERS * sizeof(cl_ulong)) : std::string();
+  if (per_pixel && others_counters_.size() == GATHER_COUNTERS) {
+    // Shared by pixels (rank 0 for the whole render's state): every other
+    // process's counters added.
+    std::vector<uint64_t> c(GATHER_COUNTERS);
+    std::memcpy(c.data(), counters.data(), counters.size());
+    for (size_t i = 0; i < c.size(); ++i) c[i] += others_counters_[i];
+    std::memcpy(counters.data(), c.data(), counters.size());
+  }
+  out.blob(counters);
   // The latest map: its stored photons (the counter may have run past the
   // buffer: the grid holds at most photons_per_pass_ of them).
   out.put(uint64_t(last_stored_));

@@ -99,13 +99,24 @@ class PhotonPass final : public SeparateEstimate {
   // `share` outlives the pass.
   void share(PixelShare* share);
   std::pair<size_t, size_t> pixel_window() const { return {first_pixel_, pixel_end_}; }
-  // The SPPM statistics of this process's window, and its visible points
-  // when asked (only a state file needs them: the image and its error
-  // estimate read the statistics), as bytes; and (rank 0) putting every
-  // other process's into its own buffers (before save() or add_to: the
-  // whole image's). Between waves.
-  std::string pixel_slice(bool visible_points) const;
+  // The SPPM statistics of this process's window, and with `whole_state`
+  // its visible points and gather counters too (only a state file needs
+  // them: the image and its error estimate read the statistics), as bytes;
+  // and (rank 0) putting every other process's into its own buffers
+  // (before save() or add_to: the whole image's; the others' counters are
+  // added in save() only, since this process's own go on counting).
+  // Between waves.
+  std::string pixel_slice(bool whole_state) const;
   void put_pixel_slices(const std::vector<std::string>& by_rank);
+  // `auto`'s decisions, shared by pixels (collective): every process's
+  // window of statistics into every process's buffers, and an image of
+  // which this process holds its window made whole. One process: nothing
+  // to do.
+  void gather_pixels_to_all();
+  ImageF whole_image(const ImageF& mine) const;
+  // A process other than rank 0 resuming a state: its gather counters
+  // start at zero (rank 0's hold the state's).
+  void zero_counters();
   // Render state files (host/render/render_state.h), between waves: the
   // schedule (maps, gathers, on or off, the cells), every pixel's SPPM
   // statistics and visible point, the gather counters of the passes since
@@ -222,6 +233,7 @@ class PhotonPass final : public SeparateEstimate {
   PhotonGrid grid_;
   PhotonPassStats stats_;
   SharedPhotonTraffic traffic_;  // shared by pixels: the maps' gathers, over the render
+  std::vector<uint64_t> others_counters_;  // rank 0: the other processes' gather counters (put_pixel_slices)
 };
 
 }  // namespace caustica
