@@ -205,7 +205,11 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
     // By pixels every rank traces the round's passes, over its window.
     const int split = by_pixels ? 1 : size;
     const int until_decision = int(std::max<int64_t>(1, (int64_t(decide_at) - done + split - 1) / split));
-    const int block = std::clamp(std::min(done / split, until_decision), 1, most_block);
+    // By pixels every rank holds the same passes and photon schedule, so
+    // the integrator's wave (a map's pass alone, then up to the next map)
+    // is the same on all.
+    const int most = by_pixels ? std::max(1, renderer.integrator().wave_passes(renderer.film())) : most_block;
+    const int block = std::clamp(std::min(done / split, until_decision), 1, most);
     const int64_t first = int64_t(done) + (by_pixels ? 0 : int64_t(rank) * block);
     const int64_t last = std::min<int64_t>(end, first + block);
     if (first < last) {
