@@ -236,7 +236,10 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
     int go = 1;
     if (rank == 0) {
       const double now = seconds();
+      // The other ranks wait for this decision: its time is theirs too.
+      const double measure_start = seconds();
       if (measure && !monitor->on_pass(out.summed->film(), now)) go = 0;
+      out.measure_seconds += seconds() - measure_start;
       if (limit > 0.0 && (now >= limit || now + round_s > limit + 0.75 * tolerance)) go = 0;
     }
     // 0: stop; else where to decide next.

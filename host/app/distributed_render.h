@@ -46,6 +46,10 @@ struct DistributedResult {
   // ... and apart: reading the film, waiting for the slowest rank, the
   // MPI calls, restoring the sum on rank 0.
   double read_seconds = 0.0, wait_seconds = 0.0, mpi_seconds = 0.0, restore_seconds = 0.0;
+  // Rank 0's error measurements on the summed film (the other ranks wait
+  // for its decision meanwhile). The film reads include waiting for the
+  // device to finish the round's queued work.
+  double measure_seconds = 0.0;
   // Shared by pixels (the photon pass): what gathering the photon maps cost
   // rank 0 (pixel_share.h).
   bool by_pixels = false;

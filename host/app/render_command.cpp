@@ -462,10 +462,10 @@ int run_render(RenderArgs& a) {
     if (a.verbose)
       std::fprintf(stderr,
                    "[caustica] %d ranks: %s summed on rank 0 in %d reductions, %.3f s (film reads %.3f s, waiting for "
-                   "ranks %.3f s, MPI %.3f s, restore %.3f s)\n",
+                   "ranks %.3f s, MPI %.3f s, restore %.3f s); its error measurements %.3f s\n",
                    a.ranks->size(), shown->film().held().describe().c_str(), summed.reductions,
                    summed.reduction_seconds, summed.read_seconds, summed.wait_seconds, summed.mpi_seconds,
-                   summed.restore_seconds);
+                   summed.restore_seconds, summed.measure_seconds);
     if (a.verbose && summed.by_pixels)
       std::fprintf(stderr,
                    "[caustica] %d ranks shared the photon pass by pixels: %u photon maps gathered to every rank, "
