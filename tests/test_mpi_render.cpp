@@ -4,7 +4,9 @@
 // on a whole number of rounds, whose passes [0, N) a one-process render of
 // N spp reproduces bit for bit; rank 0's checkpoints are one process's
 // states and resume after a rank died; a rank that dies ends the job with
-// a clear message instead of a hang; what ranks cannot do is refused. Skipped
+// a clear message instead of a hang; the photon pass, shared by pixels,
+// gives one process's bits, checkpoints and resumes; what ranks cannot do
+// is refused. Skipped
 // where caustica was built without MPI. Small images, few spp: a second
 // or two each (mpirun's start included), under a timeout.
 #include <gtest/gtest.h>
@@ -12,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cstdio>
@@ -20,6 +23,7 @@
 #include <regex>
 #include <string>
 
+#include "host/render/pixel_share.h"
 #include "tests/support/test_support.h"
 
 namespace caustica {
@@ -95,7 +99,8 @@ TEST(MpiRender, TwoAndThreeRanksGiveTheBitsOfOneProcess) {
   }
 }
 
-// Binary and phong: one pass, which rank 0 traces; the others hold none.
+// Binary and phong: one pass, which rank 0 traces; the others hold none
+// (phong's photon pass: many, split as path mode's).
 TEST(MpiRender, BinaryAndPhongGiveTheBitsOfOneProcess) {
   SKIP_WITHOUT_MPI();
   const std::string dir = test::temp_dir();
@@ -107,6 +112,14 @@ TEST(MpiRender, BinaryAndPhongGiveTheBitsOfOneProcess) {
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(slurp(dir + "/" + mode + "1.pfm") == slurp(dir + "/" + mode + "2.pfm")) << mode;
   }
+  // Phong's photon pass: a map every pass with a radius shared by the
+  // pass, keyed by the absolute pass index, so ranks split the passes.
+  const std::string args = "render '" + test::source_dir() + "/scenes/caustics_point.json' --mode phong --width 48 "
+                           "--height 32 --caustics on -q --device '" + test::device_spec() + "' -o '" + dir + "/caustics";
+  ASSERT_EQ(test::run_cli(args + "1.pfm'").status, 0);
+  const test::CliResult r = run_mpi(3, args + "3.pfm'");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(slurp(dir + "/caustics1.pfm") == slurp(dir + "/caustics3.pfm")) << "phong's photon pass on 3 ranks";
 }
 
 // Rank 0 decides when to stop; the ranks then hold passes [0, N) between
@@ -178,6 +191,141 @@ TEST(MpiRender, CheckpointsOfRanksAreOneProcesssStatesAndResumeAfterARankDied) {
   }
 }
 
+// The windows of pixels and slices of photons (pixel_share.h): contiguous,
+// in rank order, covering every item once, sizes within one of each other.
+TEST(MpiRender, SharesCoverEveryItemOnceInRankOrder) {
+  for (size_t count : {size_t(0), size_t(1), size_t(5), size_t(3072), size_t(16384), size_t(1) << 40})
+    for (int size = 1; size <= 7; ++size) {
+      size_t next = 0, least = SIZE_MAX, most = 0;
+      for (int rank = 0; rank < size; ++rank) {
+        const auto [begin, end] = share_of(count, rank, size);
+        EXPECT_EQ(begin, next) << count << " items, rank " << rank << " of " << size;
+        ASSERT_LE(begin, end);
+        least = std::min(least, end - begin);
+        most = std::max(most, end - begin);
+        next = end;
+      }
+      EXPECT_EQ(next, count) << size;
+      EXPECT_LE(most - least, 1u) << count << " items on " << size;
+    }
+}
+
+// scenes/caustics.json (a glass sphere's caustic on the floor), 64x48
+// unless `size` says otherwise, uniform.
+std::string caustics_args(const std::string& rest, const std::string& size = "--width 64 --height 48") {
+  return "render '" + test::source_dir() + "/scenes/caustics.json' --mode path " + size +
+         " --no-adaptive --device '" + test::device_spec() + "' " + rest;
+}
+
+// The photon pass under ranks is shared by pixels (docs/distributed.md):
+// each rank traces its slice of every map's photons, gathered to every
+// rank in photon order, and its window of pixels, whose SPPM statistics it
+// alone updates. 2 and 3 ranks give one process's bits; the photon pass
+// is really on (--caustics off gives other bits).
+TEST(MpiRender, PhotonPassSharedByPixelsGivesTheBitsOfOneProcess) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  ASSERT_EQ(test::run_cli(caustics_args("--caustics on --spp 5 -q -o '" + dir + "/one.pfm'")).status, 0);
+  ASSERT_EQ(test::run_cli(caustics_args("--caustics off --spp 5 -q -o '" + dir + "/off.pfm'")).status, 0);
+  const std::string bits = slurp(dir + "/one.pfm");
+  ASSERT_FALSE(bits.empty());
+  EXPECT_FALSE(bits == slurp(dir + "/off.pfm")) << "the photon pass added nothing: the test would prove nothing";
+  for (int ranks : {2, 3}) {
+    const std::string out = dir + "/ranks" + std::to_string(ranks) + ".pfm";
+    const test::CliResult r = run_mpi(ranks, caustics_args("--caustics on --spp 5 -v -o '" + out + "'"));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(Contains(r.output, {std::to_string(ranks) + " ranks shared the photon pass by pixels: 5 photon maps"}))
+        << r.output;
+    EXPECT_TRUE(slurp(out) == bits) << ranks << " ranks differ from one process";
+  }
+}
+
+// By pixels too: a target error decided on rank 0 from the assembled
+// statistics stops where one process does; rank 0's checkpoint is one
+// process's state byte for byte (film, schedule, every pixel's SPPM
+// statistics and visible point, the latest photon map); 3 ranks and one
+// resume it to the bits of an uninterrupted render.
+TEST(MpiRender, PhotonPassByPixelsStopsCheckpointsAndResumesAsOneProcess) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  test::CliResult r = run_mpi(2, caustics_args("--caustics on --target-error 0.02 -o '" + dir + "/te2.pfm'"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const int spp = spp_written(r.output);
+  ASSERT_GT(spp, 1) << r.output;
+  test::CliResult one = test::run_cli(caustics_args("--caustics on --spp " + std::to_string(spp) + " -o '" + dir +
+                                                    "/te1.pfm'"));
+  ASSERT_EQ(one.status, 0) << one.output;
+  EXPECT_TRUE(slurp(dir + "/te1.pfm") == slurp(dir + "/te2.pfm"));
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(estimated relMSE ([0-9.e+-]+))"))) << r.output;
+  EXPECT_TRUE(Contains(one.output, {"estimated relMSE " + std::string(m[1])})) << one.output;
+
+  // The state after the render, and (--checkpoint-every) the one after
+  // the last pass, within the render: they differ in the latest gather's
+  // radius histogram, which the render's end reads again (statistics only).
+  for (const std::string every : {"", "--checkpoint-every 0.001 "}) {
+    SCOPED_TRACE(every);
+    ASSERT_EQ(test::run_cli(caustics_args("--caustics on --spp 6 -q " + every + "--checkpoint '" + dir +
+                                          "/one.cst' -o '" + dir + "/a.pfm'"))
+                  .status,
+              0);
+    r = run_mpi(2, caustics_args("--caustics on --spp 6 -q " + every + "--checkpoint '" + dir + "/two.cst' -o '" +
+                                 dir + "/b.pfm'"));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(slurp(dir + "/one.cst") == slurp(dir + "/two.cst")) << "2 ranks' state differs from one process's";
+  }
+  ASSERT_EQ(test::run_cli(caustics_args("--caustics on --spp 10 -q -o '" + dir + "/whole.pfm'")).status, 0);
+  for (int ranks : {3, 1}) {
+    r = run_mpi(ranks, caustics_args("--caustics on --spp 10 -q --resume '" + dir + "/two.cst' -o '" + dir +
+                                     "/resumed.pfm'"));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(slurp(dir + "/resumed.pfm") == slurp(dir + "/whole.pfm")) << ranks << " ranks resumed differ";
+  }
+}
+
+// The lines `--verbose` prints for `auto`'s decisions.
+std::string auto_decisions(const std::string& output) {
+  std::string lines;
+  for (size_t at = 0; (at = output.find("caustics auto:", at)) != std::string::npos; ++at)
+    lines += output.substr(at, output.find('\n', at) - at) + "\n";
+  return lines;
+}
+
+// `--caustics auto` on ranks shared by pixels decides from the whole
+// image's counts, film and statistics, gathered at its three decisions:
+// at 128x96 and 16 spp it picks a map every 6 passes after the first, keeps
+// the pass after the second and balances the errors after pass 7, with one
+// process's numbers and bits. A checkpoint between two maps (10 spp: the
+// gather counters hold the passes' inline gathers, summed over the ranks)
+// is one process's state byte for byte, and 3 ranks resume it to the bits
+// of the whole render.
+TEST(MpiRender, PhotonPassAutoDecidesOnRanksAsInOneProcess) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  const std::string args = "--caustics auto ", size = "--width 128 --height 96";
+  const test::CliResult one = test::run_cli(caustics_args(args + "--spp 16 -v -o '" + dir + "/one.pfm'", size));
+  ASSERT_EQ(one.status, 0) << one.output;
+  const std::string decisions = auto_decisions(one.output);
+  ASSERT_TRUE(Contains(decisions, {"every 6 passes after pass 1", "kept after pass 7", "balance at"})) << decisions;
+  for (int ranks : {2, 3}) {
+    const test::CliResult r = run_mpi(ranks, caustics_args(args + "--spp 16 -v -o '" + dir + "/ranks.pfm'", size));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(auto_decisions(r.output), decisions) << ranks << " ranks";
+    EXPECT_TRUE(slurp(dir + "/ranks.pfm") == slurp(dir + "/one.pfm")) << ranks << " ranks differ from one process";
+  }
+  ASSERT_EQ(test::run_cli(caustics_args(args + "--spp 10 -q --checkpoint '" + dir + "/one.cst' -o '" + dir +
+                                        "/a.pfm'", size))
+                .status,
+            0);
+  test::CliResult r =
+      run_mpi(2, caustics_args(args + "--spp 10 -q --checkpoint '" + dir + "/two.cst' -o '" + dir + "/b.pfm'", size));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(slurp(dir + "/one.cst") == slurp(dir + "/two.cst")) << "2 ranks' state differs from one process's";
+  r = run_mpi(3, caustics_args(args + "--spp 16 -q --resume '" + dir + "/two.cst' -o '" + dir + "/resumed.pfm'", size));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(slurp(dir + "/resumed.pfm") == slurp(dir + "/one.pfm")) << "3 ranks resumed differ";
+}
+
 TEST(MpiRender, WhatRanksCannotDoIsRefused) {
   SKIP_WITHOUT_MPI();
   const std::string dir = test::temp_dir();
@@ -187,9 +335,6 @@ TEST(MpiRender, WhatRanksCannotDoIsRefused) {
   test::CliResult r = run_mpi(2, scene + "--caustics off --adaptive");
   EXPECT_NE(r.status, 0);
   EXPECT_TRUE(Contains(r.output, {" of 2: mpirun with 2 ranks: adaptive sampling plans each wave", "--no-adaptive"}))
-      << r.output;
-  r = run_mpi(2, scene + "--caustics on --no-adaptive");
-  EXPECT_TRUE(Contains(r.output, {"mpirun with 2 ranks: the photon pass (--caustics on)", "add --caustics off"}))
       << r.output;
   r = run_mpi(2, scene + "--caustics off --no-adaptive --passes 0:4");
   EXPECT_TRUE(Contains(r.output, {"mpirun with 2 ranks: --passes is for one process"})) << r.output;

@@ -5,8 +5,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <tuple>
 
 #include "host/error.h"
+#include "host/render/render_state.h"
 #include "host/render/state_merge.h"
 
 namespace caustica {
@@ -42,28 +44,38 @@ void sum_film_sums_to_root(RankGroup& ranks, std::vector<uint64_t>& sums) {
 
 }  // namespace
 
-FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine) {
+FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine, bool by_pixels) {
   // The pass sets first: rank 0 forms the union (refusing overlaps: a
   // schedule bug must not double passes silently) and tells every rank its
   // last pass, which decides whose half buffer belongs to the union's.
+  // Shared by pixels, every rank holds the same passes (of its own pixels).
   std::vector<int32_t> ranges;
   for (const auto& [b, e] : mine.held.ranges()) ranges.insert(ranges.end(), {b, e});
   const std::vector<std::vector<int32_t>> all = ranks.gather_to_root(ranges);
   PassSet held;
-  for (size_t r = 0; r < all.size(); ++r)
+  for (size_t r = 0; r < all.size(); ++r) {
+    PassSet rank_held;
     for (size_t i = 0; i + 1 < all[r].size(); i += 2) {
       const PassSet part = PassSet::range(all[r][i], all[r][i + 1]);
-      if (held.overlaps(part))
+      if (!by_pixels && held.overlaps(part))
         throw Error("rank " + std::to_string(r) + " traced pass " + std::to_string(held.first_common(part)) +
                     ", which another rank traced too");
-      held.add(part);
+      if (!by_pixels) held.add(part);
+      rank_held.add(part);
     }
+    if (by_pixels && !(rank_held == mine.held))
+      throw Error("rank " + std::to_string(r) + " holds " + rank_held.describe() + " of its pixels, rank 0 " +
+                  mine.held.describe());
+  }
+  if (by_pixels && ranks.rank() == 0) held = mine.held;
   const int last = ranks.broadcast(held.last());
   const size_t values = mine.spp.size() * 3;
   if (mine.accumulated.size() == 4 * values && !half_is_in_union(mine.held, last))
     std::fill(mine.accumulated.begin() + std::ptrdiff_t(2 * values), mine.accumulated.end(), 0u);
   sum_film_sums_to_root(ranks, mine.accumulated);
-  ranks.sum_to_root(mine.spp);
+  // Shared by pixels: every rank counts every pixel's passes (its own
+  // pixels' samples, the others' zero): rank 0's counts are the image's.
+  if (!by_pixels) ranks.sum_to_root(mine.spp);
   ranks.sum_to_root(mine.pixel_rays);
   ranks.sum_to_root(mine.counters);
   if (ranks.rank() != 0) return mine;
@@ -99,15 +111,26 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
   Renderer& renderer = *session.renderer;
   const int rank = ranks.rank(), size = ranks.size();
   DistributedResult out;
+  // The photon pass keeps per-pixel statistics that are not sums of
+  // passes: the ranks then share the render by pixels (every rank traces
+  // every pass over its window of pixels, and its share of each photon
+  // map, gathered to all), not by passes.
+  const bool by_pixels = size > 1 && renderer.integrator().share_pixels(&ranks);
+  out.by_pixels = by_pixels;
   if (rank == 0)
     out.summed = std::make_unique<Renderer>(*session.runtime, *session.device_scene, session.mode,
                                             session.program.program, settings);
   // Sums every rank's film into rank 0's `summed` renderer.
-  auto reduce = [&] {
+  // `for_state`: the summed renderer's state will be written (a
+  // checkpoint), so by pixels the ranks send every per-pixel value, not
+  // only what the image and its error estimate read.
+  auto reduce = [&](bool for_state) {
     using Clock = std::chrono::steady_clock;
     auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
     const auto r0 = Clock::now();
-    FilmState mine = renderer.state().film;
+    FilmState mine = renderer.film().state();
+    // Shared by pixels: each rank's window of the per-pixel statistics.
+    const std::string slice = by_pixels ? renderer.integrator().pixel_slice(for_state) : std::string();
     out.read_seconds += since(r0);
     // The ranks' rounds end apart: the wait is the imbalance, not MPI's cost.
     const auto waited = Clock::now();
@@ -115,9 +138,19 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
     out.wait_seconds += since(waited);
     const auto r1 = Clock::now();
     RenderState state;
-    state.film = reduce_film_to_root(ranks, std::move(mine));
+    state.film = reduce_film_to_root(ranks, std::move(mine), by_pixels);
+    const std::vector<std::string> slices = by_pixels ? ranks.gather_bytes_to_root(slice) : std::vector<std::string>{};
     out.mpi_seconds += since(r1);
     const auto r2 = Clock::now();
+    if (rank == 0) {
+      // By pixels: rank 0's own statistics and schedule (the same on every
+      // rank) with every window's pixels: the whole image's, as one
+      // process's. By passes the integrator keeps nothing a later pass
+      // needs (path mode without the photon pass: nothing at all), or the
+      // render is phong's one pass, which rank 0 traced.
+      if (by_pixels) renderer.integrator().put_pixel_slices(slices);
+      state.integrator = renderer.integrator().state();
+    }
     if (rank == 0) out.summed->begin(&state);
     out.restore_seconds += since(r2);
     ++out.reductions;
@@ -134,9 +167,23 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
   if (resume && !resume->film.held.is_prefix())
     throw Error("a state of " + resume->film.held.describe() + " resumes in one process only (ranks go on from "
                 "passes [0, N))");
-  renderer.begin(rank == 0 ? resume : nullptr);
   // The ranks go on from the resumed passes [0, N): rank 0 holds them.
+  // Shared by pixels, every rank resumes the whole state (its schedule,
+  // photon map and its window's statistics) but rank 0 alone the film's
+  // sums: the others' start at zero.
   const int resumed = ranks.broadcast(rank == 0 && resume ? resume->film.held.end() : 0);
+  if (by_pixels && rank != 0 && resumed > 0) {
+    // Rank 0 read the state; the others get its bytes.
+    RenderState others = decode_render_state(ranks.gather_bytes_to_all(std::string()), "rank 0's resumed state");
+    std::fill(others.film.accumulated.begin(), others.film.accumulated.end(), 0u);
+    std::fill(others.film.pixel_rays.begin(), others.film.pixel_rays.end(), 0u);
+    std::fill(others.film.counters.begin(), others.film.counters.end(), 0u);
+    renderer.begin(&others);
+    renderer.integrator().zero_shared_sums();
+  } else {
+    if (by_pixels && resumed > 0) ranks.gather_bytes_to_all(encode_render_state(*resume));
+    renderer.begin(rank == 0 ? resume : nullptr);
+  }
   double last_checkpoint = 0.0;
   // Rank 0's progress as the whole group's: its passes since the start
   // (a resumed state's are its own) times the ranks.
@@ -144,7 +191,7 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
   if (progress)
     shown = [&](const PassProgress& p) {
       PassProgress q = p;
-      q.pass = int(std::min<int64_t>(int64_t(end) - 1, resumed + int64_t(p.pass - resumed) * size));
+      q.pass = by_pixels ? p.pass : int(std::min<int64_t>(int64_t(end) - 1, resumed + int64_t(p.pass - resumed) * size));
       q.passes = end;
       q.first_pass = resumed;
       progress(q);
@@ -155,17 +202,24 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
   int decide_at = end;
   for (int done = resumed; done < end;) {
     const double start = seconds();
-    const int until_decision = int(std::max<int64_t>(1, (int64_t(decide_at) - done + size - 1) / size));
-    const int block = std::clamp(std::min(done / size, until_decision), 1, most_block);
-    const int64_t first = int64_t(done) + int64_t(rank) * block;
+    // By pixels every rank traces the round's passes, over its window.
+    const int split = by_pixels ? 1 : size;
+    const int until_decision = int(std::max<int64_t>(1, (int64_t(decide_at) - done + split - 1) / split));
+    // By pixels every rank holds the same passes and photon schedule, so
+    // the integrator's wave (a map's pass alone, then up to the next map)
+    // is the same on all.
+    const int most = by_pixels ? std::max(1, renderer.integrator().wave_passes(renderer.film())) : most_block;
+    const int block = std::clamp(std::min(done / split, until_decision), 1, most);
+    const int64_t first = int64_t(done) + (by_pixels ? 0 : int64_t(rank) * block);
     const int64_t last = std::min<int64_t>(end, first + block);
     if (first < last) {
       StopConditions stop;
       stop.first_pass = int(first);
       stop.passes = int(last);
+      if (by_pixels) std::tie(stop.first_pixel, stop.pixel_end) = share_of(renderer.film().pixel_count(), rank, size);
       renderer.run(stop, stats, rank == 0 ? shown : ProgressCallback{});
     }
-    done = int(std::min<int64_t>(end, int64_t(done) + int64_t(size) * block));
+    done = int(std::min<int64_t>(end, int64_t(done) + int64_t(split) * block));
     maybe_die_for_test(ranks, done);
     if (!decided) continue;
     round_s = seconds() - start;
@@ -173,7 +227,8 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
     // film), then go on?
     const bool measure = rank == 0 && monitor && monitor->wants_measurement(done);
     const bool save = checkpoints && seconds() - last_checkpoint >= checkpoint.every_s;
-    if (ranks.broadcast(measure || save ? 1 : 0)) reduce();
+    const int sum_now = ranks.broadcast(save ? 2 : measure ? 1 : 0);
+    if (sum_now) reduce(sum_now == 2);
     if (save) {
       last_checkpoint = seconds();
       checkpoint.write(*out.summed);
@@ -181,7 +236,10 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
     int go = 1;
     if (rank == 0) {
       const double now = seconds();
+      // The other ranks wait for this decision: its time is theirs too.
+      const double measure_start = seconds();
       if (measure && !monitor->on_pass(out.summed->film(), now)) go = 0;
+      out.measure_seconds += seconds() - measure_start;
       if (limit > 0.0 && (now >= limit || now + round_s > limit + 0.75 * tolerance)) go = 0;
     }
     // 0: stop; else where to decide next.
@@ -189,9 +247,16 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
     decide_at = ranks.broadcast(next);
     if (decide_at == 0) break;
   }
-  reduce();
+  // The final state may be written (render_command.cpp's --checkpoint).
+  reduce(ranks.broadcast(checkpoints ? 1 : 0) != 0);
   out.seconds = seconds();
+  out.photon_traffic = renderer.integrator().shared_photon_traffic();
   if (rank == 0) out.image = out.summed->finish(stats);
+  // By pixels, rank 0's own photon counters are the render's (the maps
+  // were gathered whole, the gather counters summed over the ranks; its
+  // photon rays and seconds are its own share); the summed renderer's,
+  // restored from a state, counted nothing.
+  if (rank == 0 && by_pixels) renderer.integrator().collect(stats);
   return out;
 }
 

@@ -18,7 +18,12 @@
 // measures: after 1, 2, 4, ... passes and where the target is projected);
 // rank 0 alone reads a resumed state and writes checkpoints, of the
 // summed film (passes [0, g) after a whole round: a state like any).
-// Adaptive sampling and the photon pass are refused before this is called
+// Path mode's photon pass (--caustics on) is shared by pixels instead:
+// every rank traces every pass over its window of pixels and its slice of
+// each photon map, the maps gathered whole to every rank, each pixel's SPPM
+// statistics updated by the rank that owns it and gathered to rank 0 at
+// each reduction (pixel_share.h; docs/distributed.md). Adaptive sampling
+// and the photon pass's `auto` are refused before this is called
 // (render_command.cpp says why). Progress comes from rank 0 only.
 #pragma once
 
@@ -41,6 +46,14 @@ struct DistributedResult {
   // ... and apart: reading the film, waiting for the slowest rank, the
   // MPI calls, restoring the sum on rank 0.
   double read_seconds = 0.0, wait_seconds = 0.0, mpi_seconds = 0.0, restore_seconds = 0.0;
+  // Rank 0's error measurements on the summed film (the other ranks wait
+  // for its decision meanwhile). The film reads include waiting for the
+  // device to finish the round's queued work.
+  double measure_seconds = 0.0;
+  // Shared by pixels (the photon pass): what gathering the photon maps cost
+  // rank 0 (pixel_share.h).
+  bool by_pixels = false;
+  SharedPhotonTraffic photon_traffic;
 };
 
 // Rank 0's checkpoints: `write` gets the summed film's renderer every
@@ -61,6 +74,9 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
 // Every rank's film, summed on rank 0 (the union of their passes; on
 // other ranks the returned state is their own, unchanged in meaning).
 // Collective.
-FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine);
+// `by_pixels`: the ranks shared the render by pixels, each holding the same
+// passes of its own pixels (and zeros elsewhere): the pass sets must be
+// equal, and rank 0's per-pixel counts are the image's.
+FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine, bool by_pixels = false);
 
 }  // namespace caustica

@@ -13,13 +13,15 @@
 #include <string>
 #include <vector>
 
+#include "host/render/pixel_share.h"
+
 namespace caustica {
 
-class RankGroup {
+// The pixel-sharing collectives (PixelShare: the photon pass under ranks)
+// are the render core's view of the same group.
+class RankGroup : public PixelShare {
  public:
-  virtual ~RankGroup() = default;
-  virtual int rank() const = 0;
-  virtual int size() const = 0;
+  ~RankGroup() override = default;
   virtual int local_rank() const = 0;  // among the ranks on this machine (picks a device)
   // Returns once every rank has called it.
   virtual void barrier() = 0;

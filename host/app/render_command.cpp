@@ -338,11 +338,6 @@ int run_render(RenderArgs& a) {
   if (distributed && session->settings.adaptive)
     throw Error(ranks_text(a) + ": adaptive sampling plans each wave from the error of the whole film, which no "
                 "rank holds: add --no-adaptive (docs/distributed.md)");
-  if (distributed && session->settings.caustics)
-    throw Error(ranks_text(a) + ": the photon pass (--caustics " +
-                std::string(a.session.caustics == CausticsMode::On ? "on" : "auto, which found caustics here") +
-                ") keeps per-pixel statistics that are not sums of passes, so ranks cannot add them: add --caustics "
-                "off (docs/distributed.md)");
   if (!a.passes.empty()) {
     if (session->mode != RenderMode::Path)
       throw Error("--passes " + a.passes + ": only path mode takes several passes (binary and phong take one)");
@@ -467,10 +462,18 @@ int run_render(RenderArgs& a) {
     if (a.verbose)
       std::fprintf(stderr,
                    "[caustica] %d ranks: %s summed on rank 0 in %d reductions, %.3f s (film reads %.3f s, waiting for "
-                   "ranks %.3f s, MPI %.3f s, restore %.3f s)\n",
+                   "ranks %.3f s, MPI %.3f s, restore %.3f s); its error measurements %.3f s\n",
                    a.ranks->size(), shown->film().held().describe().c_str(), summed.reductions,
                    summed.reduction_seconds, summed.read_seconds, summed.wait_seconds, summed.mpi_seconds,
-                   summed.restore_seconds);
+                   summed.restore_seconds, summed.measure_seconds);
+    if (a.verbose && summed.by_pixels)
+      std::fprintf(stderr,
+                   "[caustica] %d ranks shared the photon pass by pixels: %u photon maps gathered to every rank, "
+                   "%.0f bytes a map; rank 0 waited %.4f s a map for the slowest rank and gathered in %.4f s a map\n",
+                   a.ranks->size(), stats.photon_maps,
+                   double(summed.photon_traffic.bytes) / std::max(1u, stats.photon_maps),
+                   summed.photon_traffic.wait_seconds / std::max(1u, stats.photon_maps),
+                   summed.photon_traffic.gather_seconds / std::max(1u, stats.photon_maps));
   }
   const ImageF image = distributed ? summed.image : session->renderer->render(
       &stats, [&](const PassProgress& p) { progress.update(p); },

@@ -1,8 +1,9 @@
 // What a render of part of the passes may do: `--passes START:END` (one
 // process, a part for `caustica merge`) and a render under mpirun with
 // several ranks (host/app/distributed_render.h). Both refuse adaptive
-// sampling and the photon pass, whose state is not a sum of passes
-// (docs/distributed.md says why).
+// sampling; --passes refuses the photon pass, whose state is not a sum of
+// passes, and ranks share it by pixels instead (render_command.cpp refuses
+// its `auto`; docs/distributed.md says why).
 #include <cctype>
 #include <cstdlib>
 #include <limits>
@@ -43,9 +44,6 @@ void check_distributed_options(RenderArgs& a) {
   refuse(!a.passes.empty(), "--passes", "is for one process: the ranks split the passes themselves");
   refuse(a.write_every_s > 0.0, "--write-every", "is not supported yet (it would sum the films at every write)");
   refuse(!a.spp_map.empty(), "--spp-map", "draws adaptive sampling's counts: ranks sample uniformly");
-  if (a.session.caustics == CausticsMode::On)
-    throw Error(ranks + ": the photon pass (--caustics on) keeps per-pixel statistics that are not sums of passes, "
-                "so ranks cannot add them: add --caustics off (docs/distributed.md)");
   // --device A,B,...: rank with local rank L takes entry L mod count.
   const std::string& spec = a.session.device;
   if (spec.find(',') != std::string::npos) {

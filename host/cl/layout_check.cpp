@@ -81,8 +81,9 @@ static_assert(sizeof(PhotonGridParams) == 32 && offsetof(PhotonGridParams, cell_
                   offsetof(PhotonGridParams, inv_cell_size) == 20 && offsetof(PhotonGridParams, table_size) == 24 &&
                   offsetof(PhotonGridParams, photon_count) == 28,
               "PhotonGridParams layout");
-static_assert(sizeof(PhotonPassParams) == 48 && offsetof(PhotonPassParams, alpha) == 24 &&
-                  offsetof(PhotonPassParams, radius_cap) == 28 && offsetof(PhotonPassParams, footprint_radius) == 32,
+static_assert(sizeof(PhotonPassParams) == 64 && offsetof(PhotonPassParams, alpha) == 24 &&
+                  offsetof(PhotonPassParams, radius_cap) == 28 && offsetof(PhotonPassParams, footprint_radius) == 32 &&
+                  offsetof(PhotonPassParams, first_photon) == 36 && offsetof(PhotonPassParams, pixel_end) == 48,
               "PhotonPassParams layout");
 static_assert(sizeof(VisiblePoint) == 96 && offsetof(VisiblePoint, recorded) == 12 &&
                   offsetof(VisiblePoint, normal) == 16 && offsetof(VisiblePoint, depth) == 28 &&

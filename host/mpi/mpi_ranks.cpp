@@ -118,6 +118,52 @@ std::vector<std::vector<int32_t>> MpiRanks::gather_to_root(const std::vector<int
   return out;
 }
 
+// Byte counts and offsets of every rank's part (MPI's counts are ints).
+namespace {
+std::vector<int> offsets_of(const std::vector<int>& counts, const char* what) {
+  std::vector<int> offsets;
+  size_t total = 0;
+  for (int c : counts) {
+    offsets.push_back(count_of(total, what));
+    total += size_t(c);
+  }
+  count_of(total, what);
+  return offsets;
+}
+}  // namespace
+
+std::string MpiRanks::gather_bytes_to_all(const std::string& mine) {
+  int n = count_of(mine.size(), "a gather of bytes");
+  std::vector<int> counts(size_t(size_), 0);
+  check(MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  const std::vector<int> offsets = offsets_of(counts, "a gather of bytes");
+  std::string all(size_t(offsets.back()) + size_t(counts.back()), '\0');
+  check(MPI_Allgatherv(mine.data(), n, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, MPI_COMM_WORLD),
+        "MPI_Allgatherv");
+  return all;
+}
+
+std::vector<std::string> MpiRanks::gather_bytes_to_root(const std::string& mine) {
+  int n = count_of(mine.size(), "a gather of bytes");
+  std::vector<int> counts(rank_ == 0 ? size_t(size_) : 0u), offsets;
+  check(MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
+  std::string all;
+  if (rank_ == 0) {
+    offsets = offsets_of(counts, "a gather of bytes");
+    all.resize(size_t(offsets.back()) + size_t(counts.back()));
+  }
+  check(MPI_Gatherv(mine.data(), n, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, 0, MPI_COMM_WORLD),
+        "MPI_Gatherv");
+  std::vector<std::string> out;
+  for (int r = 0; rank_ == 0 && r < size_; ++r) out.push_back(all.substr(size_t(offsets[size_t(r)]), size_t(counts[size_t(r)])));
+  return out;
+}
+
+void MpiRanks::sum_to_all(std::vector<uint64_t>& v) {
+  check(MPI_Allreduce(MPI_IN_PLACE, v.data(), count_of(v.size(), "a sum"), MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD),
+        "MPI_Allreduce");
+}
+
 void MpiRanks::abort(int code) {
   MPI_Abort(MPI_COMM_WORLD, code);
   std::_Exit(code);

@@ -34,6 +34,9 @@ class MpiRanks final : public RankGroup {
   void sum_to_root(std::vector<uint32_t>& values) override;
   void max_to_all(std::vector<uint64_t>& values) override;
   std::vector<std::vector<int32_t>> gather_to_root(const std::vector<int32_t>& values) override;
+  std::string gather_bytes_to_all(const std::string& mine) override;
+  std::vector<std::string> gather_bytes_to_root(const std::string& mine) override;
+  void sum_to_all(std::vector<uint64_t>& values) override;
   [[noreturn]] void abort(int code) override;
 
  private:

@@ -24,6 +24,7 @@
 #include "host/render/adaptive_sampling.h"
 #include "host/render/film.h"
 #include "host/render/photon_stats.h"
+#include "host/render/pixel_share.h"
 #include "host/scene/scene.h"
 
 namespace caustica {
@@ -162,6 +163,26 @@ class Integrator {
   virtual void restore_state(Film& /*film*/, const std::string& bytes, const std::string& what) {
     if (!bytes.empty()) throw Error(what + ": integrator state for a " + name_ + " render that keeps none");
   }
+
+  // A render shared by pixels among processes (host/render/pixel_share.h):
+  // true when this integrator keeps per-pixel state beyond the film (path
+  // mode's photon pass) and so from now on traces its share of each photon
+  // map and updates its window's statistics only (the driver then traces
+  // that window: StopConditions); false: nothing to share by pixels, the
+  // processes split passes instead.
+  virtual bool share_pixels(PixelShare* /*share*/) { return false; }
+  // Shared by pixels, between waves: this process's per-pixel state of its
+  // window as bytes (`for_state`: all of it; else what the image and its
+  // error estimate need), and (rank 0) every other process's put into its
+  // own, so that state() is the whole image's.
+  virtual std::string pixel_slice(bool /*for_state*/) const { return {}; }
+  virtual void put_pixel_slices(const std::vector<std::string>& /*by_rank*/) {}
+  // Shared by pixels, a process other than rank 0 resuming a state: zero
+  // the sums the processes keep apart (its film's are zeroed by the
+  // caller; the photon pass's gather counters here).
+  virtual void zero_shared_sums() {}
+  // Shared by pixels: what gathering the photon maps cost this process.
+  virtual SharedPhotonTraffic shared_photon_traffic() const { return {}; }
 
   const char* name() const { return name_; }  // the mode, as --mode spells it
   // Pixels per chunk its queues are sized for.

@@ -109,6 +109,7 @@ class PathIntegrator final : public Integrator {
   uint32_t passes_counted_ = 0;           // passes whose inline gathers the counters hold
   uint32_t passes_since_photons_ = 0;     // 0: this pass traces and gathers a photon map
   bool photon_pass_now_ = false;
+  PixelShare* share_ = nullptr;           // shared by pixels among processes (share_pixels)
 
   void decide_photon_pass(const Film& film);
 
@@ -193,6 +194,27 @@ class PathIntegrator final : public Integrator {
     if (!in.done()) throw Error(what + ": bytes after the photon pass's state");
     // Added to the image even when no pass is left to run.
     film.set_separate_estimate(photons_.get());
+  }
+  // The photon pass under ranks (docs/distributed.md): shared by pixels.
+  // `auto` decides from the whole image's counts and film, which every
+  // process gathers at its three decisions (decide_photon_pass).
+  bool share_pixels(PixelShare* share) override {
+    if (!photons_) return false;
+    share_ = share && share->size() > 1 ? share : nullptr;
+    photons_->share(share);
+    return true;
+  }
+  void zero_shared_sums() override {
+    if (photons_) photons_->zero_counters();
+  }
+  std::string pixel_slice(bool for_state) const override {
+    return photons_ ? photons_->pixel_slice(for_state) : std::string();
+  }
+  void put_pixel_slices(const std::vector<std::string>& by_rank) override {
+    if (photons_) photons_->put_pixel_slices(by_rank);
+  }
+  SharedPhotonTraffic shared_photon_traffic() const override {
+    return photons_ ? photons_->traffic() : SharedPhotonTraffic{};
   }
   void collect(RenderStats* stats) override {
     if (photons_ && stats) {
@@ -353,12 +375,16 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
 void PathIntegrator::decide_photon_pass(const Film& film) {
   const uint32_t maps = photons_->photon_passes();
   const int done = film.passes() + 1;
-  const PhotonGatherStats& g = photons_->last_pass_gathers();
-  const double camera_work = double(pass_rays_);
+  const PhotonGatherStats& g = photons_->last_pass_gathers();  // summed over the processes already
+  // Shared by pixels: this process's rays are its window's and its share
+  // of the photons'; the decisions weigh the whole image's.
+  std::vector<uint64_t> rays = {pass_rays_, photons_->last_pass_photon_rays()};
+  if (share_) share_->sum_to_all(rays);
+  const double camera_work = double(rays[0]);
   // the inline gathers of one pass (the counters hold passes_counted_ of them)
   const double inline_work = (kLaterGatherWork * double(g.gathers_later) + kVisitWork * double(g.visits_later)) /
                              double(std::max(1u, passes_counted_));
-  const double map_work = kPhotonRayWork * double(photons_->last_pass_photon_rays()) +
+  const double map_work = kPhotonRayWork * double(rays[1]) +
                           kStoredPhotonWork * double(photons_->last_pass_stored()) +
                           kVisiblePointGatherWork * double(g.gathers_d1) + kVisitWork * double(g.visits_d1);
   char line[400];
@@ -390,8 +416,11 @@ void PathIntegrator::decide_photon_pass(const Film& film) {
     return;
   }
   if (maps == 2) {
-    // The accumulated passes (this one is not yet) with the caustic image.
-    const ImageF image = film.mean();
+    // The accumulated passes (this one is not yet) with the caustic image
+    // (shared by pixels: every window's, gathered; the sums below then run
+    // over the pixels in order, as in one process).
+    photons_->gather_pixels_to_all();
+    const ImageF image = photons_->whole_image(film.mean());
     double total = 0.0;
     for (float v : image.rgb) total += v;
     const double caustic = photons_->caustic_total(film.spp_after_wave());
@@ -417,7 +446,11 @@ void PathIntegrator::decide_photon_pass(const Film& film) {
   // at least the interval the work share allows and at most
   // kLongestInterval.
   balanced_ = true;
-  const ImageF mean = film.mean(), half = film.half_mean(), map_error = film.separate_variance();
+  // Shared by pixels: every window's statistics and images, gathered (the
+  // photon map's bias term reads each pixel's neighbours).
+  photons_->gather_pixels_to_all();
+  const ImageF mean = photons_->whole_image(film.mean()), half = photons_->whole_image(film.half_mean()),
+               map_error = film.separate_variance();
   const double passes_error = estimated_rel_mse(mean, half, film.pixel_spp(), film.half_counts());
   double map_sum = 0.0;
   for (size_t i = 0; i < mean.rgb.size(); ++i)

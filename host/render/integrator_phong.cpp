@@ -39,7 +39,8 @@ class PhongIntegrator final : public Integrator {
   void begin_pass(Film& film, RenderStats* stats) override {
     if (!photons_) return;
     if (film.passes() == 0) photons_->clear();
-    photons_->trace(stats);
+    // keyed by the absolute pass: ranks trace interleaved passes
+    photons_->trace_map(uint32_t(film.wave_first_pass()), stats);
   }
   // --caustics on: the photon pass's maps and radius schedule (render_state.h).
   std::string state() const override {

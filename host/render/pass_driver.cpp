@@ -25,6 +25,7 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
                      const PassDoneCallback& pass_done) {
   const size_t pixels = film_.pixel_count();
   const size_t chunk = std::max<size_t>(1, integrator_.chunk_pixels());
+  const size_t pixel_end = std::min(pixels, stop.pixel_end), first_pixel = std::min(stop.first_pixel, pixel_end);
   const auto t0 = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   const bool timed = stop.seconds > 0.0;
@@ -57,12 +58,12 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
       film_.plan_wave(wave, {}, pass);
     integrator_.begin_pass(film_, stats);
     bool abandoned = false;
-    for (size_t first = 0; first < pixels; first += chunk) {
-      if (timed && pass > first_pass && first > 0 && seconds() > stop.seconds + 0.9 * tolerance) {
+    for (size_t first = first_pixel; first < pixel_end; first += chunk) {
+      if (timed && pass > first_pass && first > first_pixel && seconds() > stop.seconds + 0.9 * tolerance) {
         abandoned = true;
         break;
       }
-      trace_chunk(first, std::min(chunk, pixels - first), wave, stats);
+      trace_chunk(first, std::min(chunk, pixel_end - first), wave, stats);
       if (progress)
         progress(PassProgress{film_.passes() + wave - 1, target, seconds(), stop.seconds,
                               std::min(pixels, first + chunk), pixels, stats, first_count});

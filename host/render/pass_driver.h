@@ -25,6 +25,8 @@
 // The first pass of a run always runs to the end.
 #pragma once
 
+#include <cstdint>
+
 #include <functional>
 
 #include <optional>
@@ -58,6 +60,9 @@ struct StopConditions {
   int passes = 1;
   int first_pass = 0;
   double seconds = 0.0;  // wall-time limit (above; at least one pass runs); 0: none
+  // The pixels traced: [first_pixel, pixel_end) of the image (a render
+  // shared by pixels among processes: pixel_share.h); all by default.
+  size_t first_pixel = 0, pixel_end = SIZE_MAX;
 };
 
 // How far past a time limit T a render may end: max(0.5 s, 5% of T).

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <map>
+#include <tuple>
 
 #include "host/cl/runtime.h"
 #include "host/render/device_scene.h"
@@ -146,12 +148,133 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
   // query meets near it small numbers.
   const glm::vec3 eye = scene.scene().camera.position;
   origin_ = {eye.x, eye.y, eye.z};
+  pixel_end_ = pixel_count_;
+  photon_end_ = photons_per_pass_;
   clear();
+}
+
+void PhotonPass::share(PixelShare* share) {
+  if (gather_mode_ != PhotonGather::PerPixel)
+    throw Error("photon pass: only path mode's per-pixel statistics are shared by pixels");
+  share_ = share && share->size() > 1 ? share : nullptr;
+  const int rank = share_ ? share_->rank() : 0, size = share_ ? share_->size() : 1;
+  std::tie(first_pixel_, pixel_end_) = share_of(pixel_count_, rank, size);
+  const auto [first, end] = share_of(photons_per_pass_, rank, size);
+  first_photon_ = uint32_t(first);
+  photon_end_ = uint32_t(end);
+}
+
+std::string PhotonPass::pixel_slice(bool whole_state) const {
+  const size_t n = pixel_end_ - first_pixel_;
+  const size_t counters = GATHER_COUNTERS * sizeof(cl_ulong);
+  std::string out(n * sizeof(SppmPixel) + (whole_state ? n * sizeof(VisiblePoint) + counters : 0), '\0');
+  auto& queue = launcher_.runtime().queue();
+  if (n > 0)
+    queue.enqueueReadBuffer(pixels_, CL_TRUE, first_pixel_ * sizeof(SppmPixel), n * sizeof(SppmPixel), out.data());
+  if (!whole_state) return out;
+  if (n > 0)
+    queue.enqueueReadBuffer(visible_points_, CL_TRUE, first_pixel_ * sizeof(VisiblePoint), n * sizeof(VisiblePoint),
+                            out.data() + n * sizeof(SppmPixel));
+  queue.enqueueReadBuffer(gather_counters_, CL_TRUE, 0, counters, out.data() + n * (sizeof(SppmPixel) + sizeof(VisiblePoint)));
+  return out;
+}
+
+void PhotonPass::put_pixel_slices(const std::vector<std::string>& by_rank) {
+  if (!share_) return;
+  if (by_rank.size() != size_t(share_->size()))
+    throw Error("photon pass: " + std::to_string(by_rank.size()) + " pixel slices for " +
+                std::to_string(share_->size()) + " processes");
+  auto& queue = launcher_.runtime().queue();
+  const size_t counters = GATHER_COUNTERS * sizeof(cl_ulong);
+  others_counters_.assign(GATHER_COUNTERS, 0);
+  for (int r = 0; r < share_->size(); ++r) {
+    if (r == share_->rank()) continue;
+    const auto [first, end] = share_of(pixel_count_, r, share_->size());
+    const size_t n = end - first;
+    const std::string& bytes = by_rank[size_t(r)];
+    const bool whole_state = bytes.size() == n * (sizeof(SppmPixel) + sizeof(VisiblePoint)) + counters;
+    if (!whole_state && bytes.size() != n * sizeof(SppmPixel))
+      throw Error("photon pass: process " + std::to_string(r) + " sent " + std::to_string(bytes.size()) +
+                  " bytes of SPPM pixels for its " + std::to_string(n) + " pixels");
+    if (n > 0)
+      queue.enqueueWriteBuffer(pixels_, CL_TRUE, first * sizeof(SppmPixel), n * sizeof(SppmPixel), bytes.data());
+    if (!whole_state) continue;
+    if (n > 0)
+      queue.enqueueWriteBuffer(visible_points_, CL_TRUE, first * sizeof(VisiblePoint), n * sizeof(VisiblePoint),
+                               bytes.data() + n * sizeof(SppmPixel));
+    // Its gather counters since the latest map (the passes' inline
+    // gathers, which `auto` weighs at the next map): the state's are the
+    // sum over the processes.
+    std::vector<uint64_t> c(GATHER_COUNTERS);
+    std::memcpy(c.data(), bytes.data() + n * (sizeof(SppmPixel) + sizeof(VisiblePoint)), counters);
+    for (size_t i = 0; i < c.size(); ++i) others_counters_[i] += c[i];
+  }
+}
+
+void PhotonPass::gather_pixels_to_all() {
+  if (!share_) return;
+  const std::string all = share_->gather_bytes_to_all(pixel_slice(false));
+  if (all.size() != pixel_count_ * sizeof(SppmPixel))
+    throw Error("photon pass: " + std::to_string(all.size()) + " bytes of SPPM pixels gathered for " +
+                std::to_string(pixel_count_) + " pixels");
+  // Windows in rank order are the pixels in order: the whole buffer (this
+  // process's own window comes back unchanged).
+  if (!all.empty()) launcher_.runtime().queue().enqueueWriteBuffer(pixels_, CL_TRUE, 0, all.size(), all.data());
+}
+
+ImageF PhotonPass::whole_image(const ImageF& mine) const {
+  if (!share_) return mine;
+  if (mine.pixel_count() != pixel_count_) throw Error("photon pass: an image of another size than the render's");
+  const std::string bytes(reinterpret_cast<const char*>(mine.rgb.data() + 3 * first_pixel_),
+                          3 * (pixel_end_ - first_pixel_) * sizeof(float));
+  const std::string all = share_->gather_bytes_to_all(bytes);
+  ImageF whole(mine.width, mine.height);
+  if (all.size() != whole.rgb.size() * sizeof(float))
+    throw Error("photon pass: " + std::to_string(all.size()) + " bytes of an image gathered for " +
+                std::to_string(pixel_count_) + " pixels");
+  std::memcpy(whole.rgb.data(), all.data(), all.size());
+  return whole;
+}
+
+void PhotonPass::zero_counters() {
+  if (gather_mode_ == PhotonGather::PerPixel)
+    launcher_.runtime().fill(gather_counters_, cl_ulong(0), 0, GATHER_COUNTERS * sizeof(cl_ulong));
+}
+
+void PhotonPass::exchange_photons(RenderStats* stats) {
+  Runtime& rt = launcher_.runtime();
+  const uint32_t mine = launcher_.read_count(stored_count_, stats);
+  std::string bytes(size_t(mine) * sizeof(Photon), '\0');
+  if (mine > 0) rt.queue().enqueueReadBuffer(photons_, CL_TRUE, 0, bytes.size(), bytes.data());
+  // The map's total first: its wait is the ranks' imbalance (the slowest
+  // one's photons and pixels), the gather after it the transfer.
+  auto since = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<uint64_t> count = {mine};
+  share_->sum_to_all(count);
+  traffic_.wait_seconds += since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
+  const std::string all = share_->gather_bytes_to_all(bytes);
+  traffic_.gather_seconds += since(t1);
+  if (all.size() != count[0] * sizeof(Photon))
+    throw Error("photon pass: " + std::to_string(all.size()) + " bytes of photons gathered, " +
+                std::to_string(count[0]) + " photons counted");
+  // A photon path stores one photon at most: the map fits the buffer.
+  const size_t total = all.size() / sizeof(Photon);
+  if (total > photons_per_pass_)
+    throw Error("photon pass: " + std::to_string(total) + " photons gathered for a map of " +
+                std::to_string(photons_per_pass_));
+  if (!all.empty()) rt.queue().enqueueWriteBuffer(photons_, CL_TRUE, 0, all.size(), all.data());
+  launcher_.write_count(stored_count_, uint32_t(total), stats);
+  traffic_.bytes += all.size();
 }
 
 PhotonPass::~PhotonPass() = default;
 
 void PhotonPass::clear() {
+  others_counters_.clear();
   cell_size_ = first_cell_size_;
   on_ = true;
   maps_ = gathered_ = 0;
@@ -198,6 +321,10 @@ PhotonPassParams PhotonPass::params(uint32_t map_index) const {
   // footprint; never above one cell of this pass's grid.
   p.radius_cap = fixed_radius_ ? std::min(first_cell_size_, cell_size_) : cell_size_;
   p.footprint_radius = fixed_radius_ ? 0u : 1u;
+  p.first_photon = first_photon_;
+  p.photon_end = photon_end_;
+  p.first_pixel = cl_uint(first_pixel_);
+  p.pixel_end = cl_uint(pixel_end_);
   return p;
 }
 
@@ -217,8 +344,11 @@ void PhotonPass::trace(RenderStats* stats) {
       .queue("out", queues_[0], loop_->traced_count(0))
       .arg("next_count", loop_->pushed_count(0))
       .finish();
-  launcher_.launch(emit_, photons_per_pass_, stats);
+  // This process's photons only (all of them in one process); the flags
+  // of the others stay 0, so the compaction packs its share from slot 0.
+  const uint32_t traced = photon_end_ - first_photon_;
   launcher_.runtime().fill(stored_, cl_uint(0), 0, size_t(photons_per_pass_) * sizeof(cl_uint));
+  if (traced > 0) launcher_.launch(emit_, traced, stats);
   auto enqueue = [&](uint32_t j, size_t bound) {
     const DeviceQueue& current = queues_[j % 2];
     const DeviceQueue& next = queues_[(j + 1) % 2];
@@ -244,8 +374,8 @@ void PhotonPass::trace(RenderStats* stats) {
     const cl_uint remaining = std::min(after.queue_count(seen + 1), photons_per_pass_);
     return remaining == 0 ? WaveLoop::kStop : remaining;
   };
-  loop_->run(photons_per_pass_, ~0u, enqueue, decide, stats);
-  const cl_uint rays = loop_->last().extra(0) - photon_rays_seen_;  // the counter runs over the render (mod 2^32)
+  if (traced > 0) loop_->run(traced, ~0u, enqueue, decide, stats);
+  const cl_uint rays = traced > 0 ? loop_->last().extra(0) - photon_rays_seen_ : 0u;  // the counter runs over the render (mod 2^32)
   photon_rays_seen_ += rays;
   if (stats) stats->photon_rays += rays;
   last_photon_rays_ = rays;
@@ -263,6 +393,7 @@ void PhotonPass::trace(RenderStats* stats) {
       .finish();
   launcher_.launch(compact_, photons_per_pass_, stats);
   launcher_.runtime().copy(offsets_, stored_count_, size_t(photons_per_pass_) * sizeof(cl_uint), 0, sizeof(cl_uint));
+  if (share_) exchange_photons(stats);
   PhotonGridShape shape;
   shape.origin = origin_;
   if (gather_mode_ == PhotonGather::SharedRadius) cell_size_ = shared_radius(pass_index);
@@ -302,7 +433,16 @@ void PhotonPass::save(StateWriter& out) const {
   const bool per_pixel = gather_mode_ == PhotonGather::PerPixel;
   out.blob(per_pixel ? read_bytes(rt, pixels_, pixel_count_ * sizeof(SppmPixel)) : std::string());
   out.blob(per_pixel ? read_bytes(rt, visible_points_, pixel_count_ * sizeof(VisiblePoint)) : std::string());
-  out.blob(per_pixel ? read_bytes(rt, gather_counters_, GATHER_COUNTERS * sizeof(cl_ulong)) : std::string());
+  std::string counters = per_pixel ? read_bytes(rt, gather_counters_, GATHER_COUNTERS * sizeof(cl_ulong)) : std::string();
+  if (per_pixel && others_counters_.size() == GATHER_COUNTERS) {
+    // Shared by pixels (rank 0 for the whole render's state): every other
+    // process's counters added.
+    std::vector<uint64_t> c(GATHER_COUNTERS);
+    std::memcpy(c.data(), counters.data(), counters.size());
+    for (size_t i = 0; i < c.size(); ++i) c[i] += others_counters_[i];
+    std::memcpy(counters.data(), c.data(), counters.size());
+  }
+  out.blob(counters);
   // The latest map: its stored photons (the counter may have run past the
   // buffer: the grid holds at most photons_per_pass_ of them).
   out.put(uint64_t(last_stored_));
@@ -354,9 +494,9 @@ void PhotonPass::gather(RenderStats* stats) {
       .arg("pixels", pixels_)
       .arg("gather_counters", gather_counters_)
       .finish();
-  launcher_.launch(gather_, pixel_count_, stats);
+  launcher_.launch(gather_, pixel_end_ - first_pixel_, stats);
   ++gathered_;
-  read_counters(stats);
+  read_counters(stats, /*summed=*/true);
   stats_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // The next grid's cells follow the visible points' radii.
   uint64_t radii = 0;
@@ -376,12 +516,17 @@ void PhotonPass::gather(RenderStats* stats) {
   }
 }
 
-void PhotonPass::read_counters(RenderStats* stats) {
+void PhotonPass::read_counters(RenderStats* stats) { read_counters(stats, false); }
+
+void PhotonPass::read_counters(RenderStats* stats, bool summed) {
   if (gather_mode_ != PhotonGather::PerPixel) return;
-  std::array<cl_ulong, GATHER_COUNTERS> c{};
-  launcher_.runtime().queue().enqueueReadBuffer(gather_counters_, CL_TRUE, 0, sizeof(c), c.data());
+  std::vector<uint64_t> c(GATHER_COUNTERS, 0);
+  launcher_.runtime().queue().enqueueReadBuffer(gather_counters_, CL_TRUE, 0, c.size() * sizeof(cl_ulong), c.data());
   launcher_.runtime().fill(gather_counters_, cl_ulong(0), 0, GATHER_COUNTERS * sizeof(cl_ulong));
   if (stats) ++stats->blocking_transfers;
+  // Shared by pixels: the whole image's counts (the radius histogram sizes
+  // every process's next cells alike).
+  if (summed && share_) share_->sum_to_all(c);
   PhotonGatherStats g;
   g.visits_d1 = c[GATHER_COUNT_VISITS_D1];
   g.visits_later = c[GATHER_COUNT_VISITS_LATER];

@@ -29,6 +29,7 @@
 #include "host/render/film.h"
 #include "host/render/kernel_args.h"
 #include "host/render/photon_grid.h"
+#include "host/render/pixel_share.h"
 #include "host/render/photon_stats.h"
 
 namespace caustica {
@@ -89,6 +90,33 @@ class PhotonPass final : public SeparateEstimate {
   ~PhotonPass() override;
 
   void clear();  // a new render: radii back to the initial one, no photons
+  // A render shared by pixels among processes (pixel_share.h; PerPixel
+  // only): from now on this process traces its slice of each map's
+  // photons, gathers every process's stored photons in rank order (photon
+  // order: the map one process would build) and updates the SPPM
+  // statistics of its window of pixels only; the gather counters (the
+  // radius histogram the next cells follow) are summed over the processes.
+  // `share` outlives the pass.
+  void share(PixelShare* share);
+  std::pair<size_t, size_t> pixel_window() const { return {first_pixel_, pixel_end_}; }
+  // The SPPM statistics of this process's window, and with `whole_state`
+  // its visible points and gather counters too (only a state file needs
+  // them: the image and its error estimate read the statistics), as bytes;
+  // and (rank 0) putting every other process's into its own buffers
+  // (before save() or add_to: the whole image's; the others' counters are
+  // added in save() only, since this process's own go on counting).
+  // Between waves.
+  std::string pixel_slice(bool whole_state) const;
+  void put_pixel_slices(const std::vector<std::string>& by_rank);
+  // `auto`'s decisions, shared by pixels (collective): every process's
+  // window of statistics into every process's buffers, and an image of
+  // which this process holds its window made whole. One process: nothing
+  // to do.
+  void gather_pixels_to_all();
+  ImageF whole_image(const ImageF& mine) const;
+  // A process other than rank 0 resuming a state: its gather counters
+  // start at zero (rank 0's hold the state's).
+  void zero_counters();
   // Render state files (host/render/render_state.h), between waves: the
   // schedule (maps, gathers, on or off, the cells), every pixel's SPPM
   // statistics and visible point, the gather counters of the passes since
@@ -100,6 +128,13 @@ class PhotonPass final : public SeparateEstimate {
   // one every few camera passes, integrator_path.cpp), before a camera
   // pass's chunks.
   void trace(RenderStats* stats);
+  // SharedRadius (phong: a map every pass): map `map_index`, the absolute
+  // pass index, whose radius and random numbers are the same however the
+  // passes are split (MPI ranks trace interleaved passes).
+  void trace_map(uint32_t map_index, RenderStats* stats) {
+    maps_ = map_index;
+    trace(stats);
+  }
   // After that pass's chunks: every pixel gathers the map (PerPixel).
   void gather(RenderStats* stats);
   uint32_t photon_passes() const { return maps_; }
@@ -151,6 +186,8 @@ class PhotonPass final : public SeparateEstimate {
   void add_to(ImageF& image, const std::vector<uint32_t>& spp) const override;
 
   const PhotonPassStats& stats() const { return stats_; }
+  // Shared by pixels: what gathering the maps cost so far (pixel_share.h).
+  SharedPhotonTraffic traffic() const { return traffic_; }
   const PhotonGrid& grid() const { return grid_; }  // this pass's photon map
 
  private:
@@ -159,6 +196,11 @@ class PhotonPass final : public SeparateEstimate {
   double film_share(size_t p, const std::vector<uint32_t>& spp) const;
 
   std::vector<SppmPixel> read_pixels() const;
+  // read_counters, the gather's: summed over the processes first when shared.
+  void read_counters(RenderStats* stats, bool summed);
+  // Shared: every process's stored photons of this map into photons_ and
+  // stored_count_, in rank order.
+  void exchange_photons(RenderStats* stats);
 
   PhotonGather gather_mode_;
   StageLauncher& launcher_;
@@ -166,6 +208,9 @@ class PhotonPass final : public SeparateEstimate {
   const cl::Buffer& lights_;
   uint32_t light_count_, photons_per_pass_, max_depth_, seed_, caster_count_ = 0;
   size_t pixel_count_;
+  PixelShare* share_ = nullptr;  // shared by pixels among processes; nullptr: one process
+  size_t first_pixel_ = 0, pixel_end_ = 0;  // this process's pixels (all of them in one)
+  uint32_t first_photon_ = 0, photon_end_ = 0;  // its photons of each map (all of them in one)
   float first_cell_size_;  // the first pass's cells
   std::array<float, 3> origin_{};
   float cell_size_;
@@ -187,6 +232,8 @@ class PhotonPass final : public SeparateEstimate {
   ExclusiveScan scan_;
   PhotonGrid grid_;
   PhotonPassStats stats_;
+  SharedPhotonTraffic traffic_;  // shared by pixels: the maps' gathers, over the render
+  std::vector<uint64_t> others_counters_;  // rank 0: the other processes' gather counters (put_pixel_slices)
 };
 
 }  // namespace caustica

@@ -122,12 +122,15 @@ __kernel void emit_photons(__global const Light* restrict lights,
                            __global const float* restrict environment, PhotonPassParams params,
                            __global const float4* restrict casters, uint caster_count, PHOTON_QUEUE_PARAMS(out),
                            __global uint* restrict next_count) {
-  const uint i = get_global_id(0);
-  if (i == 0) { /* the wave loop's counts (host/render/wave_loop.h): the host writes none */
-    *out_count = params.photon_count;
+  /* This process's photons [first_photon, photon_end) (all of them in one
+   * process): photon i's random numbers are keyed by i, so a share traces
+   * exactly the photons one process would, in queue slots from 0. */
+  const uint slot = get_global_id(0), i = params.first_photon + slot;
+  if (slot == 0) { /* the wave loop's counts (host/render/wave_loop.h): the host writes none */
+    *out_count = params.photon_end - params.first_photon;
     *next_count = 0u;
   }
-  if (i >= params.photon_count) return;
+  if (i >= params.photon_end) return;
   const uint li = pick_light(lights, params.light_count, photon_random(i, params, 0u));
   __global const Light* l = &lights[li];
   const float2 u_point = (float2)(photon_random(i, params, 1u), photon_random(i, params, 2u));
@@ -162,5 +165,5 @@ __kernel void emit_photons(__global const Light* restrict lights,
   photon.depth = 0u;
   photon.path_length = 0.0f;
   photon.flags = flags;
-  photon_store(PHOTON_QUEUE_ARGS(out), i, photon);
+  photon_store(PHOTON_QUEUE_ARGS(out), slot, photon);
 }

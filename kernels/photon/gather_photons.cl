@@ -35,8 +35,9 @@
 __kernel void gather_photons(PhotonPassParams params, PHOTON_GRID_PARAMS,
                              __global VisiblePoint* restrict visible_points, __global SppmPixel* restrict pixels,
                              volatile __global ulong* restrict gather_counters) {
-  const uint i = get_global_id(0);
-  if (i >= params.pixel_count) return;
+  /* This process's pixels [first_pixel, pixel_end) (all of them in one process). */
+  const uint i = params.first_pixel + get_global_id(0);
+  if (i >= params.pixel_end) return;
   SppmPixel px = pixels[i];
   const VisiblePoint vp = visible_points[i];
   visible_points[i].recorded = 0u;

@@ -126,8 +126,12 @@ typedef struct {
   float alpha;          /* SPPM's radius reduction (2/3) */
   float radius_cap;     /* gather: the largest radius (one grid cell) */
   cs_uint footprint_radius; /* gather: 1: a pixel's radius starts at its footprint, 0: at radius_cap (--caustic-radius) */
+  /* A process's share of the pass (host/render/pixel_share.h; one process:
+   * all of it): emit traces photons [first_photon, photon_end) of the
+   * photon_count, the gather pixels [first_pixel, pixel_end). */
+  cs_uint first_photon, photon_end, first_pixel, pixel_end;
   cs_uint pad0, pad1, pad2;
-} PhotonPassParams; /* 48 bytes */
+} PhotonPassParams; /* 64 bytes */
 
 /* Where a camera path first reached a receiving surface in this pass (one
  * per pixel, written by shade_surface_path, read and cleared by the

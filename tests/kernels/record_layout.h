@@ -33,6 +33,7 @@
   X(__builtin_offsetof(PhotonGridParams, cell_size)) X(__builtin_offsetof(PhotonGridParams, table_size))     \
   X(__builtin_offsetof(PhotonGridParams, photon_count)) X(sizeof(PhotonPassParams))                            \
   X(__builtin_offsetof(PhotonPassParams, alpha)) X(__builtin_offsetof(PhotonPassParams, footprint_radius))        \
+  X(__builtin_offsetof(PhotonPassParams, first_photon)) X(__builtin_offsetof(PhotonPassParams, pixel_end))        \
   X(sizeof(VisiblePoint)) X(__builtin_offsetof(VisiblePoint, recorded)) X(__builtin_offsetof(VisiblePoint, depth))  \
   X(__builtin_offsetof(VisiblePoint, footprint)) X(__builtin_offsetof(VisiblePoint, beta))                         \
   X(__builtin_offsetof(VisiblePoint, kind)) X(__builtin_offsetof(VisiblePoint, alpha))                             \

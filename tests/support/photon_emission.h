@@ -43,7 +43,7 @@ inline std::vector<cs_float4> emit_photons_on_device(Session& s, const LightTabl
   DeviceQueue out(s.runtime->context(), photon_record_layout(), n);
   StageKernel emit(s.program.program, "emit_photons");
   PhotonPassParams p{};
-  p.photon_count = n;
+  p.photon_count = p.photon_end = n;
   p.light_count = cl_uint(table.lights.size());
   const cl::Buffer no_casters(s.runtime->context(), CL_MEM_READ_ONLY, sizeof(cs_float4));
   KernelArgs args(emit);

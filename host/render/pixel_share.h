@@ -1,0 +1,53 @@
+// A render shared by a group of processes by pixels (issue 23: the photon
+// pass under MPI ranks, docs/distributed.md): what the render core needs of
+// the group, so that it stays free of MPI (host/app/rank_group.h derives
+// from this; host/mpi/ implements it).
+//
+// Rules. Every process traces every pass, but only the camera paths of its
+// own window of pixels (pixel_window: contiguous, by rank), and only its
+// share of each photon map's photons (photon_slice: contiguous, by rank);
+// the stored photons are gathered to every process in rank order, which is
+// photon order, so every process builds the grid one process would, and
+// each pixel's SPPM statistics are updated by the one process that owns
+// it. The collectives below are called by every process in the same order.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace caustica {
+
+class PixelShare {
+ public:
+  virtual ~PixelShare() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  // Every process's `mine`, concatenated in rank order, on every process.
+  virtual std::string gather_bytes_to_all(const std::string& mine) = 0;
+  // On rank 0 every process's `mine`, by rank; elsewhere empty.
+  virtual std::vector<std::string> gather_bytes_to_root(const std::string& mine) = 0;
+  // Each value's sum over the processes, on every process (integers: exact).
+  virtual void sum_to_all(std::vector<uint64_t>& values) = 0;
+};
+
+// What sharing the photon maps cost a process, over a render: the bytes
+// of stored photons gathered to it (every map whole), the seconds waiting
+// for the slowest process before each gather (the imbalance of the
+// processes' photons and pixels), and the seconds in the gathers.
+struct SharedPhotonTraffic {
+  uint64_t bytes = 0;
+  double wait_seconds = 0.0, gather_seconds = 0.0;
+};
+
+// [begin, end) of `count` items that process `rank` of `size` takes:
+// contiguous, in rank order, sizes differing by one at most.
+inline std::pair<size_t, size_t> share_of(size_t count, int rank, int size) {
+  if (size <= 1) return {0, count};
+  const auto at = [&](int r) { return size_t((unsigned __int128)count * unsigned(r) / unsigned(size)); };
+  return {at(rank), at(rank + 1)};
+}
+
+}  // namespace caustica
