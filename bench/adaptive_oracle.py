@@ -99,6 +99,7 @@ def main():
     ap.add_argument("--seeds", type=int, default=32)
     ap.add_argument("--size", default="128x128")
     ap.add_argument("--caustica", default=os.path.join(ROOT, "build", "caustica"))
+    ap.add_argument("--rules", action="store_true", help="also compare the guards' variants (see above)")
     args = ap.parse_args()
     width, height = map(int, args.size.split("x"))
     cache = os.path.join(HERE, "adaptive_cache", "oracle")
@@ -109,6 +110,7 @@ def main():
         sys.exit(f"{args.reference}: {rw}x{rh}, not --size {args.size}")
     pixels = width * height
     v = [0.0] * pixels  # per-sample relative variance, summed over channels
+    per_render = []  # each render's own v (its squared error x spp), for --rules
     for seed in range(1, args.seeds + 1):
         out = os.path.join(cache, f"{stem}-{args.size}-{args.spp}spp-seed{seed}.pfm")
         if not os.path.exists(out):
@@ -117,13 +119,17 @@ def main():
             print(" ".join(cmd), file=sys.stderr)
             subprocess.run(cmd, check=True, stderr=subprocess.DEVNULL)
         _, _, img = read_pfm(out)
+        own_v = [0.0] * pixels
         for i in range(pixels):
             t = 0.0
             for c in range(3):
                 r = ref[3 * i + c]
                 d = img[3 * i + c] - r
                 t += d * d / (r * r + 0.01)
+            own_v[i] = t * args.spp
             v[i] += t * args.spp / args.seeds
+        if args.rules:
+            per_render.append(own_v)
     mean_v = sum(v) / pixels
 
     def ratio(counts):  # relMSE against uniform's at the same total
@@ -140,6 +146,21 @@ def main():
     print(f"  neighbours (ours)     {ratio(water_fill([w + 1e-30 for w in ours], 0.25)):.3f}")
     print(f"  share of the error    worst 1% of pixels {sum(ranked[: pixels // 100]) / sum(v):.2f}, "
           f"worst 10% {sum(ranked[: pixels // 10]) / sum(v):.2f}")
+    if args.rules:
+        print("  rule variants (filter radius, dilation radius, floor): true v / v from one render")
+        for box, grow, floor in [(2, 1, 0.25), (2, 1, 0.1), (2, 0, 0.1), (1, 1, 0.1), (1, 0, 0.1), (3, 1, 0.1)]:
+            def rule(values):
+                w = [math.sqrt(max(0.0, x)) for x in neighbours_mean(values, width, height, box)]
+                if grow:
+                    w = dilate(w, width, height, grow)
+                return water_fill([x + 1e-30 for x in w], floor)
+            split = []
+            for k in range(min(4, len(per_render))):
+                rest = [(v[i] * args.seeds - per_render[k][i]) / (args.seeds - 1) for i in range(pixels)]
+                counts = rule(per_render[k])
+                m = sum(counts) / pixels
+                split.append(sum(rest[i] * m / counts[i] for i in range(pixels)) / sum(rest))
+            print(f"    r={box} dilate={grow} floor={floor:<5} {ratio(rule(v)):.3f} / {sum(split) / len(split):.3f}")
 
 
 if __name__ == "__main__":
