@@ -5,10 +5,9 @@ not part of the tests or CI).
 Time to reach a target error with 1, 2 and 3 MPI ranks of one PoCL thread
 each (POCL_MAX_PTHREAD_COUNT=1 per rank), against one process of 1, 2 and 3
 PoCL threads: the Cornell box at 512x512 and the showcase
-(scenes/showcase_path.json: glass and metal spheres; with ranks the photon
-pass is off, so every run here renders with --caustics off and the
-showcase's caustics are path traced), uniform sampling (--no-adaptive: the
-ranks sample uniformly). Each run renders with --target-error E (the
+(scenes/showcase_path.json: glass and metal spheres, with the photon pass as
+`--caustics auto` decides; under ranks it is shared by pixels), uniform
+sampling (--no-adaptive: the ranks sample uniformly). Each run renders with --target-error E (the
 film's own relMSE estimate, taken on rank 0 from the ranks' summed film)
 and reports its render time (rank 0's, reductions included), the spp
 reached and the estimate there. Runs stop at slightly different spp (ranks
@@ -28,8 +27,10 @@ efficiency at 16 and 64 ranks for a 1920x1080 render of one minute
     (t_mpi measured after a barrier: the wait for the slowest rank is apart)
     efficiency(R) = 60 / (60 + k * t_reduce(R) + t_imbalance)
 
-k reductions (1 with --spp or --time; log2 of the passes + 1 with a
-target error or a report, the error monitor's measurements), t_imbalance
+k reductions (1 with --spp or --time; with only a target error the
+sparse monitor's measurements: one at 16 passes, then where the estimate
+projects the target, at most 4x apart, about 2 + log4(passes / 16); with
+a report, log2 of the passes + 1), t_imbalance
 at most one block of passes per rank (the last round).
 
     cmake --build build --target caustica    # caustica built with MPI
@@ -81,23 +82,34 @@ def run(cmd, threads, out):
 
 
 def render_cmd(scene, size, extra):
-    return [BINARY, "render", os.path.join(ROOT, scene), "--mode", "path", "--caustics", "off", "--no-adaptive",
+    return [BINARY, "render", os.path.join(ROOT, scene), "--mode", "path", "--no-adaptive",
             "-v", "-o", "/tmp/caustica_mpi_scaling.pfm"] + size + extra
 
 
-def scaling(name, scene, size, target):
-    rows = []
-    for kind, n in [("process", 1), ("ranks", 2), ("threads", 2), ("ranks", 3), ("threads", 3)]:
-        base = render_cmd(scene, size, ["--target-error", str(target)])
-        cmd = mpirun(n) + base if kind == "ranks" else base
-        threads = 1 if kind == "ranks" else n
-        print(f"[mpi_scaling] {name}: {n} {kind} ...", file=sys.stderr, flush=True)
-        r = run(cmd, threads, None)
-        r["kind"], r["n"] = kind, n
-        r["t_norm"] = r["seconds"] * r["estimate"] / target
-        rows.append(r)
+def scaling(name, scene, size, target, repeat):
+    """Each configuration `repeat` times, the configurations interleaved (so
+    that drift in the machine's speed hits all alike); a row is the run of
+    median normalised time."""
+    configs = [("process", 1), ("ranks", 2), ("threads", 2), ("ranks", 3), ("threads", 3)]
+    runs = {c: [] for c in configs}
+    for attempt in range(repeat):
+        for kind, n in configs:
+            base = render_cmd(scene, size, ["--target-error", str(target)])
+            cmd = mpirun(n) + base if kind == "ranks" else base
+            threads = 1 if kind == "ranks" else n
+            print(f"[mpi_scaling] {name}: {n} {kind} ({attempt + 1}/{repeat}) ...", file=sys.stderr, flush=True)
+            r = run(cmd, threads, None)
+            r["kind"], r["n"] = kind, n
+            r["t_norm"] = r["seconds"] * r["estimate"] / target
+            runs[(kind, n)].append(r)
+    rows = [sorted(runs[c], key=lambda r: r["t_norm"])[(repeat - 1) // 2] for c in configs]
     one = rows[0]["t_norm"]
-    print(f"\n### {name}, target relMSE {target}\n")
+    if repeat > 1:
+        for c in configs:
+            effs = ", ".join(f"{one / (c[1] * r['t_norm']):.2f}" for r in runs[c])
+            print(f"[mpi_scaling] {name}: {c[1]} {c[0]}: efficiency of each run against the median 1-thread "
+                  f"run: {effs}", file=sys.stderr)
+    print(f"\n### {name}, target relMSE {target}" + (f", medians of {repeat} runs" if repeat > 1 else "") + "\n")
     print("| run | spp | estimated relMSE | render s | wall s | normalised s | efficiency | reductions (s) |")
     print("|---|---|---|---|---|---|---|---|")
     for r in rows:
@@ -131,20 +143,27 @@ def model(red, pass_s):
     as t_mpi(2). Imbalance: the last round leaves ranks idle for at most one
     block (one pass at 1080p): this CPU's measured 1-thread pass, and an
     assumed 0.1 s (a GPU). k: reductions, 1 for --spp/--time; for a target
-    error one per monitor measurement, log2(passes) + 1."""
+    error one per monitor measurement: the sparse monitor's (ranks with only
+    a target error: host/app/error_monitor.h) one at 16 passes and then
+    where the estimate projects the target, at most 4x the passes apart,
+    about 2 + ceil(log4(passes / 16)); with --report every power of two,
+    log2(passes) + 1."""
     for label, imbalance in ((f"this CPU's 1-thread 1080p pass, {pass_s:.2f} s (measured)", pass_s),
                              ("a 0.1 s 1080p pass (a GPU; assumed)", 0.1)):
         print(f"\n### Modelled efficiency, 1920x1080, one minute; imbalance: {label}\n")
         print("| ranks | t_reduce s, tree / pipelined | --spp or --time (1 reduction), tree / pipelined | "
-              "--target-error (k reductions), tree / pipelined |")
-        print("|---|---|---|---|")
+              "--target-error (sparse, k reductions), tree / pipelined | with --report (k reductions), tree / pipelined |")
+        print("|---|---|---|---|---|")
         for ranks in (2, 16, 64):
             fixed = red["read_s"] + red["restore_s"]
             tree = fixed + math.ceil(math.log2(ranks)) * red["mpi_s"]
             pipe = fixed + red["mpi_s"]
-            k = int(math.log2(max(2.0, ranks * 60 / imbalance))) + 1
+            passes = max(2.0, ranks * 60 / imbalance)
+            k = int(math.log2(passes)) + 1
+            k_sparse = 2 + max(0, math.ceil(math.log(max(1.0, passes / 16), 4)))
             eff = lambda n, t: 60 / (60 + n * t + imbalance)
             print(f"| {ranks} | {tree:.3f} / {pipe:.3f} | {eff(1, tree):.3f} / {eff(1, pipe):.3f} | "
+                  f"{eff(k_sparse, tree):.3f} / {eff(k_sparse, pipe):.3f} (k = {k_sparse}) | "
                   f"{eff(k, tree):.3f} / {eff(k, pipe):.3f} (k = {k}) |")
 
 
@@ -153,12 +172,18 @@ def main():
     ap.add_argument("--target", type=float, nargs=2, default=[0.005, 0.01],
                     help="target relMSE of the Cornell box and the showcase")
     ap.add_argument("--skip-scaling", action="store_true", help="only the reduction cost and the model")
+    ap.add_argument("--repeat", type=int, default=1, help="runs of each configuration (interleaved); rows are medians")
+    ap.add_argument("--scenes", nargs="*", choices=["cornell", "showcase"], default=["cornell", "showcase"])
+    ap.add_argument("--skip-model", action="store_true", help="no 1080p reduction and model")
     args = ap.parse_args()
     if not os.path.exists(BINARY):
         sys.exit(f"{BINARY}: build caustica first (with MPI: libopenmpi-dev)")
     if not args.skip_scaling:
-        for (name, scene, size), target in zip(SCENES, args.target):
-            scaling(name, scene, size, target)
+        for (name, scene, size), target, key in zip(SCENES, args.target, ["cornell", "showcase"]):
+            if key in args.scenes:
+                scaling(name, scene, size, target, max(1, args.repeat))
+    if args.skip_model:
+        return
     red = reduction_cost()
     # The last round's imbalance: one block of passes on one rank; at
     # 1920x1080 a block is one pass (the wave holds one pass of that many

@@ -15,10 +15,10 @@
 #define CAUSTICA_LIB_LIGHTS_TRIANGLE_LIGHT_H
 
 #include "lib/lights/light_common.h"
-#if HAS_TEXTURES /* the texel's lookup, below */
+/* The texel's lookup, below (unconditional: an include inside #if would be
+ * inlined again where a stage includes these files itself). */
 #include "lib/surface.h"
 #include "lib/texture.h"
-#endif
 
 inline float3 triangle_light_normal(__global const Light* l) {
   return normalize(cross(l->p1.xyz - l->p0.xyz, l->p2.xyz - l->p0.xyz));
