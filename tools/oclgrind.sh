@@ -78,7 +78,19 @@ left_out=(
   "test_error_report ErrorReport.CornellBoxReportsConvergeAndEstimateTheirError  # the error report's Cornell box: MSE against spp at the Monte Carlo rate over many renders and a long reference"
   "test_caustics_error CausticsErrorEstimate.CoversThePhotonMapWithinTwiceTheTrueError  # the photon map's error estimate against the truth, four seeds of 256 passes (its gathers: stiff_caustic_ground, test_caustics_paths, test_community_photons)"
   "test_render_state RenderState.ResumedInProcessPhotonPassHasTheSameBits  # a photon-pass render resumed against an uninterrupted one, 96 passes twice: past 600 s even with one state of each kind (its stages run on the simulator in test_photon_pass and stiff_caustic_ground)"
+  "test_directional_light DirectionalLight.PhotonPassFindsTheCausticOfAGlassBall  # full photon maps and their gathers in path mode and phong, twice each: past 300 s (directional photons: DirectionalLight.UnguidedPhotonsCarryItsPower, test_photon_pass; guided disks from infinity: test_phong_sky_caustics)"
 )
+# The MPI tests run `mpirun` with two and three caustica processes, each
+# rendering on the simulator: past the limit (their kernels are the
+# one-process renders' above). The one MpiRender test that launches
+# nothing (how the shares split) stays.
+for name in TwoAndThreeRanksGiveTheBitsOfOneProcess BinaryAndPhongGiveTheBitsOfOneProcess \
+  TimeLimitAndTargetErrorAreDecidedForAllRanks ARankThatDiesEndsTheJobWithAClearMessage \
+  CheckpointsOfRanksAreOneProcesssStatesAndResumeAfterARankDied PhotonPassSharedByPixelsGivesTheBitsOfOneProcess \
+  PhotonPassByPixelsStopsCheckpointsAndResumesAsOneProcess PhotonPassAutoDecidesOnRanksAsInOneProcess \
+  WhatRanksCannotDoIsRefused; do
+  left_out+=("test_mpi_render MpiRender.$name  # mpirun on the simulator")
+done
 
 # Every test as "binary test.name", parameterised ones included.
 list=$logs/tests
