@@ -218,11 +218,10 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
 #endif
   const uint pixel_seed = hash3(ray.pixel, 0u, params->seed);
   const uint pair = 2u + 3u * ray.depth;
-  /* The vertex's three 2D samples at once: each is a long chain of integer
-   * multiplies, and side by side the core runs them in parallel. */
-  const float2 picks = pixel_sample_2d(params->sampler, ray.sample, pair + 2u, pixel_seed);
-  const float2 u_light = pixel_sample_2d(params->sampler, ray.sample, pair, pixel_seed);
-  const float2 u_dir = pixel_sample_2d(params->sampler, ray.sample, pair + 1u, pixel_seed);
+  /* The vertex's three 2D samples at once, in the lanes of vectors: each is
+   * a long chain of integer multiplies and bit permutations. */
+  float2 u_light, u_dir, picks;
+  pixel_samples_2d_x3(params->sampler, ray.sample, pair, pixel_seed, &u_light, &u_dir, &picks);
 
   /* Next-event estimation toward one light. */
   const bool delta_only = bsdf_is_smooth(bsdf) && bsdf.kind != BSDF_PLASTIC;

@@ -20,18 +20,30 @@
 #include "shared/compat.h"
 #include "shared/types.h"
 
-/* A full-avalanche 32-bit mix ("lowbias32", C. Wellons): every input bit
- * flips each output bit with probability ~1/2. */
-inline uint hash_u32(uint x) {
-  x ^= x >> 16;
-  x *= 0x21f0aaadu;
-  x ^= x >> 15;
-  x *= 0x735a2d97u;
-  x ^= x >> 15;
-  return x;
-}
-
-inline uint hash_combine(uint seed, uint value) { return hash_u32(seed ^ (value + 0x9e3779b9u + (seed << 6) + (seed >> 2))); }
+/* The integer steps below are written once, as macros over a lane type T,
+ * and instantiated for uint and for uint4: the shade stage draws a path
+ * vertex's three dimension pairs in the lanes of one vector (see
+ * sobol_burley_2d_x3), where scalar code spent about two fifths of the
+ * stage's own time on these xor-shift-multiply chains. The uint4 forms are
+ * the scalar ones lane by lane, so their bits are the same.
+ *
+ * hash_u32: a full-avalanche 32-bit mix ("lowbias32", C. Wellons): every
+ * input bit flips each output bit with probability ~1/2. */
+#define RNG_DEFINE_HASHES(T, SUFFIX)                                                                   \
+  inline T hash_u32##SUFFIX(T x) {                                                                     \
+    x ^= x >> 16;                                                                                      \
+    x *= 0x21f0aaadu;                                                                                  \
+    x ^= x >> 15;                                                                                      \
+    x *= 0x735a2d97u;                                                                                  \
+    x ^= x >> 15;                                                                                      \
+    return x;                                                                                          \
+  }                                                                                                    \
+  inline T hash_combine##SUFFIX(T seed, T value) {                                                     \
+    return hash_u32##SUFFIX(seed ^ (value + 0x9e3779b9u + (seed << 6) + (seed >> 2)));                 \
+  }
+RNG_DEFINE_HASHES(uint, )
+RNG_DEFINE_HASHES(uint4, _x4)
+#undef RNG_DEFINE_HASHES
 
 inline uint hash3(uint a, uint b, uint c) { return hash_combine(hash_combine(hash_u32(a), b), c); }
 
@@ -42,50 +54,54 @@ inline float unit_float(uint bits) { return (float)(bits >> 8) * 0x1.0p-24f; }
  * sampler that the low-discrepancy one is compared against. */
 inline float random_float(uint key, uint counter) { return unit_float(hash_combine(hash_u32(key), counter)); }
 
-inline uint reverse_bits_u32(uint x) {
-  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
-  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-  x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
-  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
-  return (x >> 16) | (x << 16);
-}
+/* Bit permutations, again for uint and uint4 (lane by lane, the same bits):
+ *  - reverse_bits_u32: the 32 bits in reverse order;
+ *  - sobol_dimension1_reversed: dimension 1 of the 2D Sobol sequence (below)
+ *    with its bits reversed, in bit-parallel form. XOR-ing v_k for the
+ *    index's set bits: with bits reversed, v_k has bit j set iff
+ *    binomial(k, j) is odd, i.e. (Lucas) iff j's bits are a subset of k's;
+ *    so bit j of the reversed result is the XOR of the index bits k that are
+ *    supersets of j, a superset-sum transform over the five bits of a bit
+ *    position, one shift-and-xor per bit. Same values as the 32-step loop
+ *    (tests/host/test_rng.cpp compares them) at a fraction of the cost;
+ *  - laine_karras_permutation: Burley's hash-based Laine-Karras
+ *    permutation, an Owen scramble of the bits of x seen from the least
+ *    significant end (each bit flipped by a hash of the bits below it). */
+#define RNG_DEFINE_BIT_PERMUTATIONS(T, SUFFIX)                                                         \
+  inline T reverse_bits_u32##SUFFIX(T x) {                                                             \
+    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);                                           \
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);                                           \
+    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);                                           \
+    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);                                           \
+    return (x >> 16) | (x << 16);                                                                      \
+  }                                                                                                    \
+  inline T sobol_dimension1_reversed##SUFFIX(T index) {                                                \
+    T y = index;                                                                                       \
+    y ^= (y >> 1) & 0x55555555u;                                                                       \
+    y ^= (y >> 2) & 0x33333333u;                                                                       \
+    y ^= (y >> 4) & 0x0F0F0F0Fu;                                                                       \
+    y ^= (y >> 8) & 0x00FF00FFu;                                                                       \
+    y ^= (y >> 16) & 0x0000FFFFu;                                                                      \
+    return y;                                                                                          \
+  }                                                                                                    \
+  inline T laine_karras_permutation##SUFFIX(T x, T seed) {                                             \
+    x += seed;                                                                                         \
+    x ^= x * 0x6c50b47cu;                                                                              \
+    x ^= x * 0xb82f1e52u;                                                                              \
+    x ^= x * 0xc7afe638u;                                                                              \
+    x ^= x * 0x8d22f6e6u;                                                                              \
+    return x;                                                                                          \
+  }
+RNG_DEFINE_BIT_PERMUTATIONS(uint, )
+RNG_DEFINE_BIT_PERMUTATIONS(uint4, _x4)
+#undef RNG_DEFINE_BIT_PERMUTATIONS
 
 /* The 2D Sobol sequence as 32-bit fractions: dimension 0 is the van der
  * Corput sequence (the index's bits reversed), dimension 1 uses the
  * direction numbers of the primitive polynomial x + 1 (v_1 = 2^31,
  * v_k = v_{k-1} ^ (v_{k-1} >> 1)). Together a (0,2)-sequence. */
 inline uint sobol_dimension0(uint index) { return reverse_bits_u32(index); }
-
-/* Bit-parallel form of XOR-ing v_k for the index's set bits: with bits
- * reversed, v_k has bit j set iff binomial(k, j) is odd, i.e. (Lucas) iff
- * j's bits are a subset of k's; so bit j of the reversed result is the XOR
- * of the index bits k that are supersets of j, a superset-sum transform over
- * the five bits of a bit position, one shift-and-xor per bit. Same values as
- * the 32-step loop (tests/test_rng.cpp compares them) at a fraction of the
- * cost, which matters: the path tracer draws several pairs per vertex. */
-inline uint sobol_dimension1_reversed(uint index) {
-  uint y = index;
-  y ^= (y >> 1) & 0x55555555u;
-  y ^= (y >> 2) & 0x33333333u;
-  y ^= (y >> 4) & 0x0F0F0F0Fu;
-  y ^= (y >> 8) & 0x00FF00FFu;
-  y ^= (y >> 16) & 0x0000FFFFu;
-  return y;
-}
-
 inline uint sobol_dimension1(uint index) { return reverse_bits_u32(sobol_dimension1_reversed(index)); }
-
-/* Burley's hash-based Laine-Karras permutation: an Owen scramble of the bits
- * of x seen from the least significant end (each bit flipped by a hash of
- * the bits below it). */
-inline uint laine_karras_permutation(uint x, uint seed) {
-  x += seed;
-  x ^= x * 0x6c50b47cu;
-  x ^= x * 0xb82f1e52u;
-  x ^= x * 0xc7afe638u;
-  x ^= x * 0x8d22f6e6u;
-  return x;
-}
 
 /* Owen scrambling of a 32-bit fraction: each bit flipped by a hash of the
  * bits above it. Keeps every (0,m,2)-net a net. */
@@ -111,6 +127,24 @@ __attribute__((always_inline)) inline float2 sobol_burley_2d(uint index, uint pa
   return make_float2(unit_float(x), unit_float(y));
 }
 
+/* Pairs first_pair, first_pair + 1 and first_pair + 2 of sample `index`:
+ * the same bits as three sobol_burley_2d calls, each step done once for the
+ * three pairs in the lanes of a uint4 (the fourth lane is computed and
+ * dropped). A path vertex draws its three pairs here. */
+__attribute__((always_inline)) inline void sobol_burley_2d_x3(uint index, uint first_pair, uint pixel_seed,
+                                                              float2* pair0, float2* pair1, float2* pair2) {
+  const uint4 pair_seed = hash_combine_x4(splat_uint4(pixel_seed), make_uint4(0u, 1u, 2u, 3u) + first_pair);
+  const uint4 shuffled_reversed = laine_karras_permutation_x4(splat_uint4(reverse_bits_u32(index)), pair_seed);
+  const uint4 shuffled = reverse_bits_u32_x4(shuffled_reversed);
+  const uint4 x =
+      reverse_bits_u32_x4(laine_karras_permutation_x4(shuffled, hash_combine_x4(pair_seed, splat_uint4(0x5ca1ab1eu))));
+  const uint4 y = reverse_bits_u32_x4(laine_karras_permutation_x4(
+      sobol_dimension1_reversed_x4(shuffled), hash_combine_x4(pair_seed, splat_uint4(0xdecafbadu))));
+  *pair0 = make_float2(unit_float(x.x), unit_float(y.x));
+  *pair1 = make_float2(unit_float(x.y), unit_float(y.y));
+  *pair2 = make_float2(unit_float(x.z), unit_float(y.z));
+}
+
 /* The 2D sample of dimension pair `pair` for sample `index` of the pixel
  * whose seed is pixel_seed, from the chosen sampler (SAMPLER_*, types.h). */
 __attribute__((always_inline)) inline float2 pixel_sample_2d(uint sampler, uint index, uint pair,
@@ -120,6 +154,19 @@ __attribute__((always_inline)) inline float2 pixel_sample_2d(uint sampler, uint 
     return make_float2(random_float(key, 2u * pair), random_float(key, 2u * pair + 1u));
   }
   return sobol_burley_2d(index, pair, pixel_seed);
+}
+
+/* pixel_sample_2d for pairs first_pair, first_pair + 1, first_pair + 2. */
+__attribute__((always_inline)) inline void pixel_samples_2d_x3(uint sampler, uint index, uint first_pair,
+                                                               uint pixel_seed, float2* pair0, float2* pair1,
+                                                               float2* pair2) {
+  if (sampler == SAMPLER_INDEPENDENT) {
+    *pair0 = pixel_sample_2d(sampler, index, first_pair, pixel_seed);
+    *pair1 = pixel_sample_2d(sampler, index, first_pair + 1u, pixel_seed);
+    *pair2 = pixel_sample_2d(sampler, index, first_pair + 2u, pixel_seed);
+    return;
+  }
+  sobol_burley_2d_x3(index, first_pair, pixel_seed, pair0, pair1, pair2);
 }
 
 #endif /* CAUSTICA_LIB_RNG_H */

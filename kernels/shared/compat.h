@@ -216,6 +216,8 @@ CS_BINARY(/)
 CS_BINARY(&)
 CS_BINARY(|)
 CS_BINARY(^)
+CS_BINARY(<<)
+CS_BINARY(>>)
 #undef CS_BINARY
 template <class V, cs_if_vector<V> = 0> inline V operator-(V a) {
   return cs_lanes<V>([&](int i) { return cs_element<V>(-a.s[i]); });

@@ -89,6 +89,29 @@ TEST(Sobol2D, FastSecondDimensionEqualsTheDefinition) {
   EXPECT_EQ(mismatches, 0u);
 }
 
+// The shade stage draws a vertex's three pairs in vector lanes
+// (sobol_burley_2d_x3): the same bits as three scalar draws, for indices,
+// pairs and seeds across their ranges.
+TEST(SobolBurley, ThreePairsInVectorLanesAreTheScalarBits) {
+  uint32_t mismatches = 0;
+  for (uint32_t i = 0; i < (1u << 16); ++i) {
+    const uint32_t index = i < 4096u ? i : hash_u32(i) ^ (i << 9);
+    const uint32_t first_pair = 2u + 3u * (i % 70u);
+    const uint32_t pixel_seed = hash3(i * 2654435761u, 0u, i >> 3);
+    float2 got[3];
+    sobol_burley_2d_x3(index, first_pair, pixel_seed, &got[0], &got[1], &got[2]);
+    for (uint32_t k = 0; k < 3u; ++k) {
+      const float2 want = sobol_burley_2d(index, first_pair + k, pixel_seed);
+      mismatches += std::memcmp(&got[k].x, &want.x, sizeof(float)) != 0 || std::memcmp(&got[k].y, &want.y, sizeof(float)) != 0;
+    }
+  }
+  EXPECT_EQ(mismatches, 0u);
+  float2 a, b, c;  // the independent sampler takes the same three pairs one by one
+  pixel_samples_2d_x3(SAMPLER_INDEPENDENT, 5u, 8u, 77u, &a, &b, &c);
+  EXPECT_EQ(c.x, pixel_sample_2d(SAMPLER_INDEPENDENT, 5u, 10u, 77u).x);
+  EXPECT_EQ(a.y, pixel_sample_2d(SAMPLER_INDEPENDENT, 5u, 8u, 77u).y);
+}
+
 TEST(SobolBurley, PrefixesStayNetsAfterShufflingAndScrambling) {
   const uint32_t n = 1u << 10;
   for (uint32_t seed : {1u, 7u, 12345u})
