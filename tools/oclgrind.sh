@@ -78,6 +78,7 @@ left_out=(
   "test_error_report ErrorReport.CornellBoxReportsConvergeAndEstimateTheirError  # the error report's Cornell box: MSE against spp at the Monte Carlo rate over many renders and a long reference"
   "test_caustics_error CausticsErrorEstimate.CoversThePhotonMapWithinTwiceTheTrueError  # the photon map's error estimate against the truth, four seeds of 256 passes (its gathers: stiff_caustic_ground, test_caustics_paths, test_community_photons)"
   "test_render_state RenderState.ResumedInProcessPhotonPassHasTheSameBits  # a photon-pass render resumed against an uninterrupted one, 96 passes twice: past 600 s even with one state of each kind (its stages run on the simulator in test_photon_pass and stiff_caustic_ground)"
+  "test_render_state RenderState.KilledAndResumedPhotonPassRenderHasTheSameBits  # caustics.json rendered through the CLI, killed with SIGKILL and resumed, against an uninterrupted render: past 300 s (its stages run on the simulator in test_photon_pass and stiff_caustic_ground, state files in the other RenderState tests)"
   "test_directional_light DirectionalLight.PhotonPassFindsTheCausticOfAGlassBall  # full photon maps and their gathers in path mode and phong, twice each: past 300 s (directional photons: DirectionalLight.UnguidedPhotonsCarryItsPower, test_photon_pass; guided disks from infinity: test_phong_sky_caustics)"
 )
 # The MPI tests run `mpirun` with two and three caustica processes, each
