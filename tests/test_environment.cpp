@@ -377,7 +377,7 @@ TEST(Environment, OneBrightTexelLightsLikeADirectionalLight) {
 // map's importance sampling (with MIS) has a relMSE at least 10x below
 // BSDF sampling alone, which finds the sun with probability ~1e-3, and
 // below the map sampled uniformly ("importance": false) with MIS. (Equal
-// time: docs/environment.md, bench/environment_benchmark.sh.)
+// time: docs/environment.md, bench/environment_benchmark.py.)
 TEST(Environment, ImportanceSamplingBeatsBsdfSamplingOnASun) {
   const int w = 64, h = 32, sx = 20, sy = 9;
   const float sun = 1e5f;
