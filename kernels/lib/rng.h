@@ -109,21 +109,35 @@ inline uint nested_uniform_scramble(uint x, uint seed) {
   return reverse_bits_u32(laine_karras_permutation(reverse_bits_u32(x), seed));
 }
 
+/* Sobol-Burley's bits for the dimension pair(s) seeded by pair_seed
+ * (hash_combine(pixel_seed, pair)), sample `index`: dimension 2 pair as
+ * returned, 2 pair + 1 in *y. shuffled = nested_uniform_scramble(index,
+ * pair_seed); each output is nested_uniform_scramble(sobol_dimensionK(
+ * shuffled), seed_K). Written out, the bit reversals that cancel
+ * (reverse(reverse(v)) = v) are left out: four reversals instead of eight,
+ * the same bits. Again for uint and for uint4 (SPLAT widens a uint). */
+#define RNG_SPLAT_UINT(x) (x)
+#define RNG_DEFINE_SOBOL_BURLEY_BITS(T, SUFFIX, SPLAT)                                                 \
+  __attribute__((always_inline)) inline T sobol_burley_bits##SUFFIX(uint index, T pair_seed, T* y) {   \
+    const T shuffled_reversed = laine_karras_permutation##SUFFIX(SPLAT(reverse_bits_u32(index)), pair_seed); \
+    const T shuffled = reverse_bits_u32##SUFFIX(shuffled_reversed);                                    \
+    /* sobol_dimension1(shuffled), reversed again inside the scramble */                               \
+    *y = reverse_bits_u32##SUFFIX(laine_karras_permutation##SUFFIX(                                   \
+        sobol_dimension1_reversed##SUFFIX(shuffled), hash_combine##SUFFIX(pair_seed, SPLAT(0xdecafbadu)))); \
+    /* sobol_dimension0(shuffled) = shuffled_reversed, reversed again inside the scramble */          \
+    return reverse_bits_u32##SUFFIX(                                                                   \
+        laine_karras_permutation##SUFFIX(shuffled, hash_combine##SUFFIX(pair_seed, SPLAT(0x5ca1ab1eu)))); \
+  }
+RNG_DEFINE_SOBOL_BURLEY_BITS(uint, , RNG_SPLAT_UINT)
+RNG_DEFINE_SOBOL_BURLEY_BITS(uint4, _x4, splat_uint4)
+#undef RNG_DEFINE_SOBOL_BURLEY_BITS
+#undef RNG_SPLAT_UINT
+
 /* Sample `index` of the pixel's sequence in dimensions (2 pair, 2 pair + 1).
  * pixel_seed mixes the pixel and the user's seed (hash3(pixel, 0, seed)). */
 __attribute__((always_inline)) inline float2 sobol_burley_2d(uint index, uint pair, uint pixel_seed) {
-  const uint pair_seed = hash_combine(pixel_seed, pair);
-  /* shuffled = nested_uniform_scramble(index, pair_seed); each output is
-   * nested_uniform_scramble(sobol_dimensionK(shuffled), seed_K). Written out,
-   * the bit reversals that cancel (reverse(reverse(v)) = v) are left out:
-   * four reversals instead of eight, the same bits. */
-  const uint shuffled_reversed = laine_karras_permutation(reverse_bits_u32(index), pair_seed);
-  const uint shuffled = reverse_bits_u32(shuffled_reversed);
-  /* sobol_dimension0(shuffled) = shuffled_reversed, reversed again inside the scramble */
-  const uint x = reverse_bits_u32(laine_karras_permutation(shuffled, hash_combine(pair_seed, 0x5ca1ab1eu)));
-  /* sobol_dimension1(shuffled), likewise reversed again inside the scramble */
-  const uint y = reverse_bits_u32(
-      laine_karras_permutation(sobol_dimension1_reversed(shuffled), hash_combine(pair_seed, 0xdecafbadu)));
+  uint y;
+  const uint x = sobol_burley_bits(index, hash_combine(pixel_seed, pair), &y);
   return make_float2(unit_float(x), unit_float(y));
 }
 
@@ -133,13 +147,9 @@ __attribute__((always_inline)) inline float2 sobol_burley_2d(uint index, uint pa
  * dropped). A path vertex draws its three pairs here. */
 __attribute__((always_inline)) inline void sobol_burley_2d_x3(uint index, uint first_pair, uint pixel_seed,
                                                               float2* pair0, float2* pair1, float2* pair2) {
-  const uint4 pair_seed = hash_combine_x4(splat_uint4(pixel_seed), make_uint4(0u, 1u, 2u, 3u) + first_pair);
-  const uint4 shuffled_reversed = laine_karras_permutation_x4(splat_uint4(reverse_bits_u32(index)), pair_seed);
-  const uint4 shuffled = reverse_bits_u32_x4(shuffled_reversed);
-  const uint4 x =
-      reverse_bits_u32_x4(laine_karras_permutation_x4(shuffled, hash_combine_x4(pair_seed, splat_uint4(0x5ca1ab1eu))));
-  const uint4 y = reverse_bits_u32_x4(laine_karras_permutation_x4(
-      sobol_dimension1_reversed_x4(shuffled), hash_combine_x4(pair_seed, splat_uint4(0xdecafbadu))));
+  uint4 y;
+  const uint4 x = sobol_burley_bits_x4(
+      index, hash_combine_x4(splat_uint4(pixel_seed), make_uint4(0u, 1u, 2u, 3u) + first_pair), &y);
   *pair0 = make_float2(unit_float(x.x), unit_float(y.x));
   *pair1 = make_float2(unit_float(x.y), unit_float(y.y));
   *pair2 = make_float2(unit_float(x.z), unit_float(y.z));
