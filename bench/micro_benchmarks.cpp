@@ -1,5 +1,7 @@
 // Google Benchmark micro-benchmarks of the host-side stages (scene parse,
-// BVH build, tone mapping) on the seed report's Table 1 scenes, and the BVH
+// BVH build, tone mapping) on the seed report's Table 1 scenes, adaptive
+// sampling's plan between waves (weights, then placing a wave's samples)
+// at 128^2 and 512^2, and the BVH
 // build and collapse on the Conference room of bench/scenes (skipped when
 // ../shared is not beside the checkout). Kernel
 // throughput is measured by `caustica bench`, which times the renderer's own
@@ -7,10 +9,12 @@
 #include <benchmark/benchmark.h>
 
 #include <optional>
+#include <random>
 
 #include "host/accel/bvh.h"
 #include "host/accel/bvh_wide.h"
 #include "host/image/tonemap.h"
+#include "host/render/adaptive_sampling.h"
 #include "host/scene/generate.h"
 #include "host/scene/load_scene.h"
 
@@ -120,5 +124,40 @@ void BM_ToDisplay(benchmark::State& state) {
 BENCHMARK(BM_ToDisplay)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 }  // namespace
+
+// Adaptive sampling between two waves, on a film of side x side pixels after
+// 16-64 spp: the errors heavy-tailed as a render's are (log-normal, a few
+// fireflies), the ray counts 1-8 a sample. The device waits for this plan
+// (host/render/pass_driver.cpp), so on a GPU it is the render's host time.
+caustica::AdaptiveInputs adaptive_inputs(int side) {
+  caustica::AdaptiveInputs in;
+  in.width = in.height = side;
+  const size_t pixels = size_t(side) * size_t(side);
+  std::mt19937 rng(7);
+  std::lognormal_distribution<double> error(-9.0, 2.0);
+  std::uniform_int_distribution<uint32_t> spp(16, 64), rays(1, 8);
+  for (size_t p = 0; p < pixels; ++p) {
+    in.pixel_error.push_back(error(rng));
+    in.spp.push_back(spp(rng));
+    in.rays.push_back(uint64_t(in.spp.back()) * rays(rng));
+  }
+  return in;
+}
+
+void BM_AdaptiveWeights(benchmark::State& state) {
+  const caustica::AdaptiveInputs in = adaptive_inputs(int(state.range(0)));
+  for (auto _ : state) benchmark::DoNotOptimize(caustica::neyman_weights(in, {}));
+  state.SetItemsProcessed(state.iterations() * int64_t(in.spp.size()));
+}
+BENCHMARK(BM_AdaptiveWeights)->Arg(128)->Arg(512)->Unit(benchmark::kMillisecond);
+
+// One wave of 16 passes placed (the wave at 512^2 is 16 passes).
+void BM_AdaptivePlaceWave(benchmark::State& state) {
+  const caustica::AdaptiveInputs in = adaptive_inputs(int(state.range(0)));
+  const std::vector<double> weights = caustica::neyman_weights(in, {});
+  for (auto _ : state) benchmark::DoNotOptimize(caustica::place_wave_samples(weights, in.spp, 16, 1u << 20, {}));
+  state.SetItemsProcessed(state.iterations() * int64_t(in.spp.size()));
+}
+BENCHMARK(BM_AdaptivePlaceWave)->Arg(128)->Arg(512)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -161,6 +161,85 @@ TEST(AdaptiveAllocation, CostlierPixelsGetFewerSamplesAsTheSquareRootOfTheirCost
   EXPECT_EQ(*std::min_element(even.begin(), even.end()), *std::max_element(even.begin(), even.end()));
 }
 
+// place_wave_samples written the plain way, as it first was: the multiplier
+// (or the lowered floor) by bisection down to adjacent doubles from a
+// power-of-two bracket, the remainder by a full sort of the fractions. The
+// renderer finds the same multiplier by false position and the same pixels
+// by selection (to keep a GPU from waiting on the host between waves);
+// the counts, and so the render's bits, must not change.
+std::vector<uint32_t> place_by_bisection(const std::vector<double>& weight, const std::vector<uint32_t>& spp,
+                                         int passes, uint32_t cap, const AdaptiveOptions& options) {
+  const size_t pixels = spp.size();
+  const uint64_t budget = uint64_t(passes) * pixels;
+  const double total = double(std::accumulate(spp.begin(), spp.end(), uint64_t(0)));
+  const double floor_total = std::max(double(options.min_spp), std::ceil(options.uniform_share * (total + double(budget)) / double(pixels)));
+  std::vector<double> k(pixels);
+  const auto place = [&](double lambda, double floor_at) {
+    double sum = 0.0;
+    for (size_t p = 0; p < pixels; ++p) {
+      k[p] = std::clamp(std::max(floor_at, lambda * weight[p]) - double(spp[p]), 0.0, double(cap));
+      sum += k[p];
+    }
+    return sum;
+  };
+  const auto bisect = [](auto f, double lo, double hi, double target) {
+    for (int i = 0; i < 200 && lo < hi; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      if (mid <= lo || mid >= hi) break;
+      (f(mid) >= target ? hi : lo) = mid;
+    }
+    return hi;
+  };
+  const double wanted = double(budget);
+  if (place(0.0, floor_total) >= wanted) {
+    place(0.0, bisect([&](double f) { return place(0.0, f); }, 0.0, floor_total, wanted));
+  } else {
+    double hi = 1.0;
+    while (place(hi, floor_total) < wanted) hi *= 2.0;
+    place(bisect([&](double lambda) { return place(lambda, floor_total); }, 0.0, hi, wanted), floor_total);
+  }
+  std::vector<uint32_t> whole(pixels);
+  uint64_t placed = 0;
+  for (size_t p = 0; p < pixels; ++p) placed += whole[p] = uint32_t(std::floor(k[p]));
+  std::vector<uint32_t> order(pixels);
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    const double fa = k[a] - std::floor(k[a]), fb = k[b] - std::floor(k[b]);
+    return fa != fb ? fa > fb : a < b;
+  });
+  for (uint64_t i = 0; placed + i < budget && i < pixels; ++i) ++whole[order[i]];
+  return whole;
+}
+
+TEST(AdaptiveAllocation, PlacesTheSameCountsAsBisectionAndAFullSort) {
+  std::mt19937 rng(11);
+  std::lognormal_distribution<double> error(-9.0, 2.5);
+  std::uniform_int_distribution<uint32_t> behind(16, 40);
+  int checked = 0;
+  for (int side : {1, 7, 64, 181}) {
+    for (int trial = 0; trial < 6; ++trial) {
+      AdaptiveInputs in = uniform_inputs(side, side, 16, 0.0);
+      for (double& e : in.pixel_error) e = trial == 5 ? 0.0 : error(rng);   // trial 5: every weight alike
+      if (trial >= 3)
+        for (uint32_t& n : in.spp) n = behind(rng);  // uneven counts: the floor alone may take the wave
+      if (trial == 4) in.rays.assign(in.spp.size(), 0);
+      if (trial == 4)
+        for (size_t p = 0; p < in.rays.size(); ++p) in.rays[p] = uint64_t(in.spp[p]) * (1 + p % 7);
+      const std::vector<double> weight = neyman_weights(in, AdaptiveOptions{});
+      for (int passes : {1, 2, 16, 48}) {
+        for (uint32_t cap : {uint32_t(passes), 64u, 1u << 16}) {
+          if (cap < uint32_t(passes)) continue;
+          EXPECT_EQ(place_wave_samples(weight, in.spp, passes, cap, AdaptiveOptions{}),
+                    place_by_bisection(weight, in.spp, passes, cap, AdaptiveOptions{}))
+              << side << "x" << side << ", trial " << trial << ", " << passes << " passes, cap " << cap;
+          ++checked;
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 200);
+}
+
 TEST(AdaptiveAllocation, InconsistentInputsAreErrors) {
   AdaptiveInputs in = uniform_inputs(4, 4, 16, 1e-3);
   in.spp.pop_back();

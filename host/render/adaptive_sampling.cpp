@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <numeric>
 #include <string>
 
@@ -58,37 +61,79 @@ std::vector<double> neighbours_weight(const std::vector<double>& v, int width, i
 }
 
 // Real counts to whole ones adding up to `budget`: each rounded down, the
-// remainder to the largest fractions (ties: the lower pixel index).
+// remainder to the largest fractions (ties: the lower pixel index). The
+// pixels that get one more are a selection, not a sort (nth_element: linear
+// time; a partial sort of 512^2 pixels took about 60 ms a wave, which a GPU
+// spent waiting); the order (fraction, then index) is strict, so the set is
+// the same however it is found.
 std::vector<uint32_t> round_to_budget(const std::vector<double>& k, uint64_t budget) {
   std::vector<uint32_t> whole(k.size());
+  std::vector<double> fraction(k.size());
   uint64_t sum = 0;
   for (size_t p = 0; p < k.size(); ++p) {
-    whole[p] = uint32_t(std::floor(k[p]));
+    const double down = std::floor(k[p]);
+    whole[p] = uint32_t(down);
+    fraction[p] = k[p] - down;
     sum += whole[p];
   }
   if (sum >= budget) return whole;  // (never above it: see the caller)
+  const size_t remainder = std::min(size_t(budget - sum), k.size());
   std::vector<uint32_t> order(k.size());
   std::iota(order.begin(), order.end(), 0u);
-  const size_t remainder = size_t(budget - sum);
-  std::partial_sort(order.begin(), order.begin() + std::min(remainder, order.size()), order.end(),
-                    [&](uint32_t a, uint32_t b) {
-                      const double fa = k[a] - std::floor(k[a]), fb = k[b] - std::floor(k[b]);
-                      return fa != fb ? fa > fb : a < b;
-                    });
-  for (size_t i = 0; i < remainder && i < order.size(); ++i) ++whole[order[i]];
+  const auto before = [&](uint32_t a, uint32_t b) {
+    return fraction[a] != fraction[b] ? fraction[a] > fraction[b] : a < b;
+  };
+  if (remainder < order.size()) std::nth_element(order.begin(), order.begin() + remainder, order.end(), before);
+  for (size_t i = 0; i < remainder; ++i) ++whole[order[i]];
   return whole;
 }
 
-// The smallest x in [lo, hi] with total(x) >= target (total non-decreasing
-// and continuous), by bisection to the doubles' resolution.
+// The smallest double x in [lo, hi] with total(x) >= target, for total
+// non-decreasing with total(lo) < target <= total(hi): what bisection down
+// to adjacent doubles returns (the bracket keeps that invariant, so its
+// end is that x whatever points were tried), in far fewer evaluations.
+// total is piecewise linear (the Neyman counts are clamped lines), so the
+// Illinois variant of false position (the endpoint kept twice in a row has
+// its value halved) gets within rounding of x in a few steps; a point that
+// is not strictly inside the bracket falls back to its midpoint, and the
+// loop ends when the bracket is two adjacent doubles. Bisection from a
+// bracket of 2^k took some 75 evaluations of total, each a pass over every
+// pixel (about 140 ms a wave at 512^2).
 template <typename Total>
 double solve_increasing(Total total, double lo, double hi, double target) {
-  for (int i = 0; i < 200 && lo < hi; ++i) {
+  double below = total(lo) - target, above = total(hi) - target;  // below < 0 <= above
+  int kept = 0;                                                     // -1: lo moved last, +1: hi moved last
+  for (int i = 0; i < 2000; ++i) {
     const double mid = 0.5 * (lo + hi);
     if (mid <= lo || mid >= hi) break;
-    (total(mid) >= target ? hi : lo) = mid;
+    double x = above > below ? lo + (hi - lo) * (-below / (above - below)) : mid;
+    if (!(x > lo && x < hi)) x = mid;
+    const double at = total(x) - target;
+    if (at >= 0.0) {
+      hi = x;
+      above = at;
+      if (kept == 1) below *= 0.5;
+      kept = 1;
+    } else {
+      lo = x;
+      below = at;
+      if (kept == -1) above *= 0.5;
+      kept = -1;
+    }
   }
   return hi;
+}
+
+// std::clamp(x, 0.0, cap) for x neither NaN nor -0 (where maxsd and the
+// comparison differ), without branches: the compiler keeps std::clamp's
+// branches, and on an image's counts they were mispredicted often enough to
+// be most of the solver's time.
+inline double clamp_without_branches(double x, double cap) {
+#if defined(__SSE2__)
+  return _mm_cvtsd_f64(_mm_min_sd(_mm_max_sd(_mm_set_sd(x), _mm_setzero_pd()), _mm_set_sd(cap)));
+#else
+  return std::clamp(x, 0.0, cap);
+#endif
 }
 
 }  // namespace
@@ -145,23 +190,36 @@ std::vector<uint32_t> place_wave_samples(const std::vector<double>& weight, cons
   const double mean_after = double(total + budget) / double(pixels);
   const double floor_total = std::max(double(options.min_spp), std::ceil(options.uniform_share * mean_after));
   std::vector<double> k(pixels);
-  auto place = [&](double lambda, double floor_at) {
+  // A pixel's count for a Neyman multiplier lambda and a floor: its total
+  // after the wave is max(floor, lambda weight), less what it has, within
+  // [0, cap]. The solver only sums them (some 15-20 times a wave); the
+  // result is kept once.
+  const auto count = [&](size_t p, double lambda, double floor_at) {
+    const double scaled = lambda * weight[p];
+    return clamp_without_branches((floor_at < scaled ? scaled : floor_at) - double(spp[p]), cap);
+  };
+  const auto total_at = [&](double lambda, double floor_at) {
     double sum = 0.0;
-    for (size_t p = 0; p < pixels; ++p) {
-      const double target = std::max(floor_at, lambda * weight[p]);
-      k[p] = std::clamp(target - double(spp[p]), 0.0, cap);
-      sum += k[p];
-    }
+    for (size_t p = 0; p < pixels; ++p) sum += count(p, lambda, floor_at);
     return sum;
   };
+  const auto place = [&](double lambda, double floor_at) {
+    for (size_t p = 0; p < pixels; ++p) k[p] = count(p, lambda, floor_at);
+  };
   const double wanted = double(budget);
-  if (place(0.0, floor_total) >= wanted) {
+  if (total_at(0.0, floor_total) >= wanted) {
     // The floor alone takes the wave: lower it (pixels behind come first).
-    place(0.0, solve_increasing([&](double f) { return place(0.0, f); }, 0.0, floor_total, wanted));
+    place(0.0, solve_increasing([&](double f) { return total_at(0.0, f); }, 0.0, floor_total, wanted));
   } else {
-    double hi = 1.0;
-    while (place(hi, floor_total) < wanted && hi < 1e300) hi *= 2.0;
-    place(solve_increasing([&](double lambda) { return place(lambda, floor_total); }, 0.0, hi, wanted), floor_total);
+    // A bracket from the counts' scale: with every pixel above the floor
+    // and below the cap, lambda sum(weight) = total + budget; twice that,
+    // doubled until it holds (the result does not depend on the bracket).
+    double weight_sum = 0.0;
+    for (double w : weight) weight_sum += w;
+    double hi = weight_sum > 0.0 ? std::max(1.0, 2.0 * (double(total) + wanted) / weight_sum) : 1.0;
+    while (total_at(hi, floor_total) < wanted && hi < 1e300) hi *= 2.0;
+    place(solve_increasing([&](double lambda) { return total_at(lambda, floor_total); }, 0.0, hi, wanted),
+          floor_total);
   }
   std::vector<uint32_t> out = round_to_budget(k, budget);
   // Rounding down never leaves more than `budget`; a sum short of it (the
@@ -180,7 +238,7 @@ std::vector<uint32_t> allocate_wave_samples(const AdaptiveInputs& in, int pass_c
 std::vector<uint32_t> AdaptiveSampler::plan(const Film& film, int pass_count) {
   // The weights change slowly: read the film (its mean and half, with the
   // photon map's image) again only once its samples grew by a quarter.
-  if (weight_.empty() || film.passes() < weights_passes_ || 4 * film.passes() >= 5 * weights_passes_) {
+  if (needs_weights(film.passes())) {
     AdaptiveInputs in;
     in.width = film.width();
     in.height = film.height();
@@ -190,7 +248,11 @@ std::vector<uint32_t> AdaptiveSampler::plan(const Film& film, int pass_count) {
     weight_ = neyman_weights(in, options_);
     weights_passes_ = film.passes();
   }
-  return place_wave_samples(weight_, film.pixel_spp(), pass_count, Film::kMostSamplesPerPixel, options_);
+  return place(film.pixel_spp(), pass_count);
+}
+
+std::vector<uint32_t> AdaptiveSampler::place(const std::vector<uint32_t>& spp, int pass_count) const {
+  return place_wave_samples(weight_, spp, pass_count, Film::kMostSamplesPerPixel, options_);
 }
 
 }  // namespace caustica

@@ -106,6 +106,15 @@ class AdaptiveSampler {
  public:
   explicit AdaptiveSampler(const AdaptiveOptions& options) : options_(options) {}
   std::vector<uint32_t> plan(const Film& film, int pass_count);
+  // Whether plan() reads the film's estimate again at this many passes
+  // (its weights change slowly: again once the samples grew by a quarter).
+  bool needs_weights(int film_passes) const {
+    return weight_.empty() || film_passes < weights_passes_ || 4 * film_passes >= 5 * weights_passes_;
+  }
+  // plan() where needs_weights is false: its counts from the pixels' counts
+  // alone, so the host can place a wave before the previous one has been
+  // traced (PassDriver). Reads only this sampler's weights.
+  std::vector<uint32_t> place(const std::vector<uint32_t>& spp, int pass_count) const;
   const AdaptiveOptions& options() const { return options_; }
   AdaptiveSamplerState state() const { return {weight_, weights_passes_}; }
   void restore(AdaptiveSamplerState state) {

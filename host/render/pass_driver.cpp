@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
 #include <limits>
 #include <map>
 
@@ -20,6 +21,35 @@ void PassDriver::trace_chunk(size_t first_pixel, size_t pixel_count, int passes,
 }
 
 double time_limit_tolerance(double limit_s) { return std::max(0.5, 0.05 * limit_s); }
+
+// The next wave as it will be if nothing changes the plan (no time limit
+// trimming it, no photon map in it), placed on a host thread from the
+// counts this wave leaves, while the device traces this one.
+void PassDriver::start_plan_ahead(PlanAhead& ahead, const StopConditions& stop, int pass, int wave) {
+  const int next_pass = pass + wave, passes_after = film_.passes() + wave;
+  if (next_pass >= stop.passes || adaptive_->needs_weights(passes_after)) return;
+  const int next_wave =
+      Film::most_passes_from(next_pass, std::min(integrator_.wave_passes(film_), stop.passes - next_pass));
+  if (next_wave < 1) return;
+  ahead.pass = next_pass;
+  ahead.wave = next_wave;
+  ahead.spp = film_.spp_after_wave();
+  const AdaptiveSampler* sampler = &*adaptive_;
+  ahead.samples = std::async(std::launch::async,
+                             [sampler, spp = ahead.spp, next_wave] { return sampler->place(spp, next_wave); });
+}
+
+// The wave placed ahead, if it is the one about to be traced (same first
+// pass, passes and counts, and weights that plan() would not read again):
+// then plan() would return the same counts, since place() is what it does.
+std::optional<std::vector<uint32_t>> PassDriver::take_plan_ahead(PlanAhead& ahead, int pass, int wave, bool uneven) {
+  if (!ahead.samples.valid()) return std::nullopt;
+  std::vector<uint32_t> samples = ahead.samples.get();  // (joined either way: plan() may change the weights)
+  if (!uneven || ahead.pass != pass || ahead.wave != wave || adaptive_->needs_weights(film_.passes()) ||
+      ahead.spp != film_.pixel_spp())
+    return std::nullopt;
+  return samples;
+}
 
 void PassDriver::run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress,
                      const PassDoneCallback& pass_done) {
@@ -40,6 +70,7 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
   // Progress counts the film's passes: the target is the count at the end.
   const bool open_ended = stop.passes == std::numeric_limits<int>::max();
   const int target = open_ended ? stop.passes : first_count + std::max(0, stop.passes - first_pass);
+  PlanAhead ahead;
   for (int pass = first_pass; pass < stop.passes;) {
     const int kind = integrator_.next_pass_kind(film_);
     const double start = seconds();
@@ -51,11 +82,14 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
       if (predicted > room) break;
       if (predicted > 0.0) wave = std::max(1, std::min(wave, int(room / predicted)));
     }
-    if (adaptive_ && film_.has_half_buffer() && film_.passes() >= int(adaptive_->options().min_spp) &&
-        integrator_.wave_may_be_uneven(film_))
-      film_.plan_wave(wave, adaptive_->plan(film_, wave), pass);
+    const bool uneven = adaptive_ && film_.has_half_buffer() &&
+                        film_.passes() >= int(adaptive_->options().min_spp) && integrator_.wave_may_be_uneven(film_);
+    std::optional<std::vector<uint32_t>> placed = take_plan_ahead(ahead, pass, wave, uneven);
+    if (uneven)
+      film_.plan_wave(wave, placed ? std::move(*placed) : adaptive_->plan(film_, wave), pass);
     else
       film_.plan_wave(wave, {}, pass);
+    if (uneven) start_plan_ahead(ahead, stop, pass, wave);
     integrator_.begin_pass(film_, stats);
     bool abandoned = false;
     for (size_t first = first_pixel; first < pixel_end; first += chunk) {

@@ -23,11 +23,20 @@
 // to the passes that do), and a pass still running at T plus 9/10 of it is
 // abandoned between chunks (its contributions cleared, never accumulated).
 // The first pass of a run always runs to the end.
+//
+// Adaptive sampling places a wave's samples from the film the previous wave
+// left. Between the sampler's weight refreshes that is only the pixels'
+// counts, which the host knows once a wave is planned, so the next wave is
+// placed on a host thread while the device traces the current one (on a
+// GPU the device otherwise waited for it: about 10 ms a wave at 512^2, more
+// than the wave itself); it is taken only if the next wave is the one
+// predicted, with the same counts, so the bits do not depend on it.
 #pragma once
 
 #include <cstdint>
 
 #include <functional>
+#include <future>
 
 #include <optional>
 
@@ -89,6 +98,13 @@ class PassDriver {
 
  private:
   void trace_chunk(size_t first_pixel, size_t pixel_count, int passes, RenderStats* stats);
+  struct PlanAhead {
+    int pass = -1, wave = 0;
+    std::vector<uint32_t> spp;  // the counts it was placed from
+    std::future<std::vector<uint32_t>> samples;
+  };
+  void start_plan_ahead(PlanAhead& ahead, const StopConditions& stop, int pass, int wave);
+  std::optional<std::vector<uint32_t>> take_plan_ahead(PlanAhead& ahead, int pass, int wave, bool uneven);
 
   Integrator& integrator_;
   Film& film_;
