@@ -1,11 +1,10 @@
 #include "host/bench/bench_rays.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <thread>
 
 #include "host/error.h"
+#include "host/parallel.h"
 #include "host/lights/light_types.h"
 #include "kernels/shared/camera.h"
 
@@ -26,19 +25,6 @@ uint64_t mix64(uint64_t x) {
 float dot3(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
 }  // namespace
-
-void parallel_blocks(size_t n, int threads, const std::function<void(size_t, size_t)>& body) {
-  if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
-  const size_t block = 4096;
-  std::atomic<size_t> next{0};
-  auto worker = [&] {
-    for (size_t begin; (begin = next.fetch_add(block)) < n;) body(begin, std::min(n, begin + block));
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads && size_t(t) * block < n; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-}
 
 RaySet camera_rays(const CameraDesc& camera, int width, int height) {
   if (width <= 0 || height <= 0) throw Error("bench rays: image size must be positive");

@@ -72,8 +72,5 @@ glm::vec3 cosine_direction(glm::vec3 n, uint64_t seed, uint64_t index);
 std::vector<Hit> host_closest_hits(const HostTracer& tracer, const RaySet& rays, int threads = 0);
 std::vector<uint8_t> host_occlusion(const HostTracer& tracer, const RaySet& rays, int threads = 0);
 
-// body(begin, end) over [0, n) in blocks shared out to `threads` threads
-// (0: all hardware threads); returns when every block is done.
-void parallel_blocks(size_t n, int threads, const std::function<void(size_t, size_t)>& body);
 
 }  // namespace caustica

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -9,6 +10,7 @@
 #include <string>
 
 #include "host/error.h"
+#include "host/parallel.h"
 #include "host/render/error_estimate.h"
 #include "host/render/film.h"
 
@@ -25,16 +27,25 @@ std::vector<double> neighbours_weight(const std::vector<double>& v, int width, i
   // Box sums, separable, each summed afresh (no running or summed-area
   // table: one firefly's v, orders of magnitude above its neighbours',
   // would round every later sum of the image).
+  // Each pixel of each step on its own, rows shared out to the host's
+  // threads (host/parallel.h): the same bits for any thread count, and the
+  // device, which waits for this plan, waits less on a many-core host.
   const size_t w = size_t(width);
   std::vector<double> rows(v.size()), sums(v.size());
   std::vector<int> counts(v.size());  // pixels in each box (fewer at the image's edges)
-  for (int y = 0; y < height; ++y)
+  const auto over_rows = [height](const std::function<void(int)>& row) {
+    parallel_blocks(size_t(height), 0, [&](size_t begin, size_t end) {
+      for (size_t y = begin; y < end; ++y) row(int(y));
+    }, 16);
+  };
+  over_rows([&](int y) {
     for (int x = 0; x < width; ++x) {
       double s = 0.0;
       for (int xx = std::max(0, x - box); xx <= std::min(width - 1, x + box); ++xx) s += v[size_t(y) * w + xx];
       rows[size_t(y) * w + x] = s;
     }
-  for (int y = 0; y < height; ++y)
+  });
+  over_rows([&](int y) {
     for (int x = 0; x < width; ++x) {
       double s = 0.0;
       for (int yy = std::max(0, y - box); yy <= std::min(height - 1, y + box); ++yy) s += rows[size_t(yy) * w + x];
@@ -43,8 +54,9 @@ std::vector<double> neighbours_weight(const std::vector<double>& v, int width, i
       sums[size_t(y) * w + x] = s;
       counts[size_t(y) * w + x] = cols * lines;
     }
+  });
   std::vector<double> out(v.size(), 0.0);
-  for (int y = 0; y < height; ++y)
+  over_rows([&](int y) {
     for (int x = 0; x < width; ++x) {
       const double own = v[size_t(y) * w + x];
       double best = 0.0;
@@ -57,6 +69,7 @@ std::vector<double> neighbours_weight(const std::vector<double>& v, int width, i
         }
       out[size_t(y) * w + x] = best;
     }
+  });
   return out;
 }
 
