@@ -153,6 +153,16 @@ class Integrator {
   // of one kind take about as long): path mode's passes that trace a photon
   // map are 1, the others 0.
   virtual int next_pass_kind(const Film& /*film*/) const { return 0; }
+  // After a wave of `wave` passes now, the next wave that may be uneven as
+  // the state now predicts it: the one-pass uniform waves before it (path
+  // mode's photon-map passes) and its most passes (0: none). Adaptive
+  // sampling places that wave ahead (PassDriver); a wrong guess costs only
+  // the work.
+  struct UnevenWaveGuess {
+    int uniform_passes = 0;
+    int passes = 0;
+  };
+  virtual UnevenWaveGuess next_uneven_wave(const Film& /*film*/, int /*wave*/) const { return {}; }
   // After the last pass: whatever the integrator counted on the device.
   virtual void collect(RenderStats* /*stats*/) {}
   // Render state files (host/render/render_state.h): what later waves

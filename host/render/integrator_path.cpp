@@ -117,15 +117,27 @@ class PathIntegrator final : public Integrator {
   PathIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
                  const RenderSettings& settings);
   bool trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int passes, RenderStats* stats) override;
+  static int most_wave_passes(const Film& film) {
+    return int(std::clamp<size_t>(kWaveSamples / std::max<size_t>(1, film.pixel_count()), 1, Film::kMostWavePasses));
+  }
   // With the photon pass on, a pass that traces a photon map is a wave of
   // its own (its first receivers record the pixels' visible points); the
   // passes up to the next map may share one.
   int wave_passes(const Film& film) const override {
-    const int most =
-        int(std::clamp<size_t>(kWaveSamples / std::max<size_t>(1, film.pixel_count()), 1, Film::kMostWavePasses));
+    const int most = most_wave_passes(film);
     if (!photons_ || (film.passes() > 0 && !photons_->on())) return most;
     if (film.passes() == 0 || passes_since_photons_ == 0) return 1;
     return std::min(most, int(interval_ - passes_since_photons_));
+  }
+  // The schedule as it stands: a wave that brings the passes since the
+  // latest map to interval_ is followed by a map's pass, then the passes up
+  // to the next map (`auto` may still change interval_ at that map).
+  UnevenWaveGuess next_uneven_wave(const Film& film, int wave) const override {
+    const int most = most_wave_passes(film);
+    if (!photons_ || !photons_->on()) return {0, most};
+    const uint32_t since = (passes_since_photons_ + uint32_t(wave)) % interval_;
+    if (since == 0) return {1, std::min(most, int(interval_) - 1)};
+    return {0, std::min(most, int(interval_ - since))};
   }
   void begin_pass(Film& film, RenderStats* stats) override {
     if (numerics_() && film.passes() == 0)

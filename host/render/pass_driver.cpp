@@ -22,18 +22,22 @@ void PassDriver::trace_chunk(size_t first_pixel, size_t pixel_count, int passes,
 
 double time_limit_tolerance(double limit_s) { return std::max(0.5, 0.05 * limit_s); }
 
-// The next wave as it will be if nothing changes the plan (no time limit
-// trimming it, no photon map in it), placed on a host thread from the
-// counts this wave leaves, while the device traces this one.
+// The next uneven wave as it will be if nothing changes the plan (no time
+// limit trimming it, the photon maps' schedule as it stands), placed on a
+// host thread from the counts this wave and the uniform passes before it
+// leave, while the device traces them.
 void PassDriver::start_plan_ahead(PlanAhead& ahead, const StopConditions& stop, int pass, int wave) {
-  const int next_pass = pass + wave, passes_after = film_.passes() + wave;
-  if (next_pass >= stop.passes || adaptive_->needs_weights(passes_after)) return;
-  const int next_wave =
-      Film::most_passes_from(next_pass, std::min(integrator_.wave_passes(film_), stop.passes - next_pass));
+  const Integrator::UnevenWaveGuess guess = integrator_.next_uneven_wave(film_, wave);
+  const int next_pass = pass + wave + guess.uniform_passes;
+  if (guess.passes < 1 || next_pass >= stop.passes ||
+      adaptive_->needs_weights(film_.passes() + wave + guess.uniform_passes))
+    return;
+  const int next_wave = Film::most_passes_from(next_pass, std::min(guess.passes, stop.passes - next_pass));
   if (next_wave < 1) return;
   ahead.pass = next_pass;
   ahead.wave = next_wave;
   ahead.spp = film_.spp_after_wave();
+  for (uint32_t& n : ahead.spp) n += uint32_t(guess.uniform_passes);
   const AdaptiveSampler* sampler = &*adaptive_;
   ahead.samples = std::async(std::launch::async,
                              [sampler, spp = ahead.spp, next_wave] { return sampler->place(spp, next_wave); });
@@ -42,8 +46,10 @@ void PassDriver::start_plan_ahead(PlanAhead& ahead, const StopConditions& stop, 
 // The wave placed ahead, if it is the one about to be traced (same first
 // pass, passes and counts, and weights that plan() would not read again):
 // then plan() would return the same counts, since place() is what it does.
+// A uniform wave before the one placed ahead (a photon map's pass) leaves
+// it running: no plan() is made meanwhile.
 std::optional<std::vector<uint32_t>> PassDriver::take_plan_ahead(PlanAhead& ahead, int pass, int wave, bool uneven) {
-  if (!ahead.samples.valid()) return std::nullopt;
+  if (!ahead.samples.valid() || (!uneven && pass < ahead.pass)) return std::nullopt;
   std::vector<uint32_t> samples = ahead.samples.get();  // (joined either way: plan() may change the weights)
   if (!uneven || ahead.pass != pass || ahead.wave != wave || adaptive_->needs_weights(film_.passes()) ||
       ahead.spp != film_.pixel_spp())
