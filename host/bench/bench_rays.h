@@ -17,7 +17,6 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
-#include <functional>
 #include <vector>
 
 #include "host/bench/host_trace.h"
