@@ -9,8 +9,10 @@
  *  - step_scalar_aos: scalar floats only, records still float4 arrays read
  *    and written component by component;
  *  - step_scalar_soa: scalar floats only, each component its own array
- *    (x for every path, then y, then z).
- * Sine and cosine are polynomials here in all three (PoCL's sin/cos call an
+ *    (x for every path, then y, then z);
+ *  - step_float3_soa: float3 values, each component its own array (run.sh
+ *    also builds it through SPIR and LLVM's scalarizer).
+ * Sine and cosine are polynomials here in all four (PoCL's sin/cos call an
  * argument reduction it does not inline, which alone stops vectorisation). */
 
 inline float poly_sin(float x) {
@@ -98,4 +100,37 @@ __kernel void step_scalar_soa(__global const float* restrict dir_in, __global co
                               __global const float* restrict normals, __global const float* restrict albedo,
                               __global float* restrict dir_out, __global float* restrict throughput, uint n) {
   SCALAR_STEP(SOA_LOAD_DIR, SOA_LOAD_BETA, SOA_STORE_DIR, SOA_STORE_BETA)
+}
+
+/* float3 values as in step_float3, records one array per component. PoCL
+ * does not vectorise it from source (the float3 arithmetic is vector IR);
+ * run.sh also compiles it to SPIR, splits the vectors with LLVM's
+ * scalarizer and loads that binary, which PoCL does vectorise. */
+__kernel void step_float3_soa(__global const float* restrict dir_in, __global const uint* restrict prim,
+                              __global const float* restrict normals, __global const float* restrict albedo,
+                              __global float* restrict dir_out, __global float* restrict throughput, uint n) {
+  const uint i = get_global_id(0);
+  const uint p = prim[i];
+  float3 nrm = normalize((float3)(normals[4 * p], normals[4 * p + 1], normals[4 * p + 2]));
+  nrm = dot(nrm, (float3)(dir_in[i], dir_in[n + i], dir_in[2 * n + i])) > 0.0f ? -nrm : nrm;
+  const uint h = mix32(i * 0x9e3779b9u);
+  const float ux = (float)(h >> 8) * 0x1.0p-24f, uy = (float)(mix32(h) >> 8) * 0x1.0p-24f;
+  const float r = sqrt(ux), phi = 6.2831853f * uy - 3.14159265f;
+  const float z = sqrt(fmax(0.0f, 1.0f - ux));
+  float3 t = fabs(nrm.x) > 0.5f ? (float3)(0.0f, 1.0f, 0.0f) : (float3)(1.0f, 0.0f, 0.0f);
+  const float3 b = normalize(cross(nrm, t));
+  t = cross(b, nrm);
+  const float3 dir = r * poly_cos(phi) * t + r * poly_sin(phi) * b + z * nrm;
+  dir_out[i] = dir.x;
+  dir_out[n + i] = dir.y;
+  dir_out[2 * n + i] = dir.z;
+  dir_out[3 * n + i] = 0.0f;
+  const float3 beta = (float3)(throughput[i], throughput[n + i], throughput[2 * n + i]) *
+                      (float3)(albedo[4 * p], albedo[4 * p + 1], albedo[4 * p + 2]);
+  const float m = fmax(beta.x, fmax(beta.y, beta.z));
+  const float3 scaled = m < 0.1f ? beta / fmax(2.0f * m, 1e-6f) : beta;
+  throughput[i] = scaled.x;
+  throughput[n + i] = scaled.y;
+  throughput[2 * n + i] = scaled.z;
+  throughput[3 * n + i] = m;
 }

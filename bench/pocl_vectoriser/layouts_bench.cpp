@@ -1,15 +1,21 @@
 // Runs one kernel of layouts.cl over 2^20 paths on the first OpenCL CPU
 // device and prints its median time, ns per path and a checksum of its
-// outputs (bench/pocl_vectoriser/run.sh compares the three layouts).
-// Usage: layouts_bench LAYOUTS.cl KERNEL
+// outputs (bench/pocl_vectoriser/run.sh compares the layouts).
+// Usage: layouts_bench LAYOUTS.cl|LAYOUTS.bc KERNEL
+// A .bc file is a SPIR binary (clang -target spir64, see run.sh), loaded
+// with clCreateProgramWithBinary. LLVM_OPTION (environment): one LLVM
+// command-line option set in this process before the build, through the
+// libLLVM PoCL runs in (run.sh turns the SLP vectoriser off with it).
 #define CL_HPP_TARGET_OPENCL_VERSION 120
 #define CL_HPP_MINIMUM_OPENCL_VERSION 120
 #define CL_HPP_ENABLE_EXCEPTIONS
 #include <CL/opencl.hpp>
+#include <dlfcn.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -25,7 +31,7 @@ int main(int argc, char** argv) {
   std::stringstream source;
   source << file.rdbuf();
   const std::string kernel_name = argv[2];
-  const bool soa = kernel_name == "step_scalar_soa";
+  const bool soa = kernel_name.size() > 4 && kernel_name.compare(kernel_name.size() - 4, 4, "_soa") == 0;
   const cl_uint n = 1u << 20, primitives = 1024;
 
   // Inputs: directions, primitive indices, normals and albedos from a fixed LCG.
@@ -48,7 +54,23 @@ int main(int argc, char** argv) {
   };
 
   cl::Context context(CL_DEVICE_TYPE_CPU);
-  cl::Program program(context, source.str());
+  if (const char* option = std::getenv("LLVM_OPTION")) {  // PoCL has loaded its libLLVM by now
+    void* llvm = dlopen("libLLVM-15.so.1", RTLD_NOW | RTLD_NOLOAD);
+    auto parse = llvm ? reinterpret_cast<void (*)(int, const char* const*, const char*)>(
+                            dlsym(llvm, "LLVMParseCommandLineOptions"))
+                      : nullptr;
+    if (!parse) {
+      std::fprintf(stderr, "LLVM_OPTION: PoCL's libLLVM-15 is not loaded in this process\n");
+      return 1;
+    }
+    const char* args[] = {"layouts_bench", option};
+    parse(2, args, "");
+  }
+  const std::string path = argv[1], text = source.str();
+  const bool spir = path.size() > 3 && path.compare(path.size() - 3, 3, ".bc") == 0;
+  cl::Program program = spir ? cl::Program(context, context.getInfo<CL_CONTEXT_DEVICES>(),
+                                           cl::Program::Binaries{std::vector<unsigned char>(text.begin(), text.end())})
+                             : cl::Program(context, text);
   try {
     program.build();
   } catch (const cl::Error&) {
