@@ -18,6 +18,8 @@
 #include <thread>
 #include <vector>
 
+#include "host/parallel.h"
+
 namespace caustica::bvh_detail {
 
 // Finite "empty box" bounds: the traversal rejects inverted boxes only while
@@ -135,58 +137,11 @@ struct Settings {
 // splits pay off for long diagonal triangles.
 Box clip_triangle(const glm::vec3* v, int axis, float s0, float s1, const Box& bound);
 
-// Runs fn(chunk, begin, end) over contiguous chunks of [0, n), one per
-// thread. Callers merge per-chunk results with exact operations (min, max,
-// integer sums) so that the outcome does not depend on the chunking.
-// A thread-count option: positive as given, 0 for every hardware thread.
-inline int resolve_threads(int requested) {
-  return requested > 0 ? requested : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-}
-
-class Workers {
- public:
-  explicit Workers(int threads) : threads_(threads < 1 ? 1 : threads) {}
-  int threads() const { return threads_; }
-  int chunks(size_t n) const { return n >= kMinChunk * 2 ? int(std::min<size_t>(threads_, n / kMinChunk)) : 1; }
-
-  template <class F>
-  void for_chunks(size_t n, int chunk_count, F&& fn) const {
-    if (chunk_count <= 1) {
-      fn(0, size_t{0}, n);
-      return;
-    }
-    std::vector<std::thread> pool;
-    for (int c = 1; c < chunk_count; ++c)
-      pool.emplace_back([&fn, n, c, chunk_count] { fn(c, n * c / chunk_count, n * (c + 1) / chunk_count); });
-    fn(0, size_t{0}, n / chunk_count);
-    for (std::thread& t : pool) t.join();
-  }
-
-  // Runs fn(i) for every i in [0, count), on up to threads() threads that
-  // each take the next i as soon as they are free (for tasks of uneven
-  // size); the first exception thrown is rethrown here once all stop.
-  template <class F>
-  void for_each_dynamic(size_t count, F&& fn) const {
-    std::atomic<size_t> next{0};
-    std::exception_ptr error;
-    std::mutex error_mutex;
-    const int threads = static_cast<int>(std::max<size_t>(1, std::min<size_t>(threads_, count)));
-    for_chunks(size_t(threads), threads, [&](int, size_t, size_t) {
-      try {
-        for (size_t i; (i = next++) < count;) fn(i);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = count;
-      }
-    });
-    if (error) std::rethrow_exception(error);
-  }
-
- private:
-  static constexpr size_t kMinChunk = 2048;  // below this a thread costs more than it saves
-  int threads_;
-};
+// Workers and resolve_threads (host/parallel.h): callers of for_chunks
+// merge per-chunk results with exact operations (min, max, integer sums)
+// so that the outcome does not depend on the chunking.
+using caustica::resolve_threads;
+using caustica::Workers;
 
 struct Split {
   enum Kind { kNone, kObject, kSpatial } kind = kNone;
