@@ -30,24 +30,33 @@ inline uint mix32(uint h) {
   return h;
 }
 
+/* The float3 body, over loads and stores given as macros (float3 values,
+ * float4 records or one array per component). */
+#define FLOAT3_STEP(LOAD_DIR, LOAD_BETA, STORE_DIR, STORE_BETA)                                  \
+  const uint i = get_global_id(0);                                                                \
+  const uint p = prim[i];                                                                         \
+  float3 nrm = normalize((float3)(normals[4 * p], normals[4 * p + 1], normals[4 * p + 2]));      \
+  nrm = dot(nrm, LOAD_DIR()) > 0.0f ? -nrm : nrm;                                                 \
+  const uint h = mix32(i * 0x9e3779b9u);                                                          \
+  const float ux = (float)(h >> 8) * 0x1.0p-24f, uy = (float)(mix32(h) >> 8) * 0x1.0p-24f;        \
+  const float r = sqrt(ux), phi = 6.2831853f * uy - 3.14159265f;                                  \
+  const float z = sqrt(fmax(0.0f, 1.0f - ux));                                                    \
+  float3 t = fabs(nrm.x) > 0.5f ? (float3)(0.0f, 1.0f, 0.0f) : (float3)(1.0f, 0.0f, 0.0f);        \
+  const float3 b = normalize(cross(nrm, t));                                                      \
+  t = cross(b, nrm);                                                                              \
+  STORE_DIR(r * poly_cos(phi) * t + r * poly_sin(phi) * b + z * nrm);                             \
+  const float3 beta = LOAD_BETA() * (float3)(albedo[4 * p], albedo[4 * p + 1], albedo[4 * p + 2]); \
+  const float m = fmax(beta.x, fmax(beta.y, beta.z));                                             \
+  STORE_BETA(m < 0.1f ? beta / fmax(2.0f * m, 1e-6f) : beta, m);
+
+#define F4_LOAD_DIR() dir_in[i].xyz
+#define F4_LOAD_BETA() throughput[i].xyz
+#define F4_STORE_DIR(v) dir_out[i] = (float4)(v, 0.0f)
+#define F4_STORE_BETA(v, w) throughput[i] = (float4)(v, w)
 __kernel void step_float3(__global const float4* restrict dir_in, __global const uint* restrict prim,
-                          __global const float4* restrict normals, __global const float4* restrict albedo,
+                          __global const float* restrict normals, __global const float* restrict albedo,
                           __global float4* restrict dir_out, __global float4* restrict throughput, uint n) {
-  const uint i = get_global_id(0);
-  const uint p = prim[i];
-  float3 nrm = normalize(normals[p].xyz);
-  nrm = dot(nrm, dir_in[i].xyz) > 0.0f ? -nrm : nrm;
-  const uint h = mix32(i * 0x9e3779b9u);
-  const float ux = (float)(h >> 8) * 0x1.0p-24f, uy = (float)(mix32(h) >> 8) * 0x1.0p-24f;
-  const float r = sqrt(ux), phi = 6.2831853f * uy - 3.14159265f;
-  const float z = sqrt(fmax(0.0f, 1.0f - ux));
-  float3 t = fabs(nrm.x) > 0.5f ? (float3)(0.0f, 1.0f, 0.0f) : (float3)(1.0f, 0.0f, 0.0f);
-  const float3 b = normalize(cross(nrm, t));
-  t = cross(b, nrm);
-  dir_out[i] = (float4)(r * poly_cos(phi) * t + r * poly_sin(phi) * b + z * nrm, 0.0f);
-  const float3 beta = throughput[i].xyz * albedo[p].xyz;
-  const float m = fmax(beta.x, fmax(beta.y, beta.z));
-  throughput[i] = (float4)(m < 0.1f ? beta / fmax(2.0f * m, 1e-6f) : beta, m);
+  FLOAT3_STEP(F4_LOAD_DIR, F4_LOAD_BETA, F4_STORE_DIR, F4_STORE_BETA)
 }
 
 /* The scalar body, over loads and stores given as macros. */
@@ -106,31 +115,26 @@ __kernel void step_scalar_soa(__global const float* restrict dir_in, __global co
  * does not vectorise it from source (the float3 arithmetic is vector IR);
  * run.sh also compiles it to SPIR, splits the vectors with LLVM's
  * scalarizer and loads that binary, which PoCL does vectorise. */
+#define F3_SOA_LOAD_DIR() (float3)(dir_in[i], dir_in[n + i], dir_in[2 * n + i])
+#define F3_SOA_LOAD_BETA() (float3)(throughput[i], throughput[n + i], throughput[2 * n + i])
+#define F3_SOA_STORE_DIR(v) \
+  do {                      \
+    const float3 d_ = (v);  \
+    dir_out[i] = d_.x;      \
+    dir_out[n + i] = d_.y;  \
+    dir_out[2 * n + i] = d_.z; \
+    dir_out[3 * n + i] = 0.0f; \
+  } while (0)
+#define F3_SOA_STORE_BETA(v, w)   \
+  do {                            \
+    const float3 b_ = (v);        \
+    throughput[i] = b_.x;         \
+    throughput[n + i] = b_.y;     \
+    throughput[2 * n + i] = b_.z; \
+    throughput[3 * n + i] = (w);  \
+  } while (0)
 __kernel void step_float3_soa(__global const float* restrict dir_in, __global const uint* restrict prim,
                               __global const float* restrict normals, __global const float* restrict albedo,
                               __global float* restrict dir_out, __global float* restrict throughput, uint n) {
-  const uint i = get_global_id(0);
-  const uint p = prim[i];
-  float3 nrm = normalize((float3)(normals[4 * p], normals[4 * p + 1], normals[4 * p + 2]));
-  nrm = dot(nrm, (float3)(dir_in[i], dir_in[n + i], dir_in[2 * n + i])) > 0.0f ? -nrm : nrm;
-  const uint h = mix32(i * 0x9e3779b9u);
-  const float ux = (float)(h >> 8) * 0x1.0p-24f, uy = (float)(mix32(h) >> 8) * 0x1.0p-24f;
-  const float r = sqrt(ux), phi = 6.2831853f * uy - 3.14159265f;
-  const float z = sqrt(fmax(0.0f, 1.0f - ux));
-  float3 t = fabs(nrm.x) > 0.5f ? (float3)(0.0f, 1.0f, 0.0f) : (float3)(1.0f, 0.0f, 0.0f);
-  const float3 b = normalize(cross(nrm, t));
-  t = cross(b, nrm);
-  const float3 dir = r * poly_cos(phi) * t + r * poly_sin(phi) * b + z * nrm;
-  dir_out[i] = dir.x;
-  dir_out[n + i] = dir.y;
-  dir_out[2 * n + i] = dir.z;
-  dir_out[3 * n + i] = 0.0f;
-  const float3 beta = (float3)(throughput[i], throughput[n + i], throughput[2 * n + i]) *
-                      (float3)(albedo[4 * p], albedo[4 * p + 1], albedo[4 * p + 2]);
-  const float m = fmax(beta.x, fmax(beta.y, beta.z));
-  const float3 scaled = m < 0.1f ? beta / fmax(2.0f * m, 1e-6f) : beta;
-  throughput[i] = scaled.x;
-  throughput[n + i] = scaled.y;
-  throughput[2 * n + i] = scaled.z;
-  throughput[3 * n + i] = m;
+  FLOAT3_STEP(F3_SOA_LOAD_DIR, F3_SOA_LOAD_BETA, F3_SOA_STORE_DIR, F3_SOA_STORE_BETA)
 }
