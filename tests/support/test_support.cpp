@@ -162,8 +162,16 @@ std::string error_of(const std::function<void()>& fn) {
   return {};
 }
 
+// Under coreutils' timeout: a caustica that hangs fails its test after
+// kCliTimeoutSeconds (status 124) and is killed, rather than running on
+// after ctest gives up on the test process. A caustica killed by a signal
+// still reads as signalled (timeout exits with 128 + the signal, as the
+// shell does).
+constexpr int kCliTimeoutSeconds = 300;
+
 CliResult run_cli(const std::string& args) {
-  const std::string cmd = binary_path() + " " + args + " 2>&1";
+  const std::string cmd = "timeout --kill-after=10 " + std::to_string(kCliTimeoutSeconds) + " " + binary_path() +
+                          " " + args + " 2>&1";
   CliResult r;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -172,6 +180,7 @@ CliResult run_cli(const std::string& args) {
   const int status = pclose(p);
   r.signalled = WIFSIGNALED(status) || (WIFEXITED(status) && WEXITSTATUS(status) > 128);
   r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (r.status == 124) r.output += "\n[run_cli] timed out after " + std::to_string(kCliTimeoutSeconds) + " s: " + args;
   return r;
 }
 

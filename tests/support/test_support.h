@@ -59,7 +59,8 @@ struct CliResult {
   int status = -1;
   std::string output;
 };
-// Runs `caustica ARGS` (a shell word list) through the shell.
+// Runs `caustica ARGS` (a shell word list) through the shell, under a
+// timeout: a hang ends with status 124 and a line saying so in the output.
 CliResult run_cli(const std::string& args);
 // A fresh temporary directory for this test,
 // <tmp>/caustica_test_<pid>_<suite>_<test>: the same path on every call within
