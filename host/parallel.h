@@ -5,8 +5,9 @@
 // parallel_blocks is the latter over blocks of an index range, for
 // per-element work whose result does not depend on the split (the bench's
 // host reference rays, adaptive sampling's per-pixel weights): the same
-// bits for any thread count. Each returns when all its work is done, and
-// rethrows the first exception a task threw.
+// bits for any thread count. Each returns when all its work is done;
+// for_each_dynamic and parallel_blocks rethrow the first exception a task
+// threw (for_chunks' functions must not throw).
 #pragma once
 
 #include <algorithm>
