@@ -222,9 +222,10 @@ TEST(AdaptiveAllocation, PlacesTheSameCountsAsBisectionAndAFullSort) {
       for (double& e : in.pixel_error) e = trial == 5 ? 0.0 : error(rng);   // trial 5: every weight alike
       if (trial >= 3)
         for (uint32_t& n : in.spp) n = behind(rng);  // uneven counts: the floor alone may take the wave
-      if (trial == 4) in.rays.assign(in.spp.size(), 0);
-      if (trial == 4)
+      if (trial == 4) {  // uneven costs
+        in.rays.resize(in.spp.size());
         for (size_t p = 0; p < in.rays.size(); ++p) in.rays[p] = uint64_t(in.spp[p]) * (1 + p % 7);
+      }
       const std::vector<double> weight = neyman_weights(in, AdaptiveOptions{});
       for (int passes : {1, 2, 16, 48}) {
         for (uint32_t cap : {uint32_t(passes), 64u, 1u << 16}) {
