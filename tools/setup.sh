@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   gnuplot-nox
   openmpi-bin libopenmpi-dev
+  libtbb12
 )
 # tools/fuzz.sh: clang with its libFuzzer and sanitizer runtimes (Debian's
 # clang-14; libclang_rt.fuzzer-x86_64.a is in libclang-rt-14-dev).
@@ -29,7 +30,15 @@ for p in "${packages[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
   [[ $status == "install ok installed" ]] || missing+=("$p")
 done
+# The denoiser's libraries (not a Debian package): tools/fetch_oidn.sh, once,
+# after the packages; never fatal.
+fetch_oidn() {
+  if [[ ${1:-} != --fuzz && ${1:-} != --oclgrind ]]; then
+    bash "$(dirname "${BASH_SOURCE[0]}")/fetch_oidn.sh"
+  fi
+}
 if ((${#missing[@]} == 0)); then
+  fetch_oidn "${1:-}"
   exit 0
 fi
 cmd="apt-get install -y --no-install-recommends ${missing[*]}"
@@ -47,3 +56,4 @@ else
   echo "[setup] run as root:  $cmd" >&2
   exit 1
 fi
+fetch_oidn "${1:-}"

@@ -69,8 +69,12 @@ FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine, bool by_pixels) 
   }
   if (by_pixels && ranks.rank() == 0) held = mine.held;
   const int last = ranks.broadcast(held.last());
-  const size_t values = mine.spp.size() * 3;
-  if (mine.accumulated.size() == 4 * values && !half_is_in_union(mine.held, last))
+  FilmLayout layout;
+  if (!FilmLayout::from_words(mine.spp.size(), mine.accumulated.size(), &layout))
+    throw Error("a film of " + std::to_string(mine.spp.size()) + " pixels and " +
+                std::to_string(mine.accumulated.size()) + " sum words, which no film layout has");
+  const size_t values = layout.values();
+  if (layout.half && !half_is_in_union(mine.held, last))
     std::fill(mine.accumulated.begin() + std::ptrdiff_t(2 * values), mine.accumulated.end(), 0u);
   sum_film_sums_to_root(ranks, mine.accumulated);
   // Shared by pixels: every rank counts every pixel's passes (its own

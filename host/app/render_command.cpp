@@ -10,9 +10,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <thread>
 
 #include "host/app/distributed_render.h"
 #include "host/app/error_monitor.h"
+#include "host/app/film_outputs.h"
 #include "host/error.h"
 #include "host/image/image_io.h"
 #include "host/lights/light_types.h"
@@ -255,6 +257,19 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option("--passes", a.passes,
                          "path: render passes START:END only (absolute pass indices: the same samples as those "
                          "passes of a full render), for `caustica merge`; needs --no-adaptive and no photon pass");
+  render_cmd->add_flag("--denoise", a.denoise,
+                       "path: every output's main image is denoised by Intel Open Image Denoise, guided by the "
+                       "film's albedo and normal passes (an .exr keeps the raw film as its 'beauty' layer)");
+  render_cmd->add_option_function<std::string>(
+      "--denoise-quality",
+      [&a](const std::string& q) {
+        parse_denoise_quality(q);
+        a.denoise_quality = q;
+      },
+      "path: fast | balanced | high (default): OIDN's filter quality");
+  render_cmd->add_option("--aov-dir", a.aov_dir,
+                         "path: also write each pass as its own .exr in DIR (beauty, denoised, albedo, normal, "
+                         "depth, variance, spp)");
   render_cmd->add_flag("--adaptive,!--no-adaptive", a.session.adaptive,
                        "path: adaptive sampling, the default: after 16 spp, each wave's samples go where the "
                        "estimated error is (--no-adaptive: every pixel alike)");
@@ -294,6 +309,10 @@ int run_render(RenderArgs& a) {
   if (a.checkpoint_every_s && a.checkpoint.empty())
     throw Error("--checkpoint-every needs --checkpoint (the file the state is written to)");
   if (!a.checkpoint.empty()) check_output_dir("--checkpoint", a.checkpoint);
+  if (a.denoise && !Denoiser::available()) throw Error("--denoise: " + Denoiser::missing_message());
+  if (!a.aov_dir.empty()) check_output_dir("--aov-dir", a.aov_dir);  // DIR's parent exists (DIR is made)
+  // The film's aux passes: what the denoiser and an .exr's layers take.
+  a.session.aux_passes = a.denoise || !a.aov_dir.empty() || lower_extension(a.output) == ".exr";
   const bool distributed = a.ranks && a.ranks->size() > 1;
   if (distributed) check_distributed_options(a);
   if (!a.passes.empty()) {
@@ -310,6 +329,18 @@ int run_render(RenderArgs& a) {
   // A state that cannot be read, or is damaged, fails before the scene is read.
   std::optional<RenderState> resume;
   if (!a.resume.empty()) resume = read_render_state(a.resume);
+  // A state made with the aux passes resumes with them (whatever this
+  // render's outputs); one made without cannot give them.
+  if (resume) {
+    for (const auto& [name, value] : resume->identity)
+      if (name == "aux passes") {
+        if (value == "on") a.session.aux_passes = true;
+        else if (a.session.aux_passes)
+          throw Error(a.resume + ": a state rendered without the aux passes (albedo, normal, depth), which " +
+                      std::string(a.denoise ? "--denoise" : !a.aov_dir.empty() ? "--aov-dir" : "an .exr output") +
+                      " needs: write a .pfm or .png, or render again");
+      }
+  }
   // A bad reference fails before anything is built or rendered.
   std::optional<ImageF> reference;
   const bool reference_given = !a.reference.empty();
@@ -334,6 +365,28 @@ int run_render(RenderArgs& a) {
     throw Error("--target-error: only path mode is stochastic; binary and phong images are exact after one pass");
   if (!a.spp_map.empty() && session->mode != RenderMode::Path)
     throw Error("--spp-map: only path mode takes several samples a pixel");
+  if ((a.denoise || !a.aov_dir.empty()) && session->mode != RenderMode::Path)
+    throw Error(std::string(a.denoise ? "--denoise" : "--aov-dir") +
+                ": path mode only (binary and phong images are exact, with no noise and no passes)");
+  if (!a.aov_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(a.aov_dir, ec);
+    if (ec) throw Error("--aov-dir " + a.aov_dir + ": cannot create it: " + ec.message());
+  }
+  std::unique_ptr<Denoiser> denoiser;
+  if (a.denoise) {
+    DenoiserOptions options;
+    options.quality = parse_denoise_quality(a.denoise_quality);
+    const DeviceInfo& device = session->runtime->device_info();
+    options.gpu = device.type == "gpu";
+    // OIDN's threads are the render's: an OpenCL CPU device's compute units
+    // (PoCL's threads, which POCL_MAX_PTHREAD_COUNT limits).
+    options.threads = device.type == "cpu" && device.compute_units > 0
+                          ? int(device.compute_units)
+                          : std::max(1, int(std::thread::hardware_concurrency()));
+    denoiser = std::make_unique<Denoiser>(options);
+    if (a.verbose) std::fprintf(stderr, "[caustica] denoiser: %s\n", denoiser->description().c_str());
+  }
   // Path mode only: binary and phong have no adaptive sampling.
   if (distributed && session->settings.adaptive)
     throw Error(ranks_text(a) + ": adaptive sampling plans each wave from the error of the whole film, which no "
@@ -430,9 +483,16 @@ int run_render(RenderArgs& a) {
   const bool path = session->mode == RenderMode::Path;
   // The image, with its per-pixel sample counts where they can go: an .exr
   // output's "spp" channel, and the --spp-map heatmap.
+  FilmOutputOptions output_options;
+  output_options.output = a.output;
+  output_options.aov_dir = a.aov_dir;
+  output_options.display = display;
+  output_options.denoiser = denoiser.get();
+  // Path mode: the film's outputs (denoised, with its passes); otherwise
+  // the image.
   auto write_outputs = [&](const ImageF& image, const Film& film) {
-    if (path && lower_extension(a.output) == ".exr")
-      write_exr_with_spp(a.output, image, display.exposure_scale, film.pixel_spp());
+    if (path)
+      write_film_outputs(output_options, film);
     else
       write_image(a.output, image, display);
     if (!a.spp_map.empty()) {

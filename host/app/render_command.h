@@ -34,6 +34,11 @@ struct RenderArgs {
   // --passes START:END: a render of passes [START, END) only, with their
   // absolute indices (its state merges with others': `caustica merge`).
   std::string passes;
+  // Path: --denoise (the main image of every output is OIDN's), its
+  // quality, and --aov-dir (each pass as its own file).
+  bool denoise = false;
+  std::string denoise_quality = "high";
+  std::string aov_dir;
   // Under mpirun (host/main.cpp): the ranks; nullptr or one rank: a
   // single-process render.
   RankGroup* ranks = nullptr;

@@ -8,6 +8,7 @@
 #include "host/error.h"
 #include "host/limits.h"
 #include "host/read_file.h"
+#include "host/render/film.h"
 #include "host/lights/light_table.h"
 #include "host/scene/load_scene.h"
 
@@ -68,14 +69,16 @@ void resolve_image_size(const CameraDesc& camera, int width_override, int height
 namespace {
 
 // The film's buffers (host/render/film.cpp) are the ones the image size
-// drives: a 64-bit fixed-point pass and one or two float accumulations, 3
-// values a pixel; with the textures, the largest the user controls. They
+// drives: a 128-bit fixed-point pass and the 128-bit accumulated sums (one
+// or two copies), 3 values a pixel, 10 with the aux passes (FilmLayout);
+// with the textures, the largest the user controls. They
 // are checked against the device before anything is created, so that a
 // request too large gives a message saying what and why instead of
 // CL_INVALID_BUFFER_SIZE from deep inside the render.
 void check_device_memory(const DeviceInfo& device, const RenderSettings& settings, const Scene& scene) {
   const uint64_t pixels = uint64_t(settings.width) * uint64_t(settings.height);
-  const uint64_t pass = pixels * 3 * 8, accumulated = pixels * 3 * 4 * (settings.half_buffer ? 2 : 1);
+  const FilmLayout layout{pixels, settings.aux_passes, settings.half_buffer || settings.adaptive};
+  const uint64_t pass = layout.values() * Film::kAccumulatedValueBytes, accumulated = layout.words() * sizeof(uint64_t);
   const uint64_t texels = uint64_t(scene.texels.size()) * sizeof(uint16_t);
   const std::string size = std::to_string(settings.width) + "x" + std::to_string(settings.height);
   const std::string on = " on " + device.name + " (" + device.platform_name + ")";
@@ -140,6 +143,8 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   const bool path = session->mode == RenderMode::Path;
   session->features.check_numerics = path && options.check_numerics;
   session->settings.check_numerics = session->features.check_numerics;
+  session->features.aux_passes = path && options.aux_passes;
+  session->settings.aux_passes = session->features.aux_passes;
   session->settings.adaptive = path && options.adaptive;
   session->settings.half_buffer = path && (options.error_estimate || options.adaptive);
   session->settings.caustics = session->features.caustics;

@@ -45,7 +45,7 @@ static_assert(sizeof(PathParams) == 64 && offsetof(PathParams, light_count) == 1
               "PathParams layout");
 static_assert(sizeof(Hit) == 16 && offsetof(Hit, prim) == 12, "Hit layout");
 static_assert(sizeof(FilmAccumulate) == 32 && offsetof(FilmAccumulate, pass_count) == 12 &&
-                  offsetof(FilmAccumulate, per_pixel) == 16,
+                  offsetof(FilmAccumulate, per_pixel) == 16 && offsetof(FilmAccumulate, colour_values) == 20,
               "FilmAccumulate layout");
 static_assert(sizeof(PathRecord) == 80 && offsetof(PathRecord, throughput) == 32 && offsetof(PathRecord, pixel) == 48 &&
                   offsetof(PathRecord, depth) == 52 && offsetof(PathRecord, bsdf_pdf) == 56 &&

@@ -134,11 +134,7 @@ void write_pfm(const std::string& path, const ImageF& hdr, float scale) {
   write_all(path, std::move(f), out);
 }
 
-// One float plane of an EXR file: pixel_count values, top row first.
-struct ExrPlane {
-  std::string name;
-  std::vector<float> values;
-};
+}  // namespace
 
 // Our own SaveEXR: the library's returns early on a write error without
 // freeing its header arrays, so every failed write would leak. Here the
@@ -187,6 +183,8 @@ void write_exr_planes(const std::string& path, int width, int height, std::vecto
   auto f = open_for_write(path);
   write_all(path, std::move(f), std::string(reinterpret_cast<const char*>(memory), size));
 }
+
+namespace {
 
 // The R, G and B planes of hdr * scale.
 std::vector<ExrPlane> rgb_planes(const ImageF& hdr, float scale) {
@@ -384,6 +382,27 @@ void write_exr_with_spp(const std::string& path, const ImageF& hdr, float exposu
   // Counts are exact as float up to 2^24 samples per pixel.
   planes.push_back({"spp", std::vector<float>(spp.begin(), spp.end())});
   write_exr_planes(path, hdr.width, hdr.height, std::move(planes));
+}
+
+std::vector<std::string> read_exr_channel_names(const std::string& path) {
+  const std::string bytes = read_all(path);
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  EXRVersion version;
+  if (ParseEXRVersionFromMemory(&version, data, bytes.size()) != TINYEXR_SUCCESS) fail_read(path, "not an EXR file");
+  if (version.tiled || version.multipart || version.non_image)
+    fail_read(path, "only single-part scanline EXR files are read");
+  EXRHeader header;
+  InitEXRHeader(&header);
+  std::unique_ptr<EXRHeader, int (*)(EXRHeader*)> header_guard(&header, FreeEXRHeader);
+  const char* err = nullptr;
+  if (const int rc = ParseEXRHeaderFromMemory(&header, &version, data, bytes.size(), &err); rc != TINYEXR_SUCCESS) {
+    std::string why = err ? err : ("tinyexr error " + std::to_string(rc));
+    if (err) FreeEXRErrorMessage(err);
+    fail_read(path, why);
+  }
+  std::vector<std::string> names;
+  for (int c = 0; c < header.num_channels; ++c) names.emplace_back(header.channels[c].name);
+  return names;
 }
 
 std::vector<float> read_exr_channel(const std::string& path, const std::string& channel) {

@@ -31,6 +31,19 @@ void write_image8(const std::string& path, const Image8& img);  // .ppm or .png 
 void write_exr_with_spp(const std::string& path, const ImageF& hdr, float exposure_scale,
                         const std::vector<uint32_t>& spp);
 
+// One float plane of an EXR file: pixel_count values, top row first, named
+// as OpenEXR layers are ("R", "albedo.R", "depth.Z", "spp").
+struct ExrPlane {
+  std::string name;
+  std::vector<float> values;
+};
+// Writes the planes (sorted by name, as OpenEXR wants) as 32-bit float
+// channels of a ZIP-compressed scanline EXR; throws naming the file on a
+// failed write.
+void write_exr_planes(const std::string& path, int width, int height, std::vector<ExrPlane> planes);
+// The channel names of a single-part scanline EXR, in file order.
+std::vector<std::string> read_exr_channel_names(const std::string& path);
+
 // One channel of a single-part scanline EXR as floats, row-major, top row
 // first (HALF and UINT channels converted). Throws naming the file and the
 // channel when the file has no channel of that name.

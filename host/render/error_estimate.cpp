@@ -32,6 +32,28 @@ std::vector<double> pixel_rel_mse(const ImageF& mean, const ImageF& half_mean, c
   return error;
 }
 
+std::vector<float> pixel_variance(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
+                                  const std::vector<uint32_t>& half_counts, const ImageF* separate_variance) {
+  check_sizes(mean, half_mean, spp.size(), half_counts.size());
+  if (separate_variance && separate_variance->rgb.size() != mean.rgb.size())
+    throw Error("error estimate: the separate variance's size differs from the film's");
+  std::vector<float> variance(spp.size(), 0.0f);
+  for (size_t p = 0; p < spp.size(); ++p) {
+    double sum = 0.0;
+    if (half_counts[p] > 0 && half_counts[p] < spp[p]) {
+      const double weight = double(half_counts[p]) / double(spp[p] - half_counts[p]);
+      for (size_t i = 3 * p; i < 3 * p + 3; ++i) {
+        const double d = double(mean.rgb[i]) - half_mean.rgb[i];
+        sum += d * d * weight;
+      }
+    }
+    if (separate_variance)
+      for (size_t i = 3 * p; i < 3 * p + 3; ++i) sum += separate_variance->rgb[i];
+    variance[p] = float(sum / 3.0);
+  }
+  return variance;
+}
+
 double estimated_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
                          const std::vector<uint32_t>& half_counts, const ImageF* separate_variance) {
   if (separate_variance && separate_variance->rgb.size() != mean.rgb.size())

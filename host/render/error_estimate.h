@@ -56,5 +56,11 @@ double estimated_rel_mse(const ImageF& mean, const ImageF& half_mean, const std:
 // (M - B)^2 n_B / n_A / (M^2 + eps), summed (no separate variance).
 std::vector<double> pixel_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
                                   const std::vector<uint32_t>& half_counts);
+// Each pixel's estimated variance of its mean, (M - B)^2 n_B / n_A averaged
+// over its three channels, plus the separate estimate's variance where given
+// (the same mean over channels): the EXR output's "variance.Y" pass. A pixel
+// without a half gets 0.
+std::vector<float> pixel_variance(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
+                                  const std::vector<uint32_t>& half_counts, const ImageF* separate_variance = nullptr);
 
 }  // namespace caustica

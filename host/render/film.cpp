@@ -16,7 +16,7 @@ namespace caustica {
 Film::Film(Runtime& runtime, const cl::Program& program, const FilmOptions& options)
     : runtime_(runtime), options_(options) {
   if (options.width <= 0 || options.height <= 0) throw Error("film: image size must be positive");
-  const size_t values = pixel_count() * 3;
+  const size_t values = pass_values();
   if (values > 0xFFFFFFFFull / 2) throw Error("film: image too large for 32-bit pass offsets");
   auto& ctx = runtime.context();
   pass_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, values * kAccumulatedValueBytes);
@@ -26,7 +26,9 @@ Film::Film(Runtime& runtime, const cl::Program& program, const FilmOptions& opti
   pixel_rays_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixel_count() * sizeof(cl_ulong));
   accumulate_ = std::make_unique<StageKernel>(program, "accumulate_film_pass");
   read_sums_ = std::make_unique<StageKernel>(program, "read_film_sums");
-  read_values_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, values * sizeof(float));
+  // One image's values at a time: the colour's, or the aux passes'.
+  read_values_ = cl::Buffer(ctx, CL_MEM_READ_WRITE,
+                            pixel_count() * (options.aux_passes ? FilmLayout::kAuxChannels : 3) * sizeof(float));
   // Until the first uneven wave the stages read none of these.
   pixel_spp_ = wave_spp_buffer_ = entry_pixel_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
   entry_offset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint));
@@ -38,11 +40,28 @@ Film::~Film() = default;
 KernelArgs& Film::bind(KernelArgs& args) const {
   return args.arg("film", pass_)
       .arg("film_counters", counters_)
-      .arg("film_high_offset", cl_uint(pixel_count() * 3));
+      .arg("film_high_offset", cl_uint(pass_values()));
+}
+
+KernelArgs& Film::bind_aux(KernelArgs& args) const {
+  if (!options_.aux_passes) throw Error("film: no aux passes were asked for");
+  return args.arg("film_aux_offset", cl_uint(pixel_count() * 3));
+}
+
+bool FilmLayout::from_words(size_t pixels, size_t words, FilmLayout* layout) {
+  for (bool aux : {false, true})
+    for (bool half : {false, true}) {
+      const FilmLayout l{pixels, aux, half};
+      if (pixels > 0 && l.words() == words) {
+        *layout = l;
+        return true;
+      }
+    }
+  return false;
 }
 
 void Film::clear() {
-  runtime_.fill(pass_, cl_ulong(0), 0, pixel_count() * 3 * kAccumulatedValueBytes);
+  runtime_.fill(pass_, cl_ulong(0), 0, pass_values() * kAccumulatedValueBytes);
   runtime_.fill(accumulated_, cl_ulong(0), 0, accumulated_bytes());
   runtime_.fill(counters_, cl_uint(0), 0, FILM_COUNTERS * sizeof(cl_uint));
   runtime_.fill(pixel_rays_, cl_ulong(0), 0, pixel_count() * sizeof(cl_ulong));
@@ -208,10 +227,15 @@ std::vector<uint32_t> Film::spp_after_wave() const {
 }
 
 // The pass's low words, then its high words (kernels/lib/film.h).
+// With the aux passes, their values of those pixels too.
 void Film::clear_pass_range(size_t first_pixel, size_t count) {
-  const size_t word = sizeof(cl_ulong), high = pixel_count() * 3 * word;
+  const size_t word = sizeof(cl_ulong), high = pass_values() * word;
   runtime_.fill(pass_, cl_ulong(0), first_pixel * 3 * word, count * 3 * word);
   runtime_.fill(pass_, cl_ulong(0), high + first_pixel * 3 * word, count * 3 * word);
+  if (!options_.aux_passes) return;
+  const size_t aux = pixel_count() * 3 * word, k = FilmLayout::kAuxChannels;
+  runtime_.fill(pass_, cl_ulong(0), aux + first_pixel * k * word, count * k * word);
+  runtime_.fill(pass_, cl_ulong(0), high + aux + first_pixel * k * word, count * k * word);
 }
 
 void Film::abandon_wave() {
@@ -247,7 +271,8 @@ void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats, int pass
     throw Error("film: a wave of passes [" + std::to_string(first) + ", " + std::to_string(first + pass_count) +
                 ") crosses the half buffer's restart at " + std::to_string(next_restart));
   FilmAccumulate a{};
-  a.value_count = cl_uint(pixel_count() * 3);
+  a.value_count = cl_uint(pass_values());
+  a.colour_values = cl_uint(pixel_count() * 3);
   a.half_offset = cl_uint(half_offset_);
   // The half restarts when a power of two lies in [the end of the held
   // passes, the wave's last pass]: the passes skipped (another rank's, or
@@ -287,24 +312,70 @@ int Film::most_passes_from(int passes, int wanted) {
   return std::max(1, std::min({wanted, kMostWavePasses, next_restart - passes}));
 }
 
-ImageF Film::read_sums(size_t offset) const {
-  ImageF image;
-  image.width = options_.width;
-  image.height = options_.height;
-  image.rgb.resize(pixel_count() * 3);
+std::vector<float> Film::read_values(size_t offset, size_t count) const {
+  std::vector<float> values(count);
   // Converted on the device (kernels/lib/film_sums.h): a quarter of the
   // bytes cross to the host.
-  const cl_uint count = cl_uint(image.rgb.size());
   KernelArgs(*read_sums_)
       .arg("passes", accumulated_)
       .arg("values", read_values_)
-      .arg("value_count", count)
+      .arg("value_count", cl_uint(count))
       .arg("offset", cl_uint(offset))
       .finish();
   auto& q = runtime_.queue();
   q.enqueueNDRangeKernel(read_sums_->kernel, cl::NullRange, cl::NDRange(count));
-  q.enqueueReadBuffer(read_values_, CL_TRUE, 0, image.rgb.size() * sizeof(float), image.rgb.data());
+  q.enqueueReadBuffer(read_values_, CL_TRUE, 0, count * sizeof(float), values.data());
+  return values;
+}
+
+ImageF Film::read_sums(size_t offset) const {
+  ImageF image;
+  image.width = options_.width;
+  image.height = options_.height;
+  image.rgb = read_values(offset, pixel_count() * 3);
   return image;
+}
+
+// The aux sums from `offset` (the combined sum's colour values, or the
+// half's), each pixel divided by its count and its normal decoded.
+AuxImages Film::aux_from_sums(size_t offset, const std::vector<uint32_t>& counts) const {
+  if (!options_.aux_passes) throw Error("film: no aux passes were asked for");
+  const size_t k = FilmLayout::kAuxChannels;
+  const std::vector<float> sums = read_values(offset + pixel_count() * 3, pixel_count() * k);
+  AuxImages aux;
+  aux.albedo = ImageF(options_.width, options_.height);
+  aux.normal = ImageF(options_.width, options_.height);
+  aux.depth.assign(pixel_count(), 0.0f);
+  for (size_t p = 0; p < pixel_count(); ++p) {
+    const float* v = &sums[k * p];
+    const float inv = counts[p] > 0 ? 1.0f / float(counts[p]) : 0.0f;
+    for (int c = 0; c < 3; ++c) {
+      aux.albedo.rgb[3 * p + c] = v[c] * inv;
+      aux.normal.rgb[3 * p + c] = counts[p] > 0 ? 2.0f * (v[3 + c] * inv) - 1.0f : 0.0f;
+    }
+    aux.depth[p] = v[6] * inv;
+  }
+  return aux;
+}
+
+AuxImages Film::aux_mean() const { return aux_from_sums(0, spp_); }
+
+AuxImages Film::aux_half_mean() const {
+  if (!options_.half_buffer) throw Error("film: no half buffer was asked for");
+  if (passes_ < 2) throw Error("film: the half buffer needs at least two passes");
+  const std::vector<uint32_t> h = half_counts();
+  // A pixel with no half yet: its mean (as half_mean).
+  if (std::find(h.begin(), h.end(), 0u) == h.end()) return aux_from_sums(half_offset_, h);
+  AuxImages half = aux_from_sums(half_offset_, h), all = aux_mean();
+  for (size_t p = 0; p < h.size(); ++p) {
+    if (h[p] != 0) continue;
+    for (int c = 0; c < 3; ++c) {
+      half.albedo.rgb[3 * p + c] = all.albedo.rgb[3 * p + c];
+      half.normal.rgb[3 * p + c] = all.normal.rgb[3 * p + c];
+    }
+    half.depth[p] = all.depth[p];
+  }
+  return half;
 }
 
 // Sums to means, as value * (1 / count) (the same bits for every pixel

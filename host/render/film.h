@@ -42,6 +42,31 @@ struct RenderStats;
 struct FilmOptions {
   int width = 0, height = 0;
   bool half_buffer = false;  // keep the sum of passes [P, N) (error estimation)
+  // The auxiliary passes (path mode, HAS_AUX_PASSES): albedo, shading
+  // normal and depth a pixel, summed as the colour is (kernels/lib/film.h).
+  bool aux_passes = false;
+};
+
+// The values a film sums per pixel: three colour channels, then, with the
+// aux passes, kAuxChannels more; all of them again for the half buffer.
+// Its accumulated sums are [colour of every pixel][aux of every pixel]
+// [the same for the half], two 64-bit words a value.
+struct FilmLayout {
+  size_t pixels = 0;
+  bool aux = false, half = false;
+  static constexpr int kAuxChannels = 7;  // FILM_AUX_CHANNELS: albedo rgb, normal xyz, depth
+  size_t values_per_pixel() const { return 3 + (aux ? kAuxChannels : 0); }
+  size_t values() const { return pixels * values_per_pixel(); }  // one copy (the combined sum, or the half)
+  size_t words() const { return (half ? 2 : 1) * values() * 2; }
+  // The layout whose sums are `words` long, if any.
+  static bool from_words(size_t pixels, size_t words, FilmLayout* layout);
+};
+
+// The aux passes as images: per-pixel sample means.
+struct AuxImages {
+  ImageF albedo;              // in [0, 1]
+  ImageF normal;              // decoded to [-1, 1] (a mean of unit vectors: shorter where they differ)
+  std::vector<float> depth;   // one a pixel: the first hit's distance along the camera ray, 0 for a miss
 };
 
 struct FilmCounts {
@@ -101,6 +126,8 @@ class Film {
   // its samples take): plan_wave's first_pass; without a plan, held().end().
   int wave_first_pass() const { return wave_first_ >= 0 ? wave_first_ : held_.end(); }
   bool has_half_buffer() const { return options_.half_buffer; }
+  bool has_aux_passes() const { return options_.aux_passes; }
+  FilmLayout layout() const { return FilmLayout{pixel_count(), options_.aux_passes, options_.half_buffer}; }
   // Every pixel has passes() samples (no allocation was planned yet).
   bool uniform() const { return !per_pixel_; }
   // Each pixel's samples so far (row-major).
@@ -112,6 +139,9 @@ class Film {
 
   // FILM_PARAMS of kernels/lib/film.h: the pass in progress, for stages.
   KernelArgs& bind(KernelArgs& args) const;
+  // "film_aux_offset" (the aux passes' first value in the pass), for the
+  // path tracer's shade stage built with HAS_AUX_PASSES.
+  KernelArgs& bind_aux(KernelArgs& args) const;
 
   // Before a wave of `pass_count` passes: `samples` (one count per pixel,
   // each at most kMostSamplesPerPixel, summing to pass_count x pixels) spreads
@@ -169,6 +199,10 @@ class Film {
   // mean (needs half_buffer; a pixel with an empty half gets its mean).
   int half_passes() const;
   ImageF half_mean() const;
+  // The aux passes' means over every sample, and over the half's (needs
+  // aux_passes; the half also half_buffer and two passes).
+  AuxImages aux_mean() const;
+  AuxImages aux_half_mean() const;
   // The separate estimate's per-pixel variance (zero without one).
   ImageF separate_variance() const;
   FilmCounts counts() const;
@@ -184,9 +218,12 @@ class Film {
 
  private:
   // Accumulated sums and halves, in 64-bit words (two per channel value).
-  size_t accumulated_words() const { return (options_.half_buffer ? 2 : 1) * pixel_count() * 3 * 2; }
+  size_t accumulated_words() const { return layout().words(); }
   size_t accumulated_bytes() const { return accumulated_words() * sizeof(uint64_t); }
-  ImageF read_sums(size_t offset) const;  // offset in values
+  size_t pass_values() const { return layout().values(); }  // the pass in progress's values
+  ImageF read_sums(size_t offset) const;  // the colour image's sums from `offset` (in values)
+  std::vector<float> read_values(size_t offset, size_t count) const;
+  AuxImages aux_from_sums(size_t offset, const std::vector<uint32_t>& counts) const;
   // The buffers the stages read from the first uneven wave on.
   void allocate_per_pixel_buffers();
   void divide_by(ImageF& image, const std::vector<uint32_t>& counts) const;

@@ -67,6 +67,9 @@ struct RenderSettings {
   uint32_t photons_per_pass = 0;  // 0: default_photons_per_pass
   float caustic_radius = 0.0f;  // every pixel's initial gather radius; 0: its footprint
   bool check_numerics = false;  // path: BSDF weight counters (program built with -DHAS_NUMERIC_CHECKS=1)
+  // Path: the film's albedo, normal and depth passes (program built with
+  // -DHAS_AUX_PASSES=1; host/render/film.h).
+  bool aux_passes = false;
 };
 
 struct RenderStats {

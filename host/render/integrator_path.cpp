@@ -340,6 +340,7 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
       photons_->bind_photon_map(photons_->bind_visible_points(shade).arg("record_visible_points",
                                                                           cl_uint(photon_pass_now_ ? 1 : 0)));
     if (numerics_()) shade.arg("numerics", numerics_);
+    if (settings_.aux_passes) film.bind_aux(shade);
     shade.finish();
     launcher_.launch(shade_, bound, stats);
 

@@ -111,6 +111,7 @@ StateIdentity render_identity(uint64_t scene, RenderMode mode, const RenderSetti
   }
   id.emplace_back("half buffer", settings.half_buffer || settings.adaptive ? "on" : "off");
   id.emplace_back("photon pass", settings.caustics ? "on" : "off");
+  if (path) id.emplace_back("aux passes", settings.aux_passes ? "on" : "off");
   if (settings.caustics) {
     id.emplace_back("caustics", settings.caustics_auto ? "auto" : "on");
     id.emplace_back("photons per pass", std::to_string(settings.photons_per_pass));

@@ -18,6 +18,7 @@ Renderer::Renderer(Runtime& runtime, const DeviceScene& scene, RenderMode mode, 
     film.width = settings.width;
     film.height = settings.height;
     film.half_buffer = settings.half_buffer || settings.adaptive;
+    film.aux_passes = settings.aux_passes && mode == RenderMode::Path;
     film_ = std::make_unique<Film>(runtime, program, film);
   } catch (const cl::Error& e) {
     throw Error(std::string("cannot set up the renderer on ") + runtime.device_info().name + ": " + e.what() + " (" +

@@ -81,9 +81,14 @@ RenderState merge_render_states(const std::vector<NamedState>& states) {
   FilmState& f = out.film;
   const FilmState& first = states.front().state.film;
   const size_t pixels = first.spp.size();
-  // The sums: the combined sum's pixels x 3 values, then the half's, if kept.
-  const size_t values = pixels * 3;
-  const bool half = first.accumulated.size() == 4 * values;
+  // The sums: the combined sum's values (colour, then the aux passes if
+  // kept), then the half's, if kept (FilmLayout).
+  FilmLayout layout;
+  if (!FilmLayout::from_words(pixels, first.accumulated.size(), &layout))
+    throw Error(states.front().path + ": a film of " + std::to_string(pixels) + " pixels and " +
+                std::to_string(first.accumulated.size()) + " sum words, which no film layout has");
+  const size_t values = layout.values();
+  const bool half = layout.half;
   f.held = all;
   f.passes = all.count();
   f.spp.assign(pixels, 0u);

@@ -155,6 +155,7 @@ int SceneFeatures::flag_value(FeatureFlag flag) const {
     case FeatureFlag::kHAS_CAUSTICS: return caustics;
     case FeatureFlag::kHAS_NUMERIC_CHECKS: return path && check_numerics;
     case FeatureFlag::kHAS_ENVIRONMENT: return environment;
+    case FeatureFlag::kHAS_AUX_PASSES: return path && aux_passes;
   }
   throw Error("unknown feature flag");
 }

@@ -43,6 +43,7 @@ struct SceneFeatures {
   bool caustics = false;  // path: the photon pass (kernels compiled, buffers allocated, stages launched)
   std::string caustics_reason;  // why it is or is not there, for --verbose
   bool check_numerics = false;  // path: --check-numerics counters compiled in (set by the session)
+  bool aux_passes = false;      // path: the albedo, normal and depth passes compiled in (set by the session)
   bool environment = false;     // path and phong: the scene's environment map (seen at misses; path: sampled)
   bool secondary_rays() const { return reflection || refraction; }
 

@@ -20,7 +20,7 @@
  * cross one: its half then starts at n, the wave's first sample
  * (lib/wave_samples.h's rule, which the host film shares). */
 
-#include "lib/film_sums.h"
+#include "lib/film.h"
 #include "lib/wave_samples.h"
 
 /* sum (two ulongs at *sum, low first) += (low, high) */
@@ -35,8 +35,10 @@ __kernel void accumulate_film_pass(__global ulong* restrict film, __global ulong
                                    __global const uint* restrict wave_spp) {
   const uint i = get_global_id(0);
   if (i >= params.value_count) return;
-  const uint n = params.per_pixel ? pixel_spp[i / 3u] : params.pass_index;
-  const uint k = params.per_pixel ? wave_spp[i / 3u] : params.pass_count;
+  /* three colour values a pixel, then (aux passes) FILM_AUX_CHANNELS */
+  const uint pixel = i < params.colour_values ? i / 3u : (i - params.colour_values) / FILM_AUX_CHANNELS;
+  const uint n = params.per_pixel ? pixel_spp[pixel] : params.pass_index;
+  const uint k = params.per_pixel ? wave_spp[pixel] : params.pass_count;
   if (k == 0u) return; /* not in this wave: its pass value is zero */
   const ulong low = film[i], high = film[params.value_count + i]; /* lib/film.h's layout */
   add_to_sum128(&passes[2ul * i], low, high);

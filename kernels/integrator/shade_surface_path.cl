@@ -89,24 +89,41 @@ inline uint light_of_hit(__global const uint* light_of_sphere, __global const ui
 #define PATH_NUMERICS_PARAMS
 #define PATH_NUMERICS_ARGS
 #endif
+#if HAS_AUX_PASSES
+#define PATH_AUX_PARAMS , uint film_aux_offset
+#define PATH_AUX_ARGS , film_aux_offset
+#else
+#define PATH_AUX_PARAMS
+#define PATH_AUX_ARGS
+#endif
 #define PATH_VERTEX_PARAMS                                                                                  \
   SCENE_SURFACE_PARAMS, __global const Light *restrict lights, __global const uint *restrict light_of_sphere, \
       __global const uint *restrict light_of_cylinder, __global const uint *restrict light_of_triangle,        \
       const PathParams *params, PATH_QUEUE_PARAMS(in), __global const Hit *restrict hits, FILM_PARAMS,        \
-      PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow) PATH_CAUSTIC_PARAMS PATH_NUMERICS_PARAMS
+      PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow) PATH_CAUSTIC_PARAMS PATH_NUMERICS_PARAMS PATH_AUX_PARAMS
 #define PATH_VERTEX_ARGS                                                                                   \
   spheres, cylinders, triangles, triangle_shading, materials, textures, texels, environment, lights,        \
       light_of_sphere,                                                                                      \
       light_of_cylinder, light_of_triangle, &params, PATH_QUEUE_ARGS(in), hits, FILM_ARGS, PATH_QUEUE_ARGS(next), \
-      SHADOW_QUEUE_ARGS(shadow) PATH_CAUSTIC_ARGS PATH_NUMERICS_ARGS
+      SHADOW_QUEUE_ARGS(shadow) PATH_CAUSTIC_ARGS PATH_NUMERICS_ARGS PATH_AUX_ARGS
 
-/* Path i's vertex: true when the path goes on, as *child. */
-inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out) {
+/* Path i's vertex: true when the path goes on, as *child. *aux_open: the
+ * aux passes still wait for this sample's surface (it passed through a
+ * mirror or smooth glass here): if the path ends, the caller adds "no
+ * surface" for it. */
+inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out, bool* aux_open) {
   shadow_mark_empty(SHADOW_QUEUE_ARGS(shadow), i);
   const Hit hit = hits[i];
   const PathRecord ray = path_load(PATH_QUEUE_ARGS(in), i);
   const float3 throughput = ray.throughput.xyz;
   const float3 d = ray.dir.xyz;
+  *aux_open = false;
+#if HAS_AUX_PASSES
+  /* The first vertex's distance (0 for a miss); the surface below. */
+  const bool aux_pending = (ray.flags & PATH_AUX_PENDING) != 0u;
+  if (ray.depth == 0u) film_add_aux_depth(FILM_ARGS, film_aux_offset, ray.pixel, hit.prim == PRIM_NONE ? 0.0f : hit.t);
+  if (aux_pending && hit.prim == PRIM_NONE) *aux_open = true; /* no surface */
+#endif
   if (hit.prim == PRIM_NONE) {
 #if HAS_ENVIRONMENT
     if (params->environment_light != LIGHT_NONE) {
@@ -171,7 +188,11 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   } else if (max3_of(mat->emission.xyz) > 0.0f) { /* not sampled: BSDF rays find it alone */
     film_add(FILM_ARGS, ray.pixel, throughput * mat->emission.xyz * material_emission_texel(mat, textures, texels, sp.uv));
   }
+#if HAS_AUX_PASSES
+  if (ray.depth >= params->max_depth && !aux_pending) return false;
+#else
   if (ray.depth >= params->max_depth) return false;
+#endif
 
   float3 diffuse_colour = mat->diffuse.xyz;
 #if HAS_TEXTURES
@@ -185,6 +206,19 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   const ShadingFrame frame = shading_frame(bsdf, sp.shading_normal, sp.normal, d);
   const float3 t = frame.t, b = frame.b, n = frame.n, ng = frame.ng;
   const float3 wo = frame_to_local(-d, t, b, n);
+#if HAS_AUX_PASSES
+  /* The denoiser's albedo and normal: this surface's, unless the path sees
+   * through it to the next (perfect mirror, smooth glass), whose albedo
+   * then comes with this one's colour in the throughput. */
+  if (aux_pending) {
+    if (bsdf_passes_aux_through(bsdf))
+      *aux_open = true;
+    else
+      film_add_aux_surface(FILM_ARGS, film_aux_offset, ray.pixel, throughput * bsdf_albedo(bsdf, wo),
+                           dot(n, d) > 0.0f ? -n : n);
+  }
+  if (ray.depth >= params->max_depth) return false;
+#endif
 #if HAS_CAUSTICS
   const bool caster = photon_map_on && bsdf_casts_caustics(bsdf);
   if (!caster && photon_map_on && record_visible_points && !(ray.flags & PATH_PAST_RECEIVER)) {
@@ -301,6 +335,9 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out)
   child.flags = (flags & BSDF_SAMPLED_SPECULAR) ? PATH_SPECULAR : 0u;
   child.cone_width = cone_width;
   child.cone_spread = spread;
+#if HAS_AUX_PASSES
+  if (*aux_open) child.flags |= PATH_AUX_PENDING;
+#endif
 #if HAS_CAUSTICS
   const uint caustic_flags = PATH_PAST_RECEIVER | PATH_AFTER_RECEIVER | PATH_CASTER_SINCE_RECEIVER;
   if (!caster) /* leaving a receiver starts a new chain */
@@ -329,7 +366,7 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const Light* res
                                  SHADOW_QUEUE_PARAMS(shadow), CameraGPU camera,
                                  volatile __global uint* restrict wave_progress, WAVE_ALLOCATION_PARAMS,
                                  volatile __global ulong* restrict pixel_rays, uint count_pixel_rays PATH_CAUSTIC_PARAMS
-                                     PATH_NUMERICS_PARAMS) {
+                                     PATH_NUMERICS_PARAMS PATH_AUX_PARAMS) {
   __local uint group_starts, group_first_sample, group_pushes, group_first_slot;
   const uint i = get_global_id(0);
   const uint count = *in_count;
@@ -342,7 +379,15 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const Light* res
   PathRecord child;
   bool goes_on = false, starts = false;
   if (i < count) {
-    goes_on = shade_path_vertex(PATH_VERTEX_ARGS, i, &child);
+    bool aux_open;
+    goes_on = shade_path_vertex(PATH_VERTEX_ARGS, i, &child, &aux_open);
+#if HAS_AUX_PASSES
+    /* its path ended before a rough surface: none, once */
+    if (!goes_on && aux_open)
+      film_add_aux_surface(FILM_ARGS, film_aux_offset, in_pixel[i], splat_float3(0.0f), splat_float3(0.0f));
+#else
+    (void)aux_open;
+#endif
     /* its pixel's cost: the ray that found this vertex, and its shadow ray */
     if (count_pixel_rays) atom_add(&pixel_rays[in_pixel[i]], shadow_pixel[i] == SHADOW_SLOT_EMPTY ? 1ul : 2ul);
     starts = !goes_on;

@@ -277,4 +277,16 @@ inline bool bsdf_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight,
 #endif
 }
 
+/* The aux passes (lib/film.h): does a path see through this surface to the
+ * next one (a perfect mirror or smooth glass: the denoiser is told about
+ * what is seen in it), and otherwise the surface's albedo as seen from wo:
+ * plastic its diffuse albedo under the layer plus the layer's reflectance,
+ * a rough conductor its Fresnel reflectance, rough glass white. */
+inline bool bsdf_passes_aux_through(Bsdf b) { return bsdf_is_smooth(b) && b.kind != BSDF_PLASTIC; }
+inline float3 bsdf_albedo(Bsdf b, float3 wo) {
+  if (b.kind == BSDF_PLASTIC) return b.diffuse * (1.0f - b.specular) + b.specular;
+  if (b.kind == BSDF_CONDUCTOR) return fresnel_schlick(b.specular, fabs(wo.z));
+  return splat_float3(1.0f);
+}
+
 #endif /* CAUSTICA_LIB_BSDF_H */

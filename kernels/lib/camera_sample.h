@@ -41,6 +41,9 @@ inline PathRecord camera_sample_path(const CameraGPU* camera, const PathParams* 
   }
   PathRecord ray = camera_path(origin, dir, pixel, sample);
   ray.cone_spread = 2.0f * length(camera->up.xyz) / (float)camera->height;
+#if HAS_AUX_PASSES
+  ray.flags |= PATH_AUX_PENDING;
+#endif
   return ray;
 }
 

@@ -63,4 +63,31 @@ inline void film_add(FILM_PARAMS, uint pixel, float3 value) {
   film_add_value(at + 2, film_high_offset, value.z, film_counters);
 }
 
+/* The auxiliary passes (HAS_AUX_PASSES: the denoiser's and compositors'):
+ * FILM_AUX_CHANNELS values a pixel from film_aux_offset on (after every
+ * pixel's three colour values), summed exactly as the colour is, so that
+ * their means are per-pixel sample means too. A normal component n in
+ * [-1, 1] is stored as (n + 1) / 2, which the film's non-negative sums
+ * hold; the mean decodes as 2 m - 1 (the encoding is affine, so the mean
+ * of the encoded values is the encoded mean), which holds only if every
+ * sample adds its surface exactly once: at its first rough vertex, or, where
+ * its path ends before one, as no surface (albedo 0, normal 0). Its depth
+ * is added once, at its first vertex. Albedo is clamped to [0, 1] (what
+ * the denoiser takes), depth to FILM_AUX_MAX_DEPTH. */
+#define FILM_AUX_CHANNELS 7u /* albedo rgb, normal xyz (encoded), depth */
+#define FILM_AUX_MAX_DEPTH 1e12f
+inline void film_add_aux_surface(FILM_PARAMS, uint film_aux_offset, uint pixel, float3 albedo, float3 normal) {
+  __global ulong* at = film + (ulong)film_aux_offset + (ulong)FILM_AUX_CHANNELS * pixel;
+  const float3 a = clamp(albedo, 0.0f, 1.0f), encoded = clamp(normal * 0.5f + 0.5f, 0.0f, 1.0f);
+  film_add_value(at, film_high_offset, a.x, film_counters);
+  film_add_value(at + 1, film_high_offset, a.y, film_counters);
+  film_add_value(at + 2, film_high_offset, a.z, film_counters);
+  film_add_value(at + 3, film_high_offset, encoded.x, film_counters);
+  film_add_value(at + 4, film_high_offset, encoded.y, film_counters);
+  film_add_value(at + 5, film_high_offset, encoded.z, film_counters);
+}
+inline void film_add_aux_depth(FILM_PARAMS, uint film_aux_offset, uint pixel, float depth) {
+  __global ulong* at = film + (ulong)film_aux_offset + (ulong)FILM_AUX_CHANNELS * pixel;
+  film_add_value(at + 6, film_high_offset, fmin(depth, FILM_AUX_MAX_DEPTH), film_counters);
+}
 #endif

@@ -36,7 +36,8 @@
   X(HAS_AREA_LIGHTS, 1, "area-lights", "rectangle, sphere and emissive-shape lights are sampled")           \
   X(HAS_CAUSTICS, 0, "photon-pass", "the photon pass: photon stages, grid and caustic gathers")             \
   X(HAS_NUMERIC_CHECKS, 0, "numeric-checks", "path: the --check-numerics BSDF weight counters")               \
-  X(HAS_ENVIRONMENT, 0, "environment", "the environment map: seen at misses, sampled, emitting photons")
+  X(HAS_ENVIRONMENT, 0, "environment", "the environment map: seen at misses, sampled, emitting photons")      \
+  X(HAS_AUX_PASSES, 0, "aux-passes", "path: the albedo, normal and depth passes (denoiser, compositors)")
 
 /* The defaults, for code that is not built by the runtime: the kernel library
  * compiled as C++ on the host (shared/compat.h includes this), or an OpenCL
@@ -81,6 +82,9 @@
 
 #ifndef HAS_ENVIRONMENT
 #define HAS_ENVIRONMENT 0
+#endif
+#ifndef HAS_AUX_PASSES
+#define HAS_AUX_PASSES 0
 #endif
 
 #ifndef __OPENCL_C_VERSION__

@@ -51,7 +51,8 @@
   F(PATH_SPECULAR, 0)              /* arrived by a delta lobe or from the camera: emission hit counts fully */ \
   F(PATH_PAST_RECEIVER, 1)         /* caustics: D1 is behind, its visible point recorded (lib/caustics.h) */ \
   F(PATH_AFTER_RECEIVER, 2)        /* caustics: left a receiver, and met only casters since */ \
-  F(PATH_CASTER_SINCE_RECEIVER, 3) /* caustics: ... at least one of them */
+  F(PATH_CASTER_SINCE_RECEIVER, 3) /* caustics: ... at least one of them */ \
+  F(PATH_AUX_PENDING, 4)           /* aux passes: no rough surface met yet (its albedo and normal are still to add) */
 
 /* A photon path on its way from a light (the photon pass, kernels/photon/):
  * the same queue machinery as paths, its own fields. */

@@ -321,7 +321,7 @@ typedef struct {
  * (host/render/film.h). */
 #define FILM_PASS_ABSENT 0xFFFFFFFFu
 typedef struct {
-  cs_uint value_count; /* pixels * 3 */
+  cs_uint value_count; /* pixels * 3, or with the aux passes pixels * (3 + FILM_AUX_CHANNELS) */
   cs_uint half_offset; /* value offset of the sum of passes [P, N), or FILM_PASS_ABSENT */
   cs_uint pass_index;  /* 0-based index of the first pass being added */
   cs_uint pass_count;  /* passes the pass in progress holds (a wave's) */
@@ -329,7 +329,8 @@ typedef struct {
    * pixel_spp[p] samples and the wave adds wave_spp[p] (pass_index and
    * pass_count unused); 0: every pixel has pass_index and adds pass_count. */
   cs_uint per_pixel;
-  cs_uint pad0, pad1, pad2;
+  cs_uint colour_values; /* pixels * 3: the aux passes' values follow */
+  cs_uint pad1, pad2;
 } FilmAccumulate; /* 32 bytes */
 
 #endif /* CAUSTICA_SHARED_TYPES_H */

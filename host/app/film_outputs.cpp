@@ -1,0 +1,85 @@
+#include "host/app/film_outputs.h"
+
+#include <filesystem>
+
+namespace caustica {
+namespace {
+
+void add_rgb(std::vector<ExrPlane>& planes, const std::string& layer, const ImageF& image, float scale,
+             const char* channels = "RGB") {
+  const size_t n = image.pixel_count();
+  for (int c = 0; c < 3; ++c) {
+    ExrPlane plane{layer.empty() ? std::string(1, channels[c]) : layer + "." + channels[c], std::vector<float>(n)};
+    for (size_t i = 0; i < n; ++i) plane.values[i] = image.rgb[3 * i + c] * scale;
+    planes.push_back(std::move(plane));
+  }
+}
+
+void write_single(const std::string& path, int width, int height, std::vector<ExrPlane> planes) {
+  write_exr_planes(path, width, height, std::move(planes));
+}
+
+}  // namespace
+
+std::vector<ExrPlane> film_pass_planes(const FilmPasses& passes, const std::vector<uint32_t>& spp,
+                                       float exposure_scale, const ImageF* main_image) {
+  std::vector<ExrPlane> planes;
+  add_rgb(planes, "", main_image ? *main_image : passes.colour, exposure_scale);
+  if (main_image) add_rgb(planes, "beauty", passes.colour, exposure_scale);
+  if (passes.aux) {
+    add_rgb(planes, "albedo", passes.aux->albedo, 1.0f);
+    add_rgb(planes, "normal", passes.aux->normal, 1.0f, "XYZ");
+    planes.push_back({"depth.Z", passes.aux->depth});
+  }
+  if (!passes.variance.empty()) {
+    ExrPlane variance{"variance.Y", passes.variance};
+    for (float& v : variance.values) v *= exposure_scale * exposure_scale;
+    planes.push_back(std::move(variance));
+  }
+  // Counts are exact as float up to 2^24 samples per pixel.
+  planes.push_back({"spp", std::vector<float>(spp.begin(), spp.end())});
+  return planes;
+}
+
+ImageF write_film_outputs(const FilmOutputOptions& options, const Film& film) {
+  const FilmPasses passes = read_film_passes(film);
+  ImageF denoised;
+  if (options.denoiser) denoised = denoise_passes(*options.denoiser, passes);
+  const ImageF& main_image = options.denoiser ? denoised : passes.colour;
+  const float scale = options.display.exposure_scale;
+  if (lower_extension(options.output) == ".exr")
+    write_exr_planes(options.output, film.width(), film.height(),
+                     film_pass_planes(passes, film.pixel_spp(), scale, options.denoiser ? &denoised : nullptr));
+  else
+    write_image(options.output, main_image, options.display);
+  if (!options.aov_dir.empty()) {
+    const std::filesystem::path dir(options.aov_dir);
+    const int w = film.width(), h = film.height();
+    std::vector<ExrPlane> one;
+    auto rgb = [&](const char* name, const ImageF& image, float s) {
+      one.clear();
+      add_rgb(one, "", image, s);
+      write_single((dir / name).string(), w, h, std::move(one));
+    };
+    auto grey = [&](const char* name, std::vector<float> values) {
+      write_single((dir / name).string(), w, h, {{"Y", std::move(values)}});
+    };
+    rgb("beauty.exr", passes.colour, scale);
+    if (options.denoiser) rgb("denoised.exr", denoised, scale);
+    if (passes.aux) {
+      rgb("albedo.exr", passes.aux->albedo, 1.0f);
+      rgb("normal.exr", passes.aux->normal, 1.0f);
+      grey("depth.exr", passes.aux->depth);
+    }
+    if (!passes.variance.empty()) {
+      std::vector<float> v = passes.variance;
+      for (float& x : v) x *= scale * scale;
+      grey("variance.exr", std::move(v));
+    }
+    const std::vector<uint32_t>& spp = film.pixel_spp();
+    grey("spp.exr", std::vector<float>(spp.begin(), spp.end()));
+  }
+  return main_image;
+}
+
+}  // namespace caustica

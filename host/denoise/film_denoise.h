@@ -1,0 +1,52 @@
+// A film's denoiser inputs and its denoised image's error (issue 37).
+//
+// Rules: everything is read from the film, never written to it. The
+// colour is Film::mean() (the photon map's caustics included), the guides
+// the film's albedo and normal passes. The guides are given as clean
+// unless their own half-buffer estimate (the colour's estimator, applied
+// to them) says they are noisy (depth of field, paths that glass splits):
+// then the denoiser cleans them first. Without a half buffer, or before two
+// passes, that cannot be measured and they are cleaned.
+//
+// The denoised image's error, estimated: the film's passes [0, P) and
+// [P, N) (its half buffer, host/render/error_estimate.h) are two
+// independent renders A and B of n_A and n_B samples; each is denoised on
+// its own, with its own halves of the guides. If the denoised image's
+// variance falls as c / n, E[(D(A) - D(B))^2] = c (1/n_A + 1/n_B), so
+//   Var(D(M)) ~ (D(A) - D(B))^2 n_A n_B / N^2,
+// divided by D(M)^2 + 0.01 and averaged as the colour's estimate is. What
+// it sees: the residual noise the denoiser leaves. What it cannot see: the
+// denoiser's bias (detail blurred away, a caustic smoothed out), which D(A)
+// and D(B) share; and a denoiser's variance need not fall as 1 / n (it
+// removes more of the noise at low counts), so the estimate is a model,
+// checked against references in docs/denoise.md.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "host/denoise/denoiser.h"
+#include "host/render/film.h"
+
+namespace caustica {
+
+// Above this, the guides' own estimated relMSE (albedo and normal's summed)
+// makes them noisy (cleaned before the colour is denoised).
+inline constexpr double kNoisyGuideRelMse = 1e-3;
+
+struct FilmPasses {
+  ImageF colour;
+  std::optional<AuxImages> aux;  // with the film's aux passes
+  std::vector<float> variance;   // each pixel's estimated variance (empty without a half buffer or 2 passes)
+  std::optional<double> guide_noise;  // the guides' estimated relMSE, where it can be measured
+  bool guides_clean() const { return guide_noise && *guide_noise <= kNoisyGuideRelMse; }
+};
+
+FilmPasses read_film_passes(const Film& film);
+// The colour denoised with the passes' guides (none without aux passes).
+ImageF denoise_passes(const Denoiser& denoiser, const FilmPasses& passes);
+// The rules above; nullopt without a half buffer or aux passes, or before
+// two passes.
+std::optional<double> estimate_denoised_rel_mse(const Denoiser& denoiser, const Film& film, const ImageF& denoised);
+
+}  // namespace caustica
