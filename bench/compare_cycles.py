@@ -985,26 +985,31 @@ def finish_reference(halves, scene, w, h, spp, renderer, desc, seconds, cpu):
     return ref.astype(np.float32), info
 
 
-def caustica_reference(args, scene, w, h, folder):
-    if args.reference_spp:
-        spp = args.reference_spp
-        path, meta = cache_paths(scene, w, h, spp, "caustica")
-        have = (spp, path, meta) if os.path.isfile(path) and os.path.isfile(meta) else None
-    else:
-        have = cached(scene, w, h, "caustica")
-    if have:
+def reference_spp(rate, args):
+    """The power of two (>= 64) of spp that `rate` (spp per wall second on
+    --threads threads) fits into --reference-cpu CPU seconds."""
+    n = rate * args.reference_cpu / args.threads
+    return max(64, 1 << int(math.floor(math.log2(max(n, 64)))))
+
+
+def use_cache(scene, w, h, renderer, spp):
+    """A cached reference of at least spp, else None."""
+    have = cached(scene, w, h, renderer)
+    if have and have[0] >= spp:
         with open(have[2]) as f:
             info = json.load(f)
         info["cached"] = True
         return read_image(have[1]), info
+    return None
+
+
+def caustica_reference(args, scene, w, h, folder, rate):
+    """rate: spp per second of the equal-time caustica row (sizes the reference)."""
+    spp = args.reference_spp or reference_spp(rate, args)
+    got = use_cache(scene, w, h, "caustica", spp)
+    if got:
+        return got
     stem = os.path.basename(scene)
-    if not args.reference_spp:
-        # probe: 16 spp; the two halves get --reference-cpu CPU seconds
-        out = os.path.join(folder, "probe.pfm")
-        p = run_caustica(args, scene, w, h, out, ["--no-adaptive"], spp=16, seed=98)
-        rate = 16 / max(p["cpu_s"] - min(p["cpu_s"], 0.5 * args.threads), 1e-3)  # spp per CPU s, start-up off
-        spp = max(64, 1 << int(math.floor(math.log2(max(rate * args.reference_cpu, 64)))))
-        log("%s %dx%d: caustica probe %.2f spp/CPU s -> reference %d spp" % (stem, w, h, rate, spp))
     log("%s %dx%d: caustica reference, %d spp in two halves" % (stem, w, h, spp))
     halves, t, cpu = [], 0.0, 0.0
     for k in range(2):
@@ -1021,14 +1026,12 @@ def caustica_reference(args, scene, w, h, folder):
     return ref, info
 
 
-def cycles_reference(args, scene, desc, w, h, folder):
-    spp = args.cycles_reference_spp
-    path, meta = cache_paths(scene, w, h, spp, "cycles")
-    if os.path.isfile(path) and os.path.isfile(meta):
-        with open(meta) as f:
-            info = json.load(f)
-        info["cached"] = True
-        return read_image(path), info
+def cycles_reference(args, scene, desc, w, h, folder, rate):
+    """rate: samples per second of the equal-time Cycles row without adaptive sampling."""
+    spp = args.cycles_reference_spp or reference_spp(rate, args)
+    got = use_cache(scene, w, h, "cycles", spp)
+    if got:
+        return got
     log("%s %dx%d: Cycles reference, %d samples in two halves" % (os.path.basename(scene), w, h, spp))
     halves, t, cpu = [], 0.0, 0.0
     for k in range(2):
@@ -1198,8 +1201,60 @@ def compare_scene(args, spec, has_denoise):
             res.update(status="skipped", reason="cannot convert: %s" % e)
             return res
         res["approximate"], res["notes"] = desc["approximate"], desc["notes"]
+        rows, images = res["rows"], {}
+
+        # ---- the equal-time rows (their films kept for the metrics below)
+        t_rows = time.perf_counter()
+        out = os.path.join(folder, "caustica_raw.exr")
+        c = run_caustica(args, scene, w, h, out, [], seconds=args.seconds, seed=1)
+        layers = read_exr_layers(out)
+        spp = layers["_extra"].get("spp")
+        rows.append({"renderer": "caustica", "mode": "adaptive (default)", "wall_s": c["wall_s"],
+                     "cpu_s": c["cpu_s"], "command": c["command"],
+                     "spp_mean": float(spp.mean()) if spp is not None else None,
+                     "films": ("caustica raw", None)})
+        images["caustica raw"] = layers[""]
+        log("%s %dx%d: caustica raw: %.2f s" % (stem, w, h, c["wall_s"]))
+        if has_denoise:
+            out = os.path.join(folder, "caustica_dn.exr")
+            c = run_caustica(args, scene, w, h, out, ["--denoise"], seconds=args.seconds, seed=1)
+            layers = read_exr_layers(out)
+            spp = layers["_extra"].get("spp")
+            rows.append({"renderer": "caustica", "mode": "adaptive (default), --denoise", "wall_s": c["wall_s"],
+                         "cpu_s": c["cpu_s"], "command": c["command"],
+                         "spp_mean": float(spp.mean()) if spp is not None else None,
+                         "films": ("caustica --denoise raw (beauty)" if "beauty" in layers else None,
+                                   "caustica denoised")})
+            if "beauty" in layers:
+                images["caustica --denoise raw (beauty)"] = layers["beauty"]
+            images["caustica denoised"] = layers[""]
+            log("%s %dx%d: caustica --denoise: %.2f s" % (stem, w, h, c["wall_s"]))
+        for adaptive in (False, True):
+            info, craw, cden = run_cycles(args, desc, w, h, folder, "cy%d" % adaptive, adaptive, True,
+                                          seconds=args.seconds)
+            mode = "adaptive" if adaptive else "uniform"
+            row = {"renderer": "Cycles %s" % info.get("blender", ""), "mode": mode,
+                   "wall_s": info["wall_s"], "cpu_s": info["cpu_s"], "process_s": info["process_s"],
+                   "build_s": info["build_s"], "import_s": info["import_s"], "sync_s": info.get("sync_s"),
+                   "after_s": info.get("after_s"), "samples": info.get("samples"),
+                   "sample_count_pass": info.get("sample_count_pass"),
+                   "settings": "CPU, %d threads, time_limit %g s, samples 2^24, adaptive %s, seed %d, OIDN "
+                               "(RGB_ALBEDO_NORMAL, ACCURATE) with denoising_store_passes"
+                               % (args.threads, args.seconds, "on (threshold 0.01)" if adaptive else "off",
+                                  args.seed),
+                   "films": ("Cycles %s raw" % mode, "Cycles %s denoised" % mode)}
+            if row["samples"] and row["sample_count_pass"]:
+                row["spp_mean"] = row["samples"] * row["sample_count_pass"]["mean"]
+            images["Cycles %s raw" % mode] = craw
+            images["Cycles %s denoised" % mode] = cden
+            rows.append(row)
+            log("%s %dx%d: Cycles %s: %.2f s, %s samples" % (stem, w, h, mode, info["wall_s"], info.get("samples")))
+        res["rows_time_s"] = time.perf_counter() - t_rows
+
+        # ---- references, sized from the rows' rates
         t0 = time.perf_counter()
-        ref, rinfo = caustica_reference(args, scene, w, h, folder)
+        c_rate = (rows[0]["spp_mean"] or 16) / args.seconds
+        ref, rinfo = caustica_reference(args, scene, w, h, folder, c_rate)
         res["reference"] = rinfo
         res["reference_time_s"] = time.perf_counter() - t0
         own = None
@@ -1207,18 +1262,22 @@ def compare_scene(args, spec, has_denoise):
             desc["approximate"] or (stem == "cornell_box" and (w, h) == (128, 128))))
         if want_own:
             t0 = time.perf_counter()
-            own, oinfo = cycles_reference(args, scene, desc, w, h, folder)
+            cy_rate = (next(r for r in rows if r["mode"] == "uniform")["samples"] or 16) / args.seconds
+            own, oinfo = cycles_reference(args, scene, desc, w, h, folder, cy_rate)
             res["cycles_reference"] = oinfo
             res["cycles_reference_time_s"] = time.perf_counter() - t0
             res["cycles_ref_vs_caustica_ref"] = rel_mse(own, ref)
             res["cycles_ref_mean_over_caustica_ref"] = float(own.mean() / ref.mean())
         mask = None
         if args.caustic_mask == "always" or (args.caustic_mask == "auto" and stem == "caustics"):
+            t0 = time.perf_counter()
             mask, minfo = caustic_mask(args, scene, w, h, ref, folder)
+            minfo["time_s"] = time.perf_counter() - t0
             res["caustic_mask"] = minfo
-        images = {"reference": ref}
 
-        def measure(img):
+        # ---- metrics
+        def measure(name):
+            img = images.get(name) if name else None
             if img is None:
                 return {}
             d = {"rel_mse": rel_mse(img, ref), "mean_over_ref": float(img.mean() / ref.mean())}
@@ -1228,52 +1287,14 @@ def compare_scene(args, spec, has_denoise):
                 d["rel_mse_caustic"] = rel_mse(img, ref, mask)
             return d
 
-        t_rows = time.perf_counter()
-        # caustica raw and denoised
-        out = os.path.join(folder, "caustica_raw.exr")
-        c = run_caustica(args, scene, w, h, out, [], seconds=args.seconds, seed=1)
-        layers = read_exr_layers(out)
-        raw = layers[""]
-        spp = layers["_extra"].get("spp")
-        row = {"renderer": "caustica", "mode": "adaptive (default)", "wall_s": c["wall_s"], "cpu_s": c["cpu_s"],
-               "command": c["command"], "spp_mean": float(spp.mean()) if spp is not None else None,
-               "raw": measure(raw), "denoised": {}}
-        images["caustica raw"] = raw
-        res["rows"].append(row)
-        log("%s %dx%d: caustica raw: %.2f s, relMSE %.3e" % (stem, w, h, c["wall_s"], row["raw"]["rel_mse"]))
-        if has_denoise:
-            out = os.path.join(folder, "caustica_dn.exr")
-            c = run_caustica(args, scene, w, h, out, ["--denoise"], seconds=args.seconds, seed=1)
-            layers = read_exr_layers(out)
-            dn = layers[""]
-            raw2 = layers.get("beauty")
-            spp = layers["_extra"].get("spp")
-            row = {"renderer": "caustica", "mode": "adaptive (default), --denoise", "wall_s": c["wall_s"],
-                   "cpu_s": c["cpu_s"], "command": c["command"],
-                   "spp_mean": float(spp.mean()) if spp is not None else None,
-                   "raw": measure(raw2), "denoised": measure(dn)}
-            images["caustica denoised"] = dn
-            res["rows"].append(row)
-            log("%s %dx%d: caustica --denoise: %.2f s, relMSE %.3e" % (stem, w, h, c["wall_s"],
-                                                                       row["denoised"]["rel_mse"]))
-        # Cycles, adaptive off and on
-        for adaptive in (False, True):
-            info, craw, cden = run_cycles(args, desc, w, h, folder, "cy%d" % adaptive, adaptive, True,
-                                          seconds=args.seconds)
-            row = {"renderer": "Cycles %s" % info.get("blender", ""), "mode": "adaptive" if adaptive else "uniform",
-                   "wall_s": info["wall_s"], "cpu_s": info["cpu_s"], "process_s": info["process_s"],
-                   "build_s": info["build_s"], "import_s": info["import_s"], "sync_s": info.get("sync_s"),
-                   "after_s": info.get("after_s"),
-                   "samples": info.get("samples"), "sample_count_pass": info.get("sample_count_pass"),
-                   "raw": measure(craw), "denoised": measure(cden)}
-            images["Cycles %s raw" % row["mode"]] = craw
-            images["Cycles %s denoised" % row["mode"]] = cden
-            res["rows"].append(row)
-            log("%s %dx%d: Cycles %s: %.2f s, %s samples, relMSE raw %.3e denoised %.3e" % (
-                stem, w, h, row["mode"], info["wall_s"], info.get("samples"), row["raw"]["rel_mse"],
-                row["denoised"]["rel_mse"]))
-        res["rows_time_s"] = time.perf_counter() - t_rows
+        for row in rows:
+            raw_name, dn_name = row.pop("films")
+            row["raw"], row["denoised"] = measure(raw_name), measure(dn_name)
+            log("%s %dx%d: %s %s: relMSE raw %s denoised %s" % (stem, w, h, row["renderer"], row["mode"],
+                                                                fmt(row["raw"].get("rel_mse")),
+                                                                fmt(row["denoised"].get("rel_mse"))))
         if args.images:
+            images = dict([("reference", ref)] + list(images.items()))
             res["images"] = write_images(args, res, images, folder, mask)
         return res
     finally:
@@ -1355,11 +1376,11 @@ def markdown(args, results, has_denoise):
         out.append(rule)
         for row in r["rows"]:
             if row["renderer"] == "caustica":
-                spp = "%.1f (mean)" % row["spp_mean"] if row.get("spp_mean") is not None else "-"
+                spp = "%.0f (mean)" % row["spp_mean"] if row.get("spp_mean") is not None else "-"
             else:
                 spp = "%s" % row.get("samples") if row.get("samples") is not None else "-"
                 if row.get("sample_count_pass"):
-                    spp += " (max)"
+                    spp = "%s max, %.0f mean" % (spp, row["spp_mean"])
             wall = "%.2f" % row["wall_s"]
             if row.get("after_s") is not None:
                 wall += " (%.2f + %.2f + %.2f)" % (row["sync_s"] or 0, row["wall_s"] - (row["sync_s"] or 0) - row["after_s"],
@@ -1374,9 +1395,33 @@ def markdown(args, results, has_denoise):
                 cells += [fmt(row["raw"].get("rel_mse_caustic")), fmt(row["denoised"].get("rel_mse_caustic"))]
             out.append("| " + " | ".join(cells) + " |")
         out.append("")
-        out.append("Times: reference %.0f s%s, the rows %.0f s, the scene %.0f s in all." % (
-            r.get("reference_time_s", 0), ", Cycles' reference %.0f s" % r["cycles_reference_time_s"] if own else "",
-            r.get("rows_time_s", 0), r.get("total_time_s", 0)))
+        vals = [x[k].get("rel_mse") for x in r["rows"] for k in ("raw", "denoised") if x[k].get("rel_mse")]
+        if vals and ri["own_rel_mse"] > 0.2 * min(vals):
+            out.append("Warning: the reference's own error is %.0f%% of the smallest relMSE measured against it; "
+                       "raise --reference-spp or --reference-cpu." % (100 * ri["own_rel_mse"] / min(vals)))
+            out.append("")
+        out.append("Cycles' wall s is the render call (in brackets: sync and kernel loading until the first sample, "
+                   "sampling, and what follows the last sample: OIDN, writing the EXR); caustica's the whole "
+                   "process. cpu s: the child's user + system CPU time (threads x wall when the cores were free).")
+        out.append("")
+        for x in r["rows"]:
+            out.append("- %s, %s: %s" % (x["renderer"], x["mode"], "`%s`" % x["command"] if x.get("command") else
+                                          x.get("settings", "")))
+        out.append("")
+
+        def made(key, tkey):
+            i = r.get(key)
+            if not i:
+                return None
+            return "%s %s" % ("cached (made in %.0f s wall, %.0f s CPU)" % (i.get("seconds", 0), i.get("cpu_s", 0))
+                              if i.get("cached") else "%.0f s" % r.get(tkey, 0), "")
+        parts = ["caustica reference " + made("reference", "reference_time_s")]
+        if own:
+            parts.append("Cycles reference " + made("cycles_reference", "cycles_reference_time_s"))
+        if "caustic_mask" in r:
+            parts.append("caustic mask %.0f s" % r["caustic_mask"].get("time_s", 0))
+        out.append("Times: the rows %.0f s; %s; the scene %.0f s in all." % (
+            r.get("rows_time_s", 0), "; ".join(p.strip() for p in parts), r.get("total_time_s", 0)))
         if r.get("images"):
             out.append("Images: `%s` (panels: %s); heatmaps: %s." % (
                 r["images"]["strip"], ", ".join(r["images"]["panels"]),
@@ -1413,7 +1458,8 @@ def main():
     ap.add_argument("--reference-spp", type=int, help="spp of caustica's reference (default: fit --reference-cpu)")
     ap.add_argument("--reference-cpu", type=float, default=360.0,
                     help="CPU seconds for a new caustica reference when --reference-spp is not given (default 360)")
-    ap.add_argument("--cycles-reference-spp", type=int, default=4096, help="samples of Cycles' own references")
+    ap.add_argument("--cycles-reference-spp", type=int,
+                    help="samples of Cycles' own references (default: fit --reference-cpu)")
     ap.add_argument("--cycles-references", choices=["auto", "always", "never"], default="auto",
                     help="Cycles' own reference (auto: Cornell box 128^2 and approximate conversions)")
     ap.add_argument("--caustic-mask", choices=["auto", "always", "never"], default="auto",

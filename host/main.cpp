@@ -1,4 +1,4 @@
-// caustica command line: render, merge, devices, bench, generate, sky, diff, plot.
+// caustica command line: render, merge, denoise, devices, bench, generate, sky, diff, plot.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -18,6 +18,7 @@
 #include "host/app/bench.h"
 #include "host/app/render_command.h"
 #include "host/app/diff.h"
+#include "host/app/denoise_command.h"
 #include "host/app/merge_command.h"
 #include "host/app/plot.h"
 #include "host/app/session.h"
@@ -65,6 +66,8 @@ int main(int argc, char** argv) {
   app.add_subcommand("devices", "list OpenCL platforms and devices");
   MergeArgs merge;
   CLI::App* merge_cmd = add_merge_command(app, merge);
+  DenoiseArgs denoise;
+  CLI::App* denoise_cmd = add_denoise_command(app, denoise);
 
   BenchArgs bench;
   auto* bench_cmd = app.add_subcommand("bench", "time BVH build, kernel build, ray throughput and rendering");
@@ -155,6 +158,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand(render_cmd)) return run_render(render);
     if (app.got_subcommand("devices")) return run_devices();
     if (app.got_subcommand(merge_cmd)) return run_merge(merge);
+    if (app.got_subcommand(denoise_cmd)) return run_denoise(denoise);
     if (app.got_subcommand(bench_cmd)) return run_bench(bench);
     if (app.got_subcommand(diff_cmd)) return run_diff(diff);
     if (app.got_subcommand(plot_cmd)) {

@@ -258,9 +258,9 @@ TEST(ErrorReport, WriteThenReadRoundTripsExactly) {
             "# scene: scenes/a b.json\n"
             "# mode: path 64x64 sobol seed 3\n"
             "# empty: \n"
-            "seconds,spp,est_relmse,mse,relmse,mae\n"
-            "0.052,1,,,,\n"
-            "0.3333333333333333,2,0.1,1e-09,inf,0\n");
+            "seconds,spp,est_relmse,mse,relmse,mae,denoised_est_relmse,denoised_relmse\n"
+            "0.052,1,,,,,,\n"
+            "0.3333333333333333,2,0.1,1e-09,inf,0,,\n");
   const ErrorReport back = read_error_report(path);
   EXPECT_EQ(back.header, report.header);
   ASSERT_EQ(back.rows.size(), 2u);

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "host/app/plot.h"
+#include "host/denoise/film_denoise.h"
 #include "host/image/metrics.h"
 #include "host/render/error_estimate.h"
 #include "host/render/film.h"
@@ -71,6 +72,20 @@ void ErrorMonitor::measure(const Film& film, double seconds) {
     row.relmse = rel_mse(mean, *options_.reference);
     row.mae = mean_abs_error(mean, *options_.reference);
     true_rel_mse_ = row.relmse;
+  }
+  // The denoised image's, only where someone reads it (a report, or a
+  // reference to measure against): each costs one to three denoiser runs.
+  if (options_.denoiser && (options_.reference || !options_.report_path.empty())) {
+    const FilmPasses film_passes = read_film_passes(film);
+    const ImageF denoised = denoise_passes(*options_.denoiser, film_passes);
+    denoised_estimate_ = estimate_denoised_rel_mse(*options_.denoiser, film, denoised);
+    row.denoised_est_relmse = denoised_estimate_;
+    if (options_.reference) {
+      ImageF scaled = denoised;
+      for (float& v : scaled.rgb) v *= options_.exposure_scale;
+      denoised_true_rel_mse_ = rel_mse(scaled, *options_.reference);
+      row.denoised_relmse = denoised_true_rel_mse_;
+    }
   }
   report_.rows.push_back(row);
   measured_passes_ = passes;

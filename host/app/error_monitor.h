@@ -30,6 +30,7 @@
 namespace caustica {
 
 class Film;
+class Denoiser;
 
 struct ErrorMonitorOptions {
   std::string report_path;           // --report: "" none
@@ -39,6 +40,9 @@ struct ErrorMonitorOptions {
   int sparse_from = 0;               // > 0: sparse measurements from this pass count (rules above)
   float exposure_scale = 1.0f;       // what HDR outputs are multiplied by
   std::vector<std::pair<std::string, std::string>> header;  // report header lines (scene, mode, builds)
+  // --denoise: each measurement also denoises the image (and, for its
+  // estimate, the film's two halves: host/denoise/film_denoise.h).
+  const Denoiser* denoiser = nullptr;
 };
 
 class ErrorMonitor {
@@ -63,6 +67,9 @@ class ErrorMonitor {
 
   const std::optional<double>& estimate() const { return estimate_; }  // latest estimated relMSE
   const std::optional<double>& true_rel_mse() const { return true_rel_mse_; }
+  // --denoise: the latest denoised image's estimated and true relMSE.
+  const std::optional<double>& denoised_estimate() const { return denoised_estimate_; }
+  const std::optional<double>& denoised_true_rel_mse() const { return denoised_true_rel_mse_; }
   // Seconds from `now` until the estimate is projected to reach the target
   // (error proportional to 1 / time); nullopt without a target or an estimate.
   std::optional<double> seconds_to_target(double now) const;
@@ -77,6 +84,7 @@ class ErrorMonitor {
   ErrorMonitorOptions options_;
   ErrorReport report_;
   std::optional<double> estimate_, true_rel_mse_;
+  std::optional<double> denoised_estimate_, denoised_true_rel_mse_;
   int next_power_ = 1;          // the next geometric measurement (passes)
   int next_target_check_ = 0;   // the pass where the target is projected; 0: none
   int measured_passes_ = 0;     // passes at the latest measurement

@@ -15,7 +15,7 @@
 namespace caustica {
 namespace {
 
-constexpr int kColumns = 6;
+constexpr int kColumns = 8, kColumnsWithoutDenoised = 6;
 
 // Reader and writer share these rules, so whatever is written reads back.
 // Each returns an empty string when the entry is valid, else why not.
@@ -37,8 +37,10 @@ std::string check_row(const ErrorReportRow& row, const ErrorReportRow* previous)
   if (!std::isfinite(row.seconds) || row.seconds < 0.0) return "seconds must be a finite number >= 0";
   if (previous && row.seconds < previous->seconds) return "seconds go backwards (previous row has a later time)";
   if (row.spp < 1) return "spp must be an integer >= 1";
-  for (const auto& [name, v] : {std::pair{"est_relmse", &row.est_relmse}, std::pair{"mse", &row.mse},
-                                std::pair{"relmse", &row.relmse}, std::pair{"mae", &row.mae}})
+  for (const auto& [name, v] :
+       {std::pair{"est_relmse", &row.est_relmse}, std::pair{"mse", &row.mse}, std::pair{"relmse", &row.relmse},
+        std::pair{"mae", &row.mae}, std::pair{"denoised_est_relmse", &row.denoised_est_relmse},
+        std::pair{"denoised_relmse", &row.denoised_relmse}})
     if (std::string why = check_error_value(name, *v); !why.empty()) return why;
   return "";
 }
@@ -82,11 +84,13 @@ class Reader {
     return v;
   }
 
-  ErrorReportRow row(int line, const std::string& text) const {
+  ErrorReportRow row(int line, const std::string& text, bool with_denoised) const {
     const std::vector<std::string> f = split_fields(text);
-    if (f.size() != kColumns)
-      fail(line, "expected " + std::to_string(kColumns) + " comma-separated fields (" + kErrorReportColumns +
-                     "), found " + std::to_string(f.size()));
+    const size_t columns = with_denoised ? kColumns : kColumnsWithoutDenoised;
+    if (f.size() != columns)
+      fail(line, "expected " + std::to_string(columns) + " comma-separated fields (" +
+                     (with_denoised ? kErrorReportColumns : kErrorReportColumnsWithoutDenoised) + "), found " +
+                     std::to_string(f.size()));
     ErrorReportRow r;
     if (!parse_number(f[0], r.seconds)) fail(line, "seconds '" + f[0] + "' is not a number");
     const char* spp_end = f[1].data() + f[1].size();
@@ -96,6 +100,10 @@ class Reader {
     r.mse = error_value(line, "mse", f[3]);
     r.relmse = error_value(line, "relmse", f[4]);
     r.mae = error_value(line, "mae", f[5]);
+    if (with_denoised) {
+      r.denoised_est_relmse = error_value(line, "denoised_est_relmse", f[6]);
+      r.denoised_relmse = error_value(line, "denoised_relmse", f[7]);
+    }
     return r;
   }
 
@@ -117,6 +125,7 @@ ErrorReport read_error_report(const std::string& path) {
   const Reader reader(path);
   ErrorReport report;
   enum class Part { Marker, Header, Rows } part = Part::Marker;
+  bool with_denoised = true;
   std::string line;
   int number = 0;
   while (std::getline(in, line)) {
@@ -126,8 +135,9 @@ ErrorReport read_error_report(const std::string& path) {
       if (line != kErrorReportMarker)
         reader.fail(number, "expected '" + std::string(kErrorReportMarker) + "' (not a caustica error report)");
       part = Part::Header;
-    } else if (part == Part::Header && line == kErrorReportColumns) {
+    } else if (part == Part::Header && (line == kErrorReportColumns || line == kErrorReportColumnsWithoutDenoised)) {
       part = Part::Rows;
+      with_denoised = line == kErrorReportColumns;
     } else if (part == Part::Header) {
       const size_t colon = line.find(": ");
       if (line.rfind("# ", 0) != 0 || colon == std::string::npos)
@@ -140,7 +150,7 @@ ErrorReport read_error_report(const std::string& path) {
     } else {
       if (line.empty()) reader.fail(number, "blank line among the rows");
       if (line[0] == '#') reader.fail(number, "comment after the column line (header lines come first)");
-      ErrorReportRow row = reader.row(number, line);
+      ErrorReportRow row = reader.row(number, line, with_denoised);
       if (std::string why = check_row(row, report.rows.empty() ? nullptr : &report.rows.back()); !why.empty())
         reader.fail(number, why);
       report.rows.push_back(row);
@@ -167,7 +177,8 @@ void write_error_report(const std::string& path, const ErrorReport& report) {
     if (std::string why = check_row(r, i ? &report.rows[i - 1] : nullptr); !why.empty())
       throw Error("cannot write error report '" + path + "': row " + std::to_string(i + 1) + ": " + why);
     out << format_number(r.seconds) << ',' << r.spp << ',' << field(r.est_relmse) << ',' << field(r.mse) << ','
-        << field(r.relmse) << ',' << field(r.mae) << "\n";
+        << field(r.relmse) << ',' << field(r.mae) << ',' << field(r.denoised_est_relmse) << ','
+        << field(r.denoised_relmse) << "\n";
   }
 
   const std::string tmp = path + ".tmp";

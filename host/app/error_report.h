@@ -6,16 +6,19 @@
 //   # scene: scenes/cornell_box.json
 //   # mode: path 512x512 sobol seed 0
 //   # reference: ref.pfm
-//   seconds,spp,est_relmse,mse,relmse,mae
-//   0.052,1,,,,
-//   0.101,2,0.43,0.012,0.39,0.05
+//   seconds,spp,est_relmse,mse,relmse,mae,denoised_est_relmse,denoised_relmse
+//   0.052,1,,,,,,
+//   0.101,2,0.43,0.012,0.39,0.05,,
 //
 // Line 1 is the marker; then any number of "# key: value" lines (keys are
 // [a-z0-9_]+ and unique, values one line, kept in file order); then the column
 // line; then one row per sample. Columns: wall seconds since the first sample
 // (finite, >= 0, non-decreasing), samples per pixel (integer >= 1), the
 // render's own relMSE estimate (empty when it cannot estimate, e.g. at 1 spp),
-// and true MSE, relMSE, MAE against a reference (empty without one). Error
+// and true MSE, relMSE, MAE against a reference (empty without one), then,
+// for a render with --denoise, the denoised image's estimated relMSE
+// (host/denoise/film_denoise.h) and its true relMSE (empty otherwise;
+// reports written before these two columns, with six, still read). Error
 // values are numbers >= 0 or "inf" (metrics.h reports NaN pixels as infinite
 // error). Numbers are written in the shortest form that reads back to the same
 // double, so a report round-trips exactly. Every reading error names the file
@@ -34,6 +37,7 @@ struct ErrorReportRow {
   double seconds = 0.0;
   int64_t spp = 0;
   std::optional<double> est_relmse, mse, relmse, mae;
+  std::optional<double> denoised_est_relmse, denoised_relmse;  // --denoise
 };
 
 struct ErrorReport {
@@ -45,7 +49,9 @@ struct ErrorReport {
 };
 
 constexpr const char* kErrorReportMarker = "# caustica error report";
-constexpr const char* kErrorReportColumns = "seconds,spp,est_relmse,mse,relmse,mae";
+constexpr const char* kErrorReportColumns =
+    "seconds,spp,est_relmse,mse,relmse,mae,denoised_est_relmse,denoised_relmse";
+constexpr const char* kErrorReportColumnsWithoutDenoised = "seconds,spp,est_relmse,mse,relmse,mae";
 
 ErrorReport read_error_report(const std::string& path);
 // Writes to a temporary file beside `path` and renames it into place, so a

@@ -28,6 +28,7 @@ struct FilmOutputOptions {
   std::string aov_dir;         // --aov-dir: "" none
   DisplaySettings display;     // 8-bit outputs' tone curve; exposure_scale scales HDR ones
   const Denoiser* denoiser = nullptr;  // --denoise: the main image is denoised
+  bool verbose = false;                // -v: say how the guides were judged and what denoising took
 };
 
 // Every pass the film holds as the EXR's planes: R, G, B are `main_image`

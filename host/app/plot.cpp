@@ -27,6 +27,7 @@ struct Point {
 struct Series {
   std::string name;
   std::vector<Point> truth, estimate;
+  std::vector<Point> denoised_truth, denoised_estimate;  // --denoise renders
 };
 
 std::vector<Point> drawable(const ErrorReport& report, std::optional<double> ErrorReportRow::*column) {
@@ -61,11 +62,12 @@ void plot_error_reports(const std::vector<std::string>& csv_paths, const std::st
     const ErrorReport report = read_error_report(path);
     const std::string stem = std::filesystem::path(path).stem().string();
     Series s{stem_count[stem] > 1 ? path : stem, drawable(report, &ErrorReportRow::relmse),
-             drawable(report, &ErrorReportRow::est_relmse)};
+             drawable(report, &ErrorReportRow::est_relmse), drawable(report, &ErrorReportRow::denoised_relmse),
+             drawable(report, &ErrorReportRow::denoised_est_relmse)};
     if (s.truth.empty() && s.estimate.empty())
       throw Error("error report '" + path + "' has no positive relMSE to plot (the estimate needs at least 2 spp; "
                   "the true relMSE needs a reference)");
-    for (const auto* points : {&s.truth, &s.estimate})
+    for (const auto* points : {&s.truth, &s.estimate, &s.denoised_truth, &s.denoised_estimate})
       for (const Point& p : *points) t_min = std::min(t_min, p.seconds), t_max = std::max(t_max, p.seconds);
     series.push_back(std::move(s));
   }
@@ -103,6 +105,17 @@ void plot_error_reports(const std::vector<std::string>& csv_paths, const std::st
       gp << datablock(block + "e", s.estimate);
       plots.push_back(block + "e using 1:2 with lines lw 2 dt 2 " + colour + " title " +
                       gnuplot_quote(s.name + " (estimated)") + " noenhanced");
+    }
+    // The denoised image's: squares, thinner, in the same colour.
+    if (!s.denoised_truth.empty()) {
+      gp << datablock(block + "dt", s.denoised_truth);
+      plots.push_back(block + "dt using 1:2 with linespoints lw 1.5 pt 5 ps 0.6 " + colour + " title " +
+                      gnuplot_quote(s.name + " denoised (true)") + " noenhanced");
+    }
+    if (!s.denoised_estimate.empty()) {
+      gp << datablock(block + "de", s.denoised_estimate);
+      plots.push_back(block + "de using 1:2 with linespoints lw 1.5 dt 3 pt 4 ps 0.6 " + colour + " title " +
+                      gnuplot_quote(s.name + " denoised (estimated)") + " noenhanced");
     }
   }
   char guide[160];

@@ -464,6 +464,7 @@ int run_render(RenderArgs& a) {
     error_options.sparse_from = 16;
   error_options.exposure_scale = display.exposure_scale;
   error_options.header = report_header(*session, a, resumed_passes);
+  error_options.denoiser = denoiser.get();
   ErrorMonitor monitor(std::move(error_options));
   progress.set_error_monitor(&monitor);
   double last_write = 0.0, render_seconds = 0.0, last_checkpoint = 0.0;
@@ -488,6 +489,7 @@ int run_render(RenderArgs& a) {
   output_options.aov_dir = a.aov_dir;
   output_options.display = display;
   output_options.denoiser = denoiser.get();
+  output_options.verbose = a.verbose;
   // Path mode: the film's outputs (denoised, with its passes); otherwise
   // the image.
   auto write_outputs = [&](const ImageF& image, const Film& film) {
@@ -611,6 +613,10 @@ int run_render(RenderArgs& a) {
     std::string accuracy;
     if (monitor.estimate()) accuracy += ", estimated relMSE " + format_error(*monitor.estimate());
     if (monitor.true_rel_mse()) accuracy += ", relMSE against the reference " + format_error(*monitor.true_rel_mse());
+    if (monitor.denoised_estimate()) accuracy += "; denoised: estimated relMSE " + format_error(*monitor.denoised_estimate());
+    if (monitor.denoised_true_rel_mse())
+      accuracy += std::string(monitor.denoised_estimate() ? "," : "; denoised:") + " relMSE against the reference " +
+                  format_error(*monitor.denoised_true_rel_mse());
     std::string resumed;
     if (resume) resumed = ", resumed from " + std::to_string(resumed_passes) + " spp in " + a.resume;
     std::fprintf(stderr, "[caustica] wrote %s (%dx%d, %d spp%s) in %.2f s%s\n", a.output.c_str(), image.width,

@@ -406,6 +406,11 @@ std::vector<std::string> read_exr_channel_names(const std::string& path) {
 }
 
 std::vector<float> read_exr_channel(const std::string& path, const std::string& channel) {
+  int width = 0, height = 0;
+  return read_exr_channel(path, channel, &width, &height);
+}
+
+std::vector<float> read_exr_channel(const std::string& path, const std::string& channel, int* width, int* height) {
   const std::string bytes = read_all(path);
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   EXRVersion version;
@@ -438,6 +443,8 @@ std::vector<float> read_exr_channel(const std::string& path, const std::string& 
     fail_tinyexr(rc);
   std::unique_ptr<EXRImage, int (*)(EXRImage*)> image_guard(&image, FreeEXRImage);
   std::vector<float> values(static_cast<size_t>(image.width) * image.height);
+  *width = image.width;
+  *height = image.height;
   if (header.requested_pixel_types[index] == TINYEXR_PIXELTYPE_UINT) {
     const auto* counts = reinterpret_cast<const uint32_t*>(image.images[index]);
     std::copy(counts, counts + values.size(), values.begin());

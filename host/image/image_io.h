@@ -48,6 +48,8 @@ std::vector<std::string> read_exr_channel_names(const std::string& path);
 // first (HALF and UINT channels converted). Throws naming the file and the
 // channel when the file has no channel of that name.
 std::vector<float> read_exr_channel(const std::string& path, const std::string& channel);
+// The same, with the image's size.
+std::vector<float> read_exr_channel(const std::string& path, const std::string& channel, int* width, int* height);
 
 // Throws unless `path` can be written by write_image as far as can be told
 // without creating it: a supported extension and an existing directory.

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <string>
 
 #include <vector>
@@ -33,6 +34,9 @@ struct PathRenderOptions {
   size_t path_slots = 0;  // 0: the integrator's own (RenderSettings::chunk_pixels bounds it)
   bool adaptive = false;  // adaptive sampling (host/render/adaptive_sampling.h); uniform by default here
   uint32_t seed = 0;
+  bool aux_passes = false;  // the film's albedo, normal and depth passes (host/render/film.h)
+  int width = 0, height = 0;  // 0: the scene camera's
+  std::function<void(const Film&)> inspect;  // called with the film after the render
 };
 
 inline PathRender render_path(const std::string& scene, int spp, const PathRenderOptions& options = {}) {
@@ -43,6 +47,9 @@ inline PathRender render_path(const std::string& scene, int spp, const PathRende
   o.spp = spp;
   o.local_size = options.local_size;
   o.caustics = options.caustics;
+  o.aux_passes = options.aux_passes;
+  o.width = options.width;
+  o.height = options.height;
   // At least 2^14 photons a pass by default whatever the image size: 1024
   // on Oclgrind, whose tests render a few hundred pixels.
   if (on_simulator()) o.photons = 1024;
@@ -65,6 +72,7 @@ inline PathRender render_path(const std::string& scene, int spp, const PathRende
     const ImageF separate = r.film().separate_variance();
     out.estimated_rel_mse = caustica::estimated_rel_mse(out.image, out.half, out.spp, out.half_counts, &separate);
   }
+  if (options.inspect) options.inspect(r.film());
   return out;
 }
 
