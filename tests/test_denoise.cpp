@@ -187,6 +187,23 @@ TEST(AuxPasses, AnExrsLayersHaveTheSameBitsOnAnyThreadCountAndAfterAResume) {
   EXPECT_TRUE(Contains(refused.output, {"plain.cst", "without the aux passes"})) << refused.output;
 }
 
+// States of disjoint passes merge to the aux bits of one render.
+TEST(AuxPasses, MergedStatesHoldTheAuxPassesOfOneRender) {
+  if (test::on_simulator()) GTEST_SKIP() << "CLI renders of several passes: the other tests cover the simulator";
+  const std::string dir = test::temp_dir();
+  ASSERT_EQ(test::run_cli(cornell_args("--spp 6 -o " + dir + "/whole.exr")).status, 0);
+  for (const char* range : {"0:2", "2:6"})
+    ASSERT_EQ(test::run_cli(cornell_args(std::string("--passes ") + range + " --checkpoint " + dir + "/p" + range[0] +
+                                         ".cst -o " + dir + "/p.exr"))
+                  .status,
+              0);
+  const test::CliResult merged =
+      test::run_cli("merge " + dir + "/p0.cst " + dir + "/p2.cst -q -o " + dir + "/merged.exr");
+  ASSERT_EQ(merged.status, 0) << merged.output;
+  for (const std::string& name : {"R", "albedo.R", "albedo.B", "normal.X", "normal.Z", "depth.Z", "spp"})
+    EXPECT_EQ(read_exr_channel(dir + "/merged.exr", name), read_exr_channel(dir + "/whole.exr", name)) << name;
+}
+
 TEST(Denoise, ABuildOrRunWithoutTheLibrarySaysHowToGetIt) {
   const std::string dir = test::temp_dir();
   setenv("CAUSTICA_NO_OIDN", "1", 1);

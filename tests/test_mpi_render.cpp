@@ -112,6 +112,17 @@ TEST(MpiRender, TwoAndThreeRanksGiveTheBitsOfOneProcess) {
   }
 }
 
+// The aux passes (an .exr's albedo, normal, depth and variance layers) are
+// summed across ranks like the colour: the same file bytes.
+TEST(MpiRender, AuxPassesOfTwoRanksAreThoseOfOneProcess) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  ASSERT_EQ(test::run_cli(render_args("--spp 9 -q -o '" + dir + "/one.exr'")).status, 0);
+  const test::CliResult r = run_mpi(2, render_args("--spp 9 -q -o '" + dir + "/two.exr'"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(slurp(dir + "/two.exr") == slurp(dir + "/one.exr")) << "2 ranks' EXR layers differ from one process";
+}
+
 // Binary and phong: one pass, which rank 0 traces; the others hold none
 // (phong's photon pass: many, split as path mode's).
 TEST(MpiRender, BinaryAndPhongGiveTheBitsOfOneProcess) {

@@ -18,7 +18,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 seconds=${1:-60}
 shift || true
 targets=("$@")
-((${#targets[@]})) || targets=(fuzz_scene fuzz_obj fuzz_ply fuzz_texture fuzz_gltf)
+((${#targets[@]})) || targets=(fuzz_scene fuzz_obj fuzz_ply fuzz_texture fuzz_gltf fuzz_denoise_inputs)
 build="${CAUSTICA_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 out="${CAUSTICA_FUZZ_OUT:-$build/findings}"
 shared="${CAUSTICA_SHARED_DIR:-$root/../shared}"
@@ -34,7 +34,7 @@ cmake --build "$build" -j "$(nproc 2>/dev/null || echo 2)" --target "${targets[@
 # (inputs are cut to -max_len anyway).
 seeds="$build/seeds"
 rm -rf "$seeds"
-mkdir -p "$seeds"/{fuzz_scene,fuzz_obj,fuzz_ply,fuzz_texture,fuzz_gltf} "$out"
+mkdir -p "$seeds"/{fuzz_scene,fuzz_obj,fuzz_ply,fuzz_texture,fuzz_gltf,fuzz_denoise_inputs} "$out"
 collect() {  # collect TARGET DIR PATTERN...
   local target=$1 dir=$2
   shift 2
@@ -56,7 +56,8 @@ collect fuzz_texture "$shared" '*.png' '*.jpg' '*.jpeg' '*.bmp' '*.tga' '*.ppm' 
 collect fuzz_gltf "$root/scenes" '*.gltf' '*.glb'
 collect fuzz_gltf "$shared" '*.gltf' '*.glb'
 
-declare -A max_len=([fuzz_scene]=16384 [fuzz_obj]=8192 [fuzz_ply]=8192 [fuzz_texture]=4096 [fuzz_gltf]=16384)
+declare -A max_len=([fuzz_scene]=16384 [fuzz_obj]=8192 [fuzz_ply]=8192 [fuzz_texture]=4096 [fuzz_gltf]=16384
+  [fuzz_denoise_inputs]=8192)
 run_one() {
   local t=$1
   local corpus="$build/corpus/$t"  # grows between runs; the committed corpus stays as it is

@@ -8,6 +8,7 @@
 #include "host/image/image_io.h"
 #include "host/limits.h"
 #include "host/render/state_merge.h"
+#include "host/app/film_outputs.h"
 
 namespace caustica {
 
@@ -44,7 +45,13 @@ int run_merge(const MergeArgs& a) {
       throw Error(first + ": a state of a " + std::to_string(width) + "x" + std::to_string(height) + " image");
     const ImageF image = film_state_mean(merged.film, width, height);
     const float exposure = float(std::exp2(a.exposure_stops));
-    if (lower_extension(a.output) == ".exr") write_exr_with_spp(a.output, image, exposure, merged.film.spp);
+    if (lower_extension(a.output) == ".exr") {
+      // With the aux passes where the states hold them (film_outputs.h's layers).
+      FilmPasses passes;
+      passes.colour = image;
+      passes.aux = film_state_aux_mean(merged.film, width, height);
+      write_exr_planes(a.output, width, height, film_pass_planes(passes, merged.film.spp, exposure, nullptr));
+    }
     else write_image(a.output, image, DisplaySettings{ToneMap::Linear, exposure, 1.0f});
   }
   if (!a.quiet)

@@ -130,4 +130,32 @@ ImageF film_state_mean(const FilmState& film, int width, int height) {
   return image;
 }
 
+std::optional<AuxImages> film_state_aux_mean(const FilmState& film, int width, int height) {
+  const size_t pixels = size_t(width) * size_t(height);
+  FilmLayout layout;
+  if (film.spp.size() != pixels || !FilmLayout::from_words(pixels, film.accumulated.size(), &layout))
+    throw Error("film state: " + std::to_string(film.accumulated.size()) + " sum words for a " +
+                std::to_string(width) + "x" + std::to_string(height) + " image");
+  if (!layout.aux) return std::nullopt;
+  const size_t k = FilmLayout::kAuxChannels;
+  AuxImages aux;
+  aux.albedo = ImageF(width, height);
+  aux.normal = ImageF(width, height);
+  aux.depth.assign(pixels, 0.0f);
+  for (size_t p = 0; p < pixels; ++p) {
+    const float inv = film.spp[p] > 0 ? 1.0f / float(film.spp[p]) : 0.0f;
+    float v[FilmLayout::kAuxChannels];
+    for (size_t c = 0; c < k; ++c) {
+      const size_t i = pixels * 3 + k * p + c;
+      v[c] = film_sum_to_float(film.accumulated[2 * i], film.accumulated[2 * i + 1]) * inv;
+    }
+    for (int c = 0; c < 3; ++c) {
+      aux.albedo.rgb[3 * p + c] = v[c];
+      aux.normal.rgb[3 * p + c] = film.spp[p] > 0 ? 2.0f * v[3 + c] - 1.0f : 0.0f;
+    }
+    aux.depth[p] = v[6];
+  }
+  return aux;
+}
+
 }  // namespace caustica

@@ -21,6 +21,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -52,6 +53,8 @@ bool half_is_in_union(const PassSet& held, int union_last);
 // The image of a film state: each sum as the nearest float (film_sums.h),
 // divided by the pixel's count as Film::mean does (the same bits). Without the photon pass's separate estimate.
 ImageF film_state_mean(const FilmState& film, int width, int height);
+// Its aux passes' means, as Film::aux_mean (nullopt for a film without them).
+std::optional<AuxImages> film_state_aux_mean(const FilmState& film, int width, int height);
 // The identity's value of `name` (throws naming `path` when it is absent).
 std::string identity_value(const std::string& path, const StateIdentity& identity, const std::string& name);
 
