@@ -10,20 +10,28 @@ Denoise:
 
     relMSE = mean over pixels and channels of (x - ref)^2 / (ref^2 + 0.01)
 
-on linear radiance (the camera's exposure is not applied). Rows:
+on linear radiance (caustica gets --exposure 0: its .exr/.pfm are otherwise
+scaled by 2^(the camera's exposure)). Rows:
 
   * caustica, raw:  POCL_MAX_PTHREAD_COUNT=T build/caustica render SCENE --mode path
-        --time S --width W --height H --seed 1 -o raw.exr -q
+        --time S --width W --height H --seed 1 --exposure 0 -o raw.exr -q
+        (after an untimed 1-spp render of the same scene, so that its kernels
+        come from caustica's cache: a first build counts against --time);
   * caustica, --denoise: the same command with --denoise (when
         `caustica render --help` lists it): the .exr's main image is the
         denoised one, its `beauty` layer the raw film of the same run;
   * Cycles (bpy 5.0.1, CPU, T threads), adaptive sampling off and on: ONE
         render with time_limit = S and a sample count that time cuts short,
         OIDN denoising (albedo + normal guiding, prefilter ACCURATE) and
-        denoising_store_passes, written as a 32-bit multilayer EXR: the
-        "Combined" pass is the denoised film, "Noisy Image" the raw film of
-        the same samples (so the raw row's wall time includes OIDN's, which
-        the stats timestamps report separately as "OIDN s");
+        denoising_store_passes, written (write_still) as a 32-bit multilayer,
+        multi-part EXR: the "Combined" pass is the denoised film, "Noisy
+        Image" the raw film of the same samples. So the raw and denoised
+        columns share one wall time, OIDN's included; the render_stats
+        handler's timestamps split it into scene sync until the first
+        sample, sampling, and what follows the last sample (OIDN, writing);
+        "samples" is the largest "Sample N/M" the stats reported, and with
+        adaptive sampling the mean spp is that times the mean of the Debug
+        Sample Count pass (the fraction of it each pixel took);
   * Mitsuba 3 rows are left out: the `mitsuba` package is not installed in
         this venv and Mitsuba has no CPU denoiser; bench/compare_mitsuba.py
         compares the raw renders.
@@ -54,12 +62,15 @@ References: a long caustica render per scene and size, `--no-adaptive --spp
 N` in two halves of N/2 (seeds 99 and 100), averaged; the halves'
 difference estimates the reference's own relMSE, printed beside it (it adds
 about that much to every row). N is --reference-spp, or by default the spp
-that fits --reference-cpu (360) CPU seconds on the two halves, measured
-from a short probe, rounded down to a power of two. Cached in
+that fits --reference-cpu (360) CPU seconds on --threads threads at the
+rate (mean spp per second) of the scene's equal-time caustica row, rounded
+down to a power of two (at least 64); a cached reference of at least that
+many spp is reused. Cached in
 bench/cycles/cache/ under the scene's name, a hash of the scene file and
 this converter, the size and the spp. Conversion bias: Cycles also renders
 its own long reference (adaptive off, no denoising, same two-halves scheme,
---cycles-reference-spp) for the scenes in --cycles-references (default:
+--cycles-reference-spp or sized like caustica's from the uniform Cycles
+row's samples) for the scenes in --cycles-references (default:
 the 128^2 Cornell box and every scene whose conversion is approximate), and
 the rows then give Cycles' error against it ("own ref"), and the Cycles
 reference's error against caustica's ("Cycles ref vs caustica ref": what
@@ -94,10 +105,15 @@ bench/compare_mitsuba.py's):
     circular aperture (f-stop = focal length / diameter) focused on the
     plane at focalDistance;
   * triangles, rectangles, boxes and OBJ meshes are meshes (flat, or with
-    the file's normals as custom normals); spheres are Cycles point-cloud
-    spheres (analytic); cylinders are meshes of --cylinder-segments (512)
-    sides with smooth normals plus flat caps: APPROXIMATE, but the
-    surface is within radius x 2e-5 of the true one;
+    the file's normals as custom normals); opaque spheres are Cycles
+    point-cloud spheres (analytic); glass spheres are UV-sphere meshes of
+    --glass-sphere-segments (256) x 128 quads with exact radial normals
+    (APPROXIMATE: surface within 7.5e-5 x radius), because Cycles 5.0.1's
+    point-cloud spheres refract wrongly (rays starting inside: the caustic
+    under caustics.json's sphere came out as a broad blur unlike caustica's,
+    a mesh sphere's matches); cylinders are meshes of --cylinder-segments
+    (512) sides with smooth normals plus flat caps: APPROXIMATE, surface
+    within 1.9e-5 x radius;
   * emission: an Emission shader of the same radiance, zeroed on back faces
     (Geometry Backfacing) unless the material is twosided, emission
     sampling FRONT; area lights are two such black triangles on the side of
@@ -147,7 +163,7 @@ ROOT = os.path.dirname(HERE)
 VENV_PYTHON = os.path.join(HERE, "cycles", "venv", "bin", "python")
 CACHE = os.path.join(HERE, "cycles", "cache")
 COMMUNITY = os.path.normpath(os.path.join(ROOT, "..", "shared", "scenes-coursework", "community"))
-CONVERTER_VERSION = "1"  # part of the cache key: bump when the conversion changes
+CONVERTER_VERSION = "2"  # part of the cache key: bump when the conversion changes
 DEFAULT_SCENES = [
     "scenes/cornell_box.json@128x128",
     "scenes/cornell_box.json@512x512",
@@ -189,7 +205,7 @@ class SceneDescription(cm.Converter):
     world) that the Cycles child builds; `notes` and `approximate` say what
     is not exact."""
 
-    def __init__(self, scene_path, cylinder_segments=512):
+    def __init__(self, scene_path, cylinder_segments=512, sphere_mesh=0, glass_segments=256):
         self.mi = None
         self.path = scene_path
         self.dir = os.path.dirname(os.path.abspath(scene_path))
@@ -201,6 +217,8 @@ class SceneDescription(cm.Converter):
         self.materials = {}
         self.spheres = []
         self.segments = cylinder_segments
+        self.sphere_mesh = sphere_mesh
+        self.glass_segments = glass_segments
 
     # Materials: textures resolved to absolute paths; notes per kind.
     def material_record(self, m, base):
@@ -237,7 +255,17 @@ class SceneDescription(cm.Converter):
                                                  [list(map(float, q)) for q in n] if n else None))
 
     def add_sphere(self, center, radius, m, base, emitter=None):
-        self.spheres.append({"center": [float(v) for v in center], "radius": float(radius), "material": m})
+        sph = {"center": [float(v) for v in center], "radius": float(radius), "material": m, "mesh": 0}
+        if m["refractive"] or self.sphere_mesh:
+            # Cycles' point-cloud spheres refract wrongly (a ray that starts
+            # inside misses the far side: the caustic below caustics.json's
+            # sphere came out blurred): glass spheres are meshes.
+            n = self.sphere_mesh or self.glass_segments
+            sph["mesh"] = n
+            self.note("%s sphere: a %d x %d UV-sphere mesh with exact radial normals (APPROXIMATE; surface "
+                      "within %.1e x radius)" % ("glass" if m["refractive"] else "every", n, n // 2,
+                                                 1 - math.cos(math.pi / n)), approximate=True)
+        self.spheres.append(sph)
 
     def add_cylinder(self, s, m, base):
         c, a = [float(v) for v in s["center"]], cm.normalize([float(v) for v in s["axis"]])
@@ -361,8 +389,8 @@ class SceneDescription(cm.Converter):
                 "aperture": float(aperture) if aperture else 0.0, "focus": float(focus)}
 
 
-def describe(scene_path, segments):
-    return SceneDescription(scene_path, segments).convert()
+def describe(scene_path, args):
+    return SceneDescription(scene_path, args.cylinder_segments, args.sphere_mesh, args.glass_sphere_segments).convert()
 
 
 # ---------------------------------------------------------------- the Cycles child (runs with bpy)
@@ -562,8 +590,34 @@ def build_blender_scene(bpy, scene, desc, job):
         ob.data.materials.append(material(g["material"]))
         scene.collection.objects.link(ob)
 
+    # ---- mesh spheres (glass, or every sphere with --sphere-mesh): UV spheres
+    for gi, s in enumerate(sp for sp in desc["spheres"] if sp["mesh"]):
+        n, m = s["mesh"], s["mesh"] // 2
+        th = np.pi * np.arange(1, m) / m
+        ph = 2 * np.pi * np.arange(n) / n
+        dirs = np.stack([np.outer(np.sin(th), np.cos(ph)), np.repeat(-np.cos(th)[:, None], n, 1),
+                         np.outer(np.sin(th), np.sin(ph))], -1).reshape(-1, 3)
+        dirs = np.concatenate([dirs, [[0, -1, 0], [0, 1, 0]]])
+        south, north = len(dirs) - 2, len(dirs) - 1
+        idx = lambda j, i: (j - 1) * n + (i % n)  # noqa: E731  ring j = 1 .. m-1
+        faces = []
+        for i in range(n):
+            faces.append((south, idx(1, i + 1), idx(1, i)))  # outward (counter-clockwise seen from outside)
+            faces.append((north, idx(m - 1, i), idx(m - 1, i + 1)))
+            for j in range(1, m - 1):
+                faces.append((idx(j, i), idx(j + 1, i), idx(j + 1, i + 1), idx(j, i + 1)))
+        verts = np.asarray(s["center"]) + s["radius"] * dirs
+        me = bpy.data.meshes.new("sphere_mesh%d" % gi)
+        me.from_pydata(verts.tolist(), [], faces)
+        me.update()
+        me.shade_smooth()
+        me.normals_split_custom_set_from_vertices(dirs.tolist())
+        ob = bpy.data.objects.new("sphere_mesh%d" % gi, me)
+        ob.data.materials.append(material(s["material"], s["center"]))
+        scene.collection.objects.link(ob)
+
     # ---- spheres: point clouds through a Mesh to Points geometry node group
-    if desc["spheres"]:
+    if any(not sp["mesh"] for sp in desc["spheres"]):
         ng = bpy.data.node_groups.new("spheres", "GeometryNodeTree")
         ng.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
         sock = ng.interface.new_socket("Material", in_out="INPUT", socket_type="NodeSocketMaterial")
@@ -582,7 +636,7 @@ def build_blender_scene(bpy, scene, desc, job):
         ng.links.new(gin.outputs["Material"], sm.inputs["Material"])
         ng.links.new(sm.outputs["Geometry"], gout.inputs["Geometry"])
         groups = {}
-        for s in desc["spheres"]:
+        for s in (sp for sp in desc["spheres"] if not sp["mesh"]):
             textured = s["material"]["texture"] is not None
             key = (json.dumps(s["material"], sort_keys=True), tuple(s["center"]) if textured else None)
             groups.setdefault(key, []).append(s)
@@ -901,7 +955,7 @@ def caustica_has_denoise(args):
 def run_caustica(args, scene, w, h, out, extra, seconds=None, spp=None, seed=1):
     wait_for_binary(args.caustica)
     cmd = [args.caustica, "render", scene, "--mode", "path", "--width", str(w), "--height", str(h), "--seed",
-           str(seed), "-o", out, "-q"]
+           str(seed), "--exposure", "0", "-o", out, "-q"]
     if seconds is not None:
         cmd[5:5] = ["--time", "%g" % seconds]
     if spp is not None:
@@ -1129,7 +1183,7 @@ def check_orientation(args):
         out = os.path.join(folder, "c.pfm")
         run_caustica(args, path, 64, 64, out, ["--no-adaptive"], spp=64)
         ci = read_image(out)
-        desc = describe(path, args.cylinder_segments)
+        desc = describe(path, args)
         global MIRROR
         keep, MIRROR = MIRROR, False
         try:
@@ -1196,14 +1250,18 @@ def compare_scene(args, spec, has_denoise):
     t_scene = time.perf_counter()
     try:
         try:
-            desc = describe(scene, args.cylinder_segments)
+            desc = describe(scene, args)
         except (cm.Unsupported, KeyError, OSError) as e:
             res.update(status="skipped", reason="cannot convert: %s" % e)
             return res
         res["approximate"], res["notes"] = desc["approximate"], desc["notes"]
         rows, images = res["rows"], {}
 
-        # ---- the equal-time rows (their films kept for the metrics below)
+        # ---- the equal-time rows (their films kept for the metrics below);
+        # first a 1-spp caustica render, so that the kernels of this scene's
+        # feature set are in caustica's cache (their first build counts
+        # against --time)
+        run_caustica(args, scene, w, h, os.path.join(folder, "warm.pfm"), ["--no-adaptive"], spp=1)
         t_rows = time.perf_counter()
         out = os.path.join(folder, "caustica_raw.exr")
         c = run_caustica(args, scene, w, h, out, [], seconds=args.seconds, seed=1)
@@ -1465,7 +1523,11 @@ def main():
     ap.add_argument("--caustic-mask", choices=["auto", "always", "never"], default="auto",
                     help="relMSE over the caustic region (auto: caustics.json)")
     ap.add_argument("--mask-spp", type=int, default=1024, help="spp of the caster-free render for the mask")
-    ap.add_argument("--cylinder-segments", type=int, default=512)
+    ap.add_argument("--cylinder-segments", type=int, default=512, help="sides of a cylinder's mesh (default 512)")
+    ap.add_argument("--glass-sphere-segments", type=int, default=256,
+                    help="segments of a glass sphere's UV mesh (default 256, x 128 rings)")
+    ap.add_argument("--sphere-mesh", type=int, default=0,
+                    help="N: every sphere a UV mesh of N segments, not a Cycles point-cloud sphere")
     ap.add_argument("--images", help="write tone-mapped strips and heatmaps here")
     ap.add_argument("--json", help="write every number to this file")
     ap.add_argument("--check-orientation", action="store_true", help="only run the orientation check")

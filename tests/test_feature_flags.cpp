@@ -136,9 +136,18 @@ TEST(FeatureFlags, SourcesAndDocsNameOnlyTableFlags) {
   std::vector<fs::path> files;
   for (const char* dir : {"kernels", "host", "tests", "bench", "tools", "docs", "fuzz", "cmake"}) {
     if (!fs::exists(root / dir)) continue;
-    for (const auto& e : fs::recursive_directory_iterator(root / dir))
+    // Not the project's own: Python environments and caches that benchmark
+    // scripts make in place (bench/cycles/venv, bench/*/cache).
+    for (auto it = fs::recursive_directory_iterator(root / dir); it != fs::recursive_directory_iterator(); ++it) {
+      const fs::directory_entry& e = *it;
+      if (e.is_directory() && (fs::exists(e.path() / "pyvenv.cfg") || e.path().filename() == "__pycache__" ||
+                               e.path().filename() == "cache")) {
+        it.disable_recursion_pending();
+        continue;
+      }
       if (e.is_regular_file() && extensions.count(e.path().extension().string()) && e.file_size() < 4000000)
         files.push_back(e.path());
+    }
   }
   for (const auto& e : fs::directory_iterator(root))
     if (e.is_regular_file() && e.path().extension() == ".md") files.push_back(e.path());
