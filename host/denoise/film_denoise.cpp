@@ -1,5 +1,8 @@
 #include "host/denoise/film_denoise.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "host/image/metrics.h"
 #include "host/render/error_estimate.h"
 
@@ -78,17 +81,29 @@ std::optional<double> estimate_denoised_rel_mse(const Denoiser& denoiser, const 
       kNoisyGuideRelMse;
   const ImageF da = denoiser.denoise(half_a, {&aux_a.albedo, &aux_a.normal, clean});
   const ImageF db = denoiser.denoise(half_b, {&aux_b.albedo, &aux_b.normal, clean});
-  double sum = 0.0;
+  // Three sums over pixels and channels, each relative to D(M)^2 + eps:
+  // the denoised image's variance, the raw image's, and how far denoising
+  // moved the image.
+  double residual = 0.0, raw = 0.0, change = 0.0;
   for (size_t p = 0; p < spp.size(); ++p) {
     const double n = spp[p], b = half_counts[p], a = n - b;
     if (b == 0 || a <= 0) continue;
-    const double weight = a * b / (n * n);
+    const double weight = a * b / (n * n), raw_weight = b / a;
     for (size_t i = 3 * p; i < 3 * p + 3; ++i) {
-      const double d = double(da.rgb[i]) - db.rgb[i], m = denoised.rgb[i];
-      sum += d * d * weight / (m * m + kRelMseEpsilon);
+      const double d = double(da.rgb[i]) - db.rgb[i], dm = denoised.rgb[i];
+      const double to = 1.0 / (dm * dm + kRelMseEpsilon);
+      const double m = mean.rgb[i], h = double(m) - half_b.rgb[i], moved = dm - m;
+      residual += d * d * weight * to;
+      raw += h * h * raw_weight * to;
+      change += moved * moved * to;
     }
   }
-  return denoised.rgb.empty() ? 0.0 : sum / double(denoised.rgb.size());
+  // The bias: D(M) - M = b + r - n with n the raw noise and r what of it
+  // the denoiser leaves; with r = a n (a the share passed through),
+  // E[(D(M) - M)^2] = b^2 + (1 - a)^2 Var(M) and a^2 = Var(D) / Var(M).
+  const double share = raw > 0.0 ? std::sqrt(std::min(1.0, residual / raw)) : 0.0;
+  const double bias = std::max(0.0, change - (1.0 - share) * (1.0 - share) * raw);
+  return denoised.rgb.empty() ? 0.0 : (residual + bias) / double(denoised.rgb.size());
 }
 
 }  // namespace caustica
