@@ -8,18 +8,26 @@
 // then the denoiser cleans them first. Without a half buffer, or before two
 // passes, that cannot be measured and they are cleaned.
 //
-// The denoised image's error, estimated: the film's passes [0, P) and
-// [P, N) (its half buffer, host/render/error_estimate.h) are two
-// independent renders A and B of n_A and n_B samples; each is denoised on
-// its own, with its own halves of the guides. If the denoised image's
-// variance falls as c / n, E[(D(A) - D(B))^2] = c (1/n_A + 1/n_B), so
-//   Var(D(M)) ~ (D(A) - D(B))^2 n_A n_B / N^2,
-// divided by D(M)^2 + 0.01 and averaged as the colour's estimate is. What
-// it sees: the residual noise the denoiser leaves. What it cannot see: the
-// denoiser's bias (detail blurred away, a caustic smoothed out), which D(A)
-// and D(B) share; and a denoiser's variance need not fall as 1 / n (it
-// removes more of the noise at low counts), so the estimate is a model,
-// checked against references in docs/denoise.md.
+// The denoised image's error, estimated as its variance plus its bias
+// squared, each summed relative to D(M)^2 + 0.01 and averaged as the
+// colour's estimate is:
+//  - variance: the film's passes [0, P) and [P, N) (its half buffer,
+//    host/render/error_estimate.h) are two independent renders A and B of
+//    n_A and n_B samples; each is denoised on its own, with its own halves
+//    of the guides. If the denoised image's variance falls as c / n,
+//    E[(D(A) - D(B))^2] = c (1/n_A + 1/n_B), so
+//      Var(D(M)) ~ (D(A) - D(B))^2 n_A n_B / N^2.
+//    This sees the noise the denoiser leaves, not its bias (detail smoothed
+//    away, a caustic spread), which D(A) and D(B) share.
+//  - bias: denoising moves the image by D(M) - M = b + r - n, n the raw
+//    noise and r the part of it the denoiser leaves. Taking r = a n (a the
+//    share it passes, a^2 = Var(D(M)) / Var(M), Var(M) the raw estimate),
+//    E[(D(M) - M)^2] = b^2 + (1 - a)^2 Var(M), so b^2 is what the move holds
+//    beyond the noise it removed (at least 0).
+// Both rest on models: a denoiser's variance need not fall as 1 / n, r is
+// not exactly a share of n, and at few samples the bias term is the small
+// difference of two large, noisy ones (it then runs high). Measured against
+// references in docs/denoise.md.
 #pragma once
 
 #include <optional>
