@@ -43,6 +43,9 @@ inline constexpr uint64_t kMaxStateFileBytes =
 // Exposure in stops (the camera's "exposure", --exposure): every pixel is
 // scaled by 2^exposure, which must stay a normal float either way.
 inline constexpr float kMaxExposureStops = 64.0f;
+// --time, --write-every, --checkpoint-every: at most this many seconds
+// (about 31 years; a larger or non-finite one is refused, not waited for).
+inline constexpr double kMaxSeconds = 1e9;
 
 // Textures: per side and per image, checked on the header before any pixel
 // is decoded. A file must also be large enough to hold what it declares:

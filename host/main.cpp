@@ -18,6 +18,7 @@
 #include "host/app/bench.h"
 #include "host/app/render_command.h"
 #include "host/app/diff.h"
+#include "host/app/cli_numbers.h"
 #include "host/app/denoise_command.h"
 #include "host/app/merge_command.h"
 #include "host/app/plot.h"
@@ -102,9 +103,9 @@ int main(int argc, char** argv) {
   std::string sky_out;
   auto* sky_cmd = app.add_subcommand("sky", "write the Preetham sun and sky as an equirectangular image (.pfm, .exr), "
                                             "as a scene's \"environment\": {\"sky\": ...} makes it");
-  sky_cmd->add_option("--sun-elevation", sky.sun_elevation, "degrees above the horizon")->check(CLI::Range(0.5, 90.0));
-  sky_cmd->add_option("--sun-azimuth", sky.sun_azimuth, "degrees from +z toward +x")->check(CLI::Range(-360.0, 360.0));
-  sky_cmd->add_option("--turbidity", sky.turbidity, "1.7 (clear) to 10 (hazy)")->check(CLI::Range(1.7, 10.0));
+  sky_cmd->add_option("--sun-elevation", sky.sun_elevation, "degrees above the horizon")->check(finite_range(0.5, 90.0));
+  sky_cmd->add_option("--sun-azimuth", sky.sun_azimuth, "degrees from +z toward +x")->check(finite_range(-360.0, 360.0));
+  sky_cmd->add_option("--turbidity", sky.turbidity, "1.7 (clear) to 10 (hazy)")->check(finite_range(1.7, 10.0));
   sky_cmd->add_option("--width", sky.width, "texels across")->check(CLI::Range(8, 4096));
   sky_cmd->add_option("--height", sky.height, "texels down")->check(CLI::Range(4, 2048));
   sky_cmd->add_option("-o,--output", sky_out, "output image (.pfm or .exr: linear)")->required();

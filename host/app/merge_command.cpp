@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "host/app/cli_numbers.h"
 #include "host/error.h"
 #include "host/image/image_io.h"
 #include "host/limits.h"
@@ -19,7 +20,7 @@ CLI::App* add_merge_command(CLI::App& app, MergeArgs& a) {
   cmd->add_option("-o,--output", a.output, "the merged image: the film's linear radiance (.pfm or .exr)");
   cmd->add_option("--state", a.state, "the merged render state (resume or merge it further)");
   cmd->add_option("--exposure", a.exposure_stops, "scale the image by 2^STOPS (default 0)")
-      ->check(CLI::Range(-limits::kMaxExposureStops, limits::kMaxExposureStops));
+      ->check(finite_range(-limits::kMaxExposureStops, limits::kMaxExposureStops));
   cmd->add_flag("-q,--quiet", a.quiet, "print nothing but errors");
   return cmd;
 }

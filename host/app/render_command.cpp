@@ -14,6 +14,7 @@
 
 #include "host/app/distributed_render.h"
 #include "host/app/error_monitor.h"
+#include "host/app/cli_numbers.h"
 #include "host/app/film_outputs.h"
 #include "host/error.h"
 #include "host/image/image_io.h"
@@ -207,10 +208,10 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option("--seed", a.session.seed, "path: seed of the sample sequences (default 0)");
   render_cmd->add_option("--time", a.session.time_limit_s,
                          "path: stop after the pass that reaches SECONDS (with --spp: whichever comes first)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive(limits::kMaxSeconds));
   render_cmd->add_option("--write-every", a.write_every_s,
                          "path: also write the image (and --spp-map) every SECONDS")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive(limits::kMaxSeconds));
   render_cmd->add_option("--spp-map", a.spp_map,
                          "path: draw each pixel's sample count as a heatmap with a colour bar (.png/.svg, through "
                          "gnuplot); an .exr output always carries it as its 'spp' channel");
@@ -230,7 +231,7 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option("--plot", a.plot, "draw the --report as error against time (.png/.svg, through gnuplot)");
   render_cmd->add_option("--target-error", a.target_error,
                          "path: stop when the estimated relMSE reaches E (with --time/--spp: whichever first)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   render_cmd->add_option_function<std::string>(
       "--caustics", [&a](const std::string& m) { a.session.caustics = parse_caustics_mode(m); },
       "path: photon-mapped caustics: auto (default: with smooth metal or glass, where its work pays), on, off");
@@ -238,7 +239,7 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
       ->check(CLI::Range(1u, 1u << 22));
   render_cmd->add_option("--caustic-radius", a.session.caustic_radius,
                          "path: every pixel's initial photon gather radius (default: its camera path's footprint)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   render_cmd->add_flag("--check-numerics", a.session.check_numerics,
                        "path: count NaN/Inf and negative samples and the BSDF weights of every bounce (energy gain), "
                        "and report them");
@@ -250,7 +251,7 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option_function<double>(
       "--checkpoint-every", [&a](const double& s) { a.checkpoint_every_s = s; },
       "seconds between --checkpoint writes (default 60)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive(limits::kMaxSeconds));
   render_cmd->add_option("--resume", a.resume,
                          "continue the render saved in FILE by --checkpoint, up to --spp (or for --time); the scene "
                          "and every setting that changes the image must match it");
