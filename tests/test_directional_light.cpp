@@ -113,6 +113,35 @@ TEST(DirectionalLight, BadValuesNameTheirKey) {
   EXPECT_TRUE(test::Contains(error(R"({"type": "sun"})"), {"\"directional\"", "\"spotlight\""}));
 }
 
+// Issue 38: a direction of any magnitude a float holds is a direction
+// ([1e30, -1e30, 0] overflowed when normalised in float, and the scene
+// rendered unlit); a scene so large that the light's power overflows is
+// refused with the reason, never rendered dark or failed inside.
+TEST(DirectionalLight, DirectionsOfAnyMagnitudeAndScenesTooLargeForItsPower) {
+  const Scene unit = load_scene(write_scene("dir_unit.json", floor_scene(directional({1, -1, 0}, {1, 1, 1}), "phong", kDiffuse)));
+  for (const glm::dvec3& d : {glm::dvec3(1e30, -1e30, 0), glm::dvec3(1e-30, -1e-30, 0), glm::dvec3(3e38, -3e38, 0)}) {
+    const Scene s = load_scene(write_scene("dir_scaled.json", floor_scene(directional(d, {1, 1, 1}), "phong", kDiffuse)));
+    EXPECT_EQ(to_vec3(s.lights.at(0).p1), to_vec3(unit.lights.at(0).p1)) << d.x;
+  }
+  const std::string far = R"({"nbounces": 4, "rendermode": "pathtracer",
+    "camera": {"type": "pinhole", "width": 16, "height": 12, "position": [0, 1, -5], "lookAt": [0, 0, 0],
+               "upVector": [0, 1, 0], "fov": 45},
+    "scene": {"backgroundcolor": [0, 0, 0],
+      "lightsources": [{"type": "directional", "direction": [0, -1, 0.2], "intensity": [2, 2, 2]}],
+      "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": {"type": "dielectric"}},
+                 {"type": "sphere", "center": [1e30, 0, 0], "radius": 1e28, "material": {"type": "diffuse"}}]}})";
+  const std::string scene = write_scene("dir_far.json", far);
+  for (const char* caustics : {"on", "off"}) {
+    const test::CliResult r = test::run_cli("render " + scene + " --caustics " + std::string(caustics) +
+                                            " --spp 1 -q --device " + test::device_spec() + " -o " +
+                                            test::temp_dir() + "/far.pfm");
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(test::Contains(r.output, {"dir_far.json: light 0", "overflows a 32-bit float", "scale the scene"}))
+        << r.output;
+    EXPECT_EQ(r.output.find("kernel"), std::string::npos) << r.output;
+  }
+}
+
 // ----------------------------------------------- kernel functions, on the host
 
 Light placed_light(glm::dvec3 d, glm::dvec3 e) {

@@ -140,6 +140,17 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   if (session->mode == RenderMode::Path) add_light_geometry(scene);
 
   session->features = analyse_scene(scene, session->mode, options.caustics);
+  // The photon pass needs a light that emits photons: its program and its
+  // integrator decide alike (a light whose power overflows is refused here,
+  // before anything is built).
+  if (session->features.caustics) {
+    const bool emitters = session->mode == RenderMode::Path ? !build_light_table(scene).lights.empty()
+                                                            : !phong_photon_lights(scene).empty();
+    if (!emitters) {
+      session->features.caustics = false;
+      session->features.caustics_reason = "no light emits photons";
+    }
+  }
   const bool path = session->mode == RenderMode::Path;
   session->features.check_numerics = path && options.check_numerics;
   session->settings.check_numerics = session->features.check_numerics;

@@ -19,11 +19,11 @@ using namespace scene_detail;
 
 void read_directional_light(const Reader& r, const json& l, const std::string& path, Scene& scene) {
   r.check_keys(l, path, {"type", "direction", "intensity"});
-  const glm::vec3 direction = r.read_vec3(l, "direction", path, Range::Any);
-  if (!(glm::length(direction) > 0.0f))
+  glm::vec3 direction;
+  if (!unit_direction(r.read_vec3(l, "direction", path, Range::Any), &direction))
     r.expected(path + "/direction", "a direction of nonzero length (the way the light travels)", l["direction"]);
   scene.lights.push_back(
-      directional_light_along(glm::normalize(direction), r.read_vec3(l, "intensity", path, Range::NonNegative)));
+      directional_light_along(direction, r.read_vec3(l, "intensity", path, Range::NonNegative)));
 }
 
 float directional_light_power(const Light& l) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 
+#include "host/error.h"
 #include "host/lights/environment_light.h"
 #include "host/lights/light_types.h"
 #include "host/scene/textures.h"
@@ -46,12 +47,22 @@ LightTable build_light_table(const Scene& scene) {
   // light is picked by (its flux exactly when the texture covers the
   // triangle once; otherwise an estimate, > 0 wherever the light emits, so
   // the estimators stay unbiased).
-  auto add = [&](Light l, const glm::vec3& mean_texel_of_texture = glm::vec3(1.0f)) {
+  // A light that emits nothing is left out; one whose power overflows a
+  // float (a directional light or a sky over a scene ~1e19 across, an
+  // emissive shape of 1e30 area) cannot be picked in proportion to it, and
+  // is refused: leaving it out would render the scene unlit without a word.
+  auto add = [&](Light l, const glm::vec3& mean_texel_of_texture = glm::vec3(1.0f), const std::string& what = "") {
     const LightType& type = light_type(l.kind);
     Light mean = l;
     mean.emitted = to_float4(to_vec3(l.emitted) * mean_texel_of_texture, l.emitted.w);
     const float p = type.power(mean);
-    if (!(p > 0.0f) || !std::isfinite(p)) return false;
+    if (std::isnan(p) || std::isinf(p))
+      throw Error(scene.source_path + ": " + what + ": its power (the flux it is sampled by) overflows a 32-bit float" +
+                  (l.kind == LIGHT_DIRECTIONAL || l.kind == LIGHT_ENVIRONMENT
+                       ? " (a directional light's and a sky's grow with the scene's extent squared)"
+                       : "") +
+                  ": scale the scene, or its emission, down");
+    if (!(p > 0.0f)) return false;
     t.lights.push_back(l);
     power.push_back(p);
     return true;
@@ -62,7 +73,8 @@ LightTable build_light_table(const Scene& scene) {
   for (uint32_t i : lights_by_kind(scene)) {
     const LightType& type = light_type(scene.lights[i].kind);
     if (!type.delta && !g.added) continue;  // an area light without its geometry: not sampled
-    if (add(light_in_scene(scene, i))) table_index[i] = uint32_t(t.lights.size() - 1);
+    if (add(light_in_scene(scene, i), glm::vec3(1.0f), "light " + std::to_string(i)))
+      table_index[i] = uint32_t(t.lights.size() - 1);
   }
   std::vector<bool> geometry_sphere(scene.spheres.size(), false), geometry_triangle(scene.triangles.size(), false);
   for (const Scene::LightPrimitive& p : g.prims) {
@@ -100,7 +112,8 @@ LightTable build_light_table(const Scene& scene) {
       if (it == texture_means.end()) it = texture_means.emplace(m.emission_texture, mean_texel(scene, m.emission_texture)).first;
       mean = it->second;
     }
-    if (add(l, mean)) index_of_shape[shape] = uint32_t(t.lights.size() - 1);
+    if (add(l, mean, "the emissive shape " + std::to_string(shape) + " (emission times area)"))
+      index_of_shape[shape] = uint32_t(t.lights.size() - 1);
   };
   for (size_t i = 0; i < scene.triangles.size(); ++i) {
     if (geometry_triangle[i]) continue;
@@ -121,7 +134,8 @@ LightTable build_light_table(const Scene& scene) {
     add_shape(c.material, LIGHT_CYLINDER, c.center_radius, c.axis_half, {}, 4.0f * kPi * r * h + 2.0f * kPi * r * r,
               t.light_of_cylinder, i);
   }
-  if (scene.environment && add(environment_light(scene))) t.environment = uint32_t(t.lights.size() - 1);
+  if (scene.environment && add(environment_light(scene), glm::vec3(1.0f), "the environment"))
+    t.environment = uint32_t(t.lights.size() - 1);
   set_selection(t.lights, power);
   return t;
 }
@@ -149,6 +163,16 @@ std::vector<Light> whitted_lights(const Scene& scene) {
 std::vector<Light> phong_photon_lights(const Scene& scene) {
   std::vector<Light> lights = whitted_lights(scene);
   if (scene.environment) lights.push_back(environment_light(scene));
+  // As build_light_table: a power that overflows is refused, not dropped.
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const float p = light_type(lights[i].kind).power(lights[i]);
+    if (std::isnan(p) || std::isinf(p))
+      throw Error(scene.source_path + ": " +
+                  (lights[i].kind == LIGHT_ENVIRONMENT ? std::string("the environment")
+                                                       : "light " + std::to_string(i)) +
+                  ": its photon power overflows a 32-bit float (a sky's grows with the scene's extent squared): "
+                  "scale the scene, or its emission, down");
+  }
   return emitting_lights(lights);
 }
 

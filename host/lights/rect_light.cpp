@@ -30,8 +30,9 @@ void read_rect_light(const Reader& r, const json& l, const std::string& path, Sc
   if (size && wh) r.fail(path + "/size", "give the size either as \"size\" or as \"width\"/\"height\", not both");
   glm::vec3 du = u ? r.vec3(*u, path + "/" + u_key, Range::Any) : glm::vec3(1, 0, 0);
   glm::vec3 dv = v ? r.vec3(*v, path + "/" + v_key, Range::Any) : glm::vec3(0, 0, 1);
-  if (u && !(glm::length(du) > 0.0f)) r.expected(path + "/" + u_key, "a direction of nonzero length", *u);
-  if (v && !(glm::length(dv) > 0.0f)) r.expected(path + "/" + v_key, "a direction of nonzero length", *v);
+  glm::vec3 unit_u = du, unit_v = dv;
+  if (u && !unit_direction(du, &unit_u)) r.expected(path + "/" + u_key, "a direction of nonzero length", *u);
+  if (v && !unit_direction(dv, &unit_v)) r.expected(path + "/" + v_key, "a direction of nonzero length", *v);
   glm::vec3 edge_u, edge_v;
   if (size || wh) {
     // u and v give directions only; the extent comes from the size.
@@ -42,8 +43,8 @@ void read_rect_light(const Reader& r, const json& l, const std::string& path, Sc
       extent.x = r.read_number(l, "width", path, Range::Positive);
       extent.y = r.read_number(l, "height", path, Range::Positive);
     }
-    du = glm::normalize(du);
-    dv = glm::normalize(dv);
+    du = unit_u;
+    dv = unit_v;
     if (!v && std::fabs(glm::dot(du, dv)) > 0.999f) dv = glm::vec3(0, 1, 0);  // default v along u
     if (!u && std::fabs(glm::dot(du, dv)) > 0.999f) du = glm::vec3(0, 1, 0);
     edge_u = du * extent.x;

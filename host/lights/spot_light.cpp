@@ -17,8 +17,8 @@ using namespace scene_detail;
 void read_spot_light(const Reader& r, const json& l, const std::string& path, Scene& scene) {
   r.check_keys(l, path, {"type", "position", "direction", "intensity", "inner_cone_angle", "outer_cone_angle"});
   const glm::vec3 position = r.read_vec3(l, "position", path, Range::Any);
-  const glm::vec3 direction = r.read_vec3(l, "direction", path, Range::Any);
-  if (!(glm::length(direction) > 0.0f))
+  glm::vec3 direction;
+  if (!unit_direction(r.read_vec3(l, "direction", path, Range::Any), &direction))
     r.expected(path + "/direction", "a direction of nonzero length", l["direction"]);
   const float inner = r.read_number(l, "inner_cone_angle", path, Range::NonNegative, 0.0f);
   const float outer = r.read_number(l, "outer_cone_angle", path, Range::Positive, 45.0f);
@@ -31,7 +31,7 @@ void read_spot_light(const Reader& r, const json& l, const std::string& path, Sc
   if (!(inner < outer))
     r.fail(path + "/inner_cone_angle", "expected an angle below outer_cone_angle (" + std::to_string(outer) +
                                            " degrees), got " + std::to_string(inner));
-  scene.lights.push_back(spot_light_at(position, glm::normalize(direction),
+  scene.lights.push_back(spot_light_at(position, direction,
                                        r.read_vec3(l, "intensity", path, Range::NonNegative), inner, outer));
 }
 

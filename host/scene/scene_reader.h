@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <optional>
@@ -22,6 +23,17 @@ struct GltfModel;  // host/scene/gltf.h
 }
 
 namespace caustica::scene_detail {
+
+// v / |v| at any magnitude a float holds (in double, where a float's square
+// neither overflows nor underflows: [1e30, -1e30, 0] and [1e-30, 0, 0] are
+// directions too); false for a zero or non-finite vector.
+inline bool unit_direction(const glm::vec3& v, glm::vec3* unit) {
+  const glm::dvec3 d(v);
+  const double length = std::sqrt(glm::dot(d, d));
+  if (!(length > 0.0) || !std::isfinite(length)) return false;
+  *unit = glm::vec3(d / length);
+  return true;
+}
 
 using nlohmann::json;
 
