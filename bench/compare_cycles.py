@@ -62,15 +62,15 @@ References: a long caustica render per scene and size, `--no-adaptive --spp
 N` in two halves of N/2 (seeds 99 and 100), averaged; the halves'
 difference estimates the reference's own relMSE, printed beside it (it adds
 about that much to every row). N is --reference-spp, or by default the spp
-that fits --reference-cpu (360) CPU seconds on --threads threads at the
-rate (mean spp per second) of the scene's equal-time caustica row, rounded
-down to a power of two (at least 64); a cached reference of at least that
-many spp is reused. Cached in
+that fits --reference-cpu (360) CPU seconds at the rate (mean spp per
+CPU second) of the scene's equal-time caustica row, rounded down to a
+multiple of 64; a cached reference of at least that many spp is reused.
+Cached in
 bench/cycles/cache/ under the scene's name, a hash of the scene file and
 this converter, the size and the spp. Conversion bias: Cycles also renders
 its own long reference (adaptive off, no denoising, same two-halves scheme,
---cycles-reference-spp or sized like caustica's from the uniform Cycles
-row's samples) for the scenes in --cycles-references (default:
+--cycles-reference-spp, or sized like caustica's from the uniform Cycles
+row's samples per CPU second) for the scenes in --cycles-references (default:
 the 128^2 Cornell box and every scene whose conversion is approximate), and
 the rows then give Cycles' error against it ("own ref"), and the Cycles
 reference's error against caustica's ("Cycles ref vs caustica ref": what
@@ -964,7 +964,8 @@ def run_caustica(args, scene, w, h, out, extra, seconds=None, spp=None, seed=1):
     r, wall, cpu = run_timed(cmd, env=caustica_env(args), timeout=(seconds or 600) * 5 + 600)
     if r.returncode != 0:
         raise RuntimeError("caustica failed (%d): %s\n%s" % (r.returncode, " ".join(cmd), (r.stdout + r.stderr)[-2000:]))
-    shown = "POCL_MAX_PTHREAD_COUNT=%d %s" % (args.threads, " ".join(display_path(c) for c in cmd))
+    shown = "POCL_MAX_PTHREAD_COUNT=%d %s" % (args.threads, " ".join(
+        os.path.basename(c) if c == out else display_path(c) for c in cmd))
     return {"command": shown, "wall_s": wall, "cpu_s": cpu, "stderr": r.stderr.strip()[-500:]}
 
 
@@ -1040,10 +1041,9 @@ def finish_reference(halves, scene, w, h, spp, renderer, desc, seconds, cpu):
 
 
 def reference_spp(rate, args):
-    """The power of two (>= 64) of spp that `rate` (spp per wall second on
-    --threads threads) fits into --reference-cpu CPU seconds."""
-    n = rate * args.reference_cpu / args.threads
-    return max(64, 1 << int(math.floor(math.log2(max(n, 64)))))
+    """The multiple of 64 (>= 64) of spp that `rate` (spp per CPU second,
+    measured on an equal-time row) fits into --reference-cpu CPU seconds."""
+    return max(64, int(rate * args.reference_cpu) // 64 * 64)
 
 
 def use_cache(scene, w, h, renderer, spp):
@@ -1311,7 +1311,8 @@ def compare_scene(args, spec, has_denoise):
 
         # ---- references, sized from the rows' rates
         t0 = time.perf_counter()
-        c_rate = (rows[0]["spp_mean"] or 16) / args.seconds
+        # rates per CPU second: the machine may be shared, and the budget is CPU time
+        c_rate = (rows[0]["spp_mean"] or 16) / max(rows[0]["cpu_s"], 1e-3)
         ref, rinfo = caustica_reference(args, scene, w, h, folder, c_rate)
         res["reference"] = rinfo
         res["reference_time_s"] = time.perf_counter() - t0
@@ -1320,7 +1321,8 @@ def compare_scene(args, spec, has_denoise):
             desc["approximate"] or (stem == "cornell_box" and (w, h) == (128, 128))))
         if want_own:
             t0 = time.perf_counter()
-            cy_rate = (next(r for r in rows if r["mode"] == "uniform")["samples"] or 16) / args.seconds
+            u = next(r for r in rows if r["mode"] == "uniform")
+            cy_rate = (u["samples"] or 16) / max(u["cpu_s"] - u["import_s"] - u["build_s"], 1e-3)
             own, oinfo = cycles_reference(args, scene, desc, w, h, folder, cy_rate)
             res["cycles_reference"] = oinfo
             res["cycles_reference_time_s"] = time.perf_counter() - t0
@@ -1370,14 +1372,16 @@ def write_images(args, res, images, folder, mask):
     strip_path = os.path.join(args.images, stem + ".png")
     write_png(strip_path, strip)
     out = {"strip": display_path(strip_path), "panels": names, "heatmaps": {}}
-    ref_path = os.path.join(folder, "ref_for_diff.pfm")
-    write_pfm_np(ref_path, images["reference"])
+    # run in the temporary folder with short names: the heatmap's title shows them
+    ref_name = "%s-reference.pfm" % stem
+    write_pfm_np(os.path.join(folder, ref_name), images["reference"])
     for n in names[1:]:
         slug = re.sub(r"[^a-z0-9]+", "_", n.lower()).strip("_")
-        p = os.path.join(folder, slug + ".pfm")
-        write_pfm_np(p, images[n])
-        hp = os.path.join(args.images, "%s-%s-heat.png" % (stem, slug))
-        r = subprocess.run([args.caustica, "diff", p, ref_path, "--heatmap", hp], capture_output=True, text=True)
+        name = "%s-%s.pfm" % (stem, slug)
+        write_pfm_np(os.path.join(folder, name), images[n])
+        hp = os.path.abspath(os.path.join(args.images, "%s-%s-heat.png" % (stem, slug)))
+        r = subprocess.run([os.path.abspath(args.caustica), "diff", name, ref_name, "--heatmap", hp], cwd=folder,
+                           capture_output=True, text=True)
         if r.returncode == 0:
             out["heatmaps"][n] = display_path(hp)
     if mask is not None:

@@ -39,4 +39,12 @@ inline CLI::Validator finite_positive(double hi = 1e30) {
       "FINITE > 0");
 }
 
+// A file name: given, it may not be empty (`--checkpoint ''` saved nothing
+// and `-o ''` fell back to the default name, both without a word).
+inline CLI::Validator non_empty_path() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string { return text.empty() ? "expected a file name, got ''" : std::string(); },
+      "PATH");
+}
+
 }  // namespace caustica

@@ -176,7 +176,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option("--camera", a.session.gltf_camera,
                          "glTF scenes: render from the file's camera N (/cameras/N; default: the first placed)")
       ->check(CLI::NonNegativeNumber);
-  render_cmd->add_option("-o,--output", a.output, "output image; the extension picks the format");
+  render_cmd->add_option("-o,--output", a.output, "output image; the extension picks the format")
+      ->check(non_empty_path());
   render_cmd->add_option("--mode", a.mode, "binary | phong | path (default: the scene's rendermode)");
   render_cmd->add_option("--width", a.session.width, "image width (keeps the camera's aspect unless --height)");
   render_cmd->add_option("--height", a.session.height, "image height");
@@ -214,7 +215,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
       ->check(finite_positive(limits::kMaxSeconds));
   render_cmd->add_option("--spp-map", a.spp_map,
                          "path: draw each pixel's sample count as a heatmap with a colour bar (.png/.svg, through "
-                         "gnuplot); an .exr output always carries it as its 'spp' channel");
+                         "gnuplot); an .exr output always carries it as its 'spp' channel")
+      ->check(non_empty_path());
   render_cmd->add_option_function<std::string>(
       "--sampler",
       [&a](const std::string& s) {
@@ -225,10 +227,13 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_flag("-v,--verbose", a.verbose, "print features, build, BVH and render times");
   render_cmd->add_flag("-q,--quiet", a.quiet, "print nothing but errors");
   render_cmd->add_option("--report", a.report,
-                         "write error against run time (CSV: seconds, spp, estimated and true error) to FILE");
+                         "write error against run time (CSV: seconds, spp, estimated and true error) to FILE")
+      ->check(non_empty_path());
   render_cmd->add_option("--reference", a.reference,
-                         "linear reference image (.pfm/.exr, same size): measure true MSE, relMSE, MAE while rendering");
-  render_cmd->add_option("--plot", a.plot, "draw the --report as error against time (.png/.svg, through gnuplot)");
+                         "linear reference image (.pfm/.exr, same size): measure true MSE, relMSE, MAE while rendering")
+      ->check(non_empty_path());
+  render_cmd->add_option("--plot", a.plot, "draw the --report as error against time (.png/.svg, through gnuplot)")
+      ->check(non_empty_path());
   render_cmd->add_option("--target-error", a.target_error,
                          "path: stop when the estimated relMSE reaches E (with --time/--spp: whichever first)")
       ->check(finite_positive());
@@ -247,14 +252,16 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
                        "path: leave out the film's half buffer (no self-estimated error, so no adaptive sampling)");
   render_cmd->add_option("--checkpoint", a.checkpoint,
                          "write the render's state to FILE (atomically) every --checkpoint-every seconds, between "
-                         "waves, and at the end; --resume continues from it");
+                         "waves, and at the end; --resume continues from it")
+      ->check(non_empty_path());
   render_cmd->add_option_function<double>(
       "--checkpoint-every", [&a](const double& s) { a.checkpoint_every_s = s; },
       "seconds between --checkpoint writes (default 60)")
       ->check(finite_positive(limits::kMaxSeconds));
   render_cmd->add_option("--resume", a.resume,
                          "continue the render saved in FILE by --checkpoint, up to --spp (or for --time); the scene "
-                         "and every setting that changes the image must match it");
+                         "and every setting that changes the image must match it")
+      ->check(non_empty_path());
   render_cmd->add_option("--passes", a.passes,
                          "path: render passes START:END only (absolute pass indices: the same samples as those "
                          "passes of a full render), for `caustica merge`; needs --no-adaptive and no photon pass");
@@ -270,7 +277,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
       "path: fast | balanced | high (default): OIDN's filter quality");
   render_cmd->add_option("--aov-dir", a.aov_dir,
                          "path: also write each pass as its own .exr in DIR (beauty, denoised, albedo, normal, "
-                         "depth, variance, spp)");
+                         "depth, variance, spp)")
+      ->check(non_empty_path());
   render_cmd->add_flag("--adaptive,!--no-adaptive", a.session.adaptive,
                        "path: adaptive sampling, the default: after 16 spp, each wave's samples go where the "
                        "estimated error is (--no-adaptive: every pixel alike)");
@@ -309,7 +317,30 @@ int run_render(RenderArgs& a) {
     throw Error("--target-error needs the error estimate that --no-error-estimate leaves out");
   if (a.checkpoint_every_s && a.checkpoint.empty())
     throw Error("--checkpoint-every needs --checkpoint (the file the state is written to)");
-  if (!a.checkpoint.empty()) check_output_dir("--checkpoint", a.checkpoint);
+  if (!a.checkpoint.empty()) {
+    check_output_dir("--checkpoint", a.checkpoint);
+    // The state is written atomically beside it and renamed over it: a
+    // device or a folder there (a link to /dev/full, say) is no state file.
+    std::error_code ec;
+    const auto status = std::filesystem::status(a.checkpoint, ec);
+    if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+      throw Error("--checkpoint " + a.checkpoint + ": exists and is not a regular file (a state file is written "
+                  "beside it and renamed over it)");
+    // Nothing the render writes or reads may be the state it saves.
+    auto same = [&](const std::string& other) {
+      if (other.empty()) return false;
+      std::error_code e1, e2;
+      const auto x = std::filesystem::weakly_canonical(a.checkpoint, e1);
+      const auto y = std::filesystem::weakly_canonical(other, e2);
+      return !e1 && !e2 && x == y;
+    };
+    for (const auto& [option, path] : {std::pair<const char*, const std::string*>{"-o", &a.output},
+                                       {"--spp-map", &a.spp_map}, {"--report", &a.report}, {"--plot", &a.plot},
+                                       {"--reference", &a.reference}})
+      if (same(*path))
+        throw Error("--checkpoint " + a.checkpoint + " and " + option + " " + *path +
+                    " name the same file: one would overwrite the other");
+  }
   if (a.denoise && !Denoiser::available()) throw Error("--denoise: " + Denoiser::missing_message());
   if (!a.aov_dir.empty()) check_output_dir("--aov-dir", a.aov_dir);  // DIR's parent exists (DIR is made)
   // The film's aux passes: what the denoiser and an .exr's layers take.
@@ -414,6 +445,17 @@ int run_render(RenderArgs& a) {
     } catch (const Error& e) {
       throw Error(a.resume + ": " + e.what());
     }
+    // The render continues the state's passes up to its own end: the state
+    // must hold the start of the render's range, or passes would be missing
+    // (a state of passes [2, 4) resumed to --spp 4 wrote a 2-spp image).
+    const PassSet& held = resume->film.held;
+    const int first = session->settings.first_pass;
+    if (!held.empty() && !(held == PassSet::range(first, held.end())))
+      throw Error(a.resume + ": holds " + held.describe() + ", which does not begin at pass " + std::to_string(first) +
+                  " where this render does: render the passes before it (--passes " + std::to_string(first) + ":" +
+                  std::to_string(first < held.first() ? held.first() : first) +
+                  " --checkpoint) and `caustica merge` the states, or resume it with --passes " +
+                  std::to_string(held.first()) + ":END");
     if (resume->film.held.end() > session->settings.passes)
       throw Error(a.resume + ": holds " + resume->film.held.describe() + ", past the " +
                   std::to_string(session->settings.passes) + " asked" +

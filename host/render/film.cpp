@@ -103,8 +103,11 @@ FilmState Film::state() const {
   return s;
 }
 
-void Film::check_state(const FilmState& s) const {
-  const size_t pixels = pixel_count();
+void Film::check_state(const FilmState& s) const { check_state_counts(s, layout()); }
+
+void Film::check_state_counts(const FilmState& s, const FilmLayout& layout) {
+  const size_t pixels = layout.pixels;
+  const size_t words = layout.words();
   auto wrong = [&](const std::string& what, size_t got, size_t want) {
     return Error("film: a state with " + std::to_string(got) + " " + what + " for a film of " +
                  std::to_string(want));
@@ -112,8 +115,7 @@ void Film::check_state(const FilmState& s) const {
   if (s.spp.size() != pixels) throw wrong("pixel counts", s.spp.size(), pixels);
   if (s.half_start.size() != pixels) throw wrong("half starts", s.half_start.size(), pixels);
   if (s.pixel_rays.size() != pixels) throw wrong("ray counts", s.pixel_rays.size(), pixels);
-  if (s.accumulated.size() != accumulated_words())
-    throw wrong("accumulated sum words", s.accumulated.size(), accumulated_words());
+  if (s.accumulated.size() != words) throw wrong("accumulated sum words", s.accumulated.size(), words);
   if (s.counters.size() != FILM_COUNTERS) throw wrong("counters", s.counters.size(), FILM_COUNTERS);
   if (s.passes < 0) throw Error("film: a state of " + std::to_string(s.passes) + " passes");
   // The mean of the pixels' counts is the pass count (Film's rule): a state
@@ -129,6 +131,14 @@ void Film::check_state(const FilmState& s) const {
   // [0, N) has them.
   if (s.per_pixel && !s.held.is_prefix())
     throw Error("film: an adaptive (uneven) state of " + s.held.describe() + ", not of passes [0, N)");
+  if (!s.per_pixel)
+    for (size_t p = 0; p < pixels; ++p)
+      if (s.spp[p] != uint32_t(s.passes))
+        throw Error("film: an even state of " + std::to_string(s.passes) + " passes whose pixel " + std::to_string(p) +
+                    " holds " + std::to_string(s.spp[p]) + " samples");
+  if (s.passes == 0)
+    for (uint64_t w : s.accumulated)
+      if (w != 0) throw Error("film: a state of no passes that holds sums");
 }
 
 void Film::restore(const FilmState& s) {

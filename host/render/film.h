@@ -171,6 +171,12 @@ class Film {
   // the state's sizes are not this film's.
   FilmState state() const;
   void check_state(const FilmState& state) const;  // what restore checks, and nothing else
+  // The checks of a state's counts against the data they describe, for a
+  // film of `layout` (also `caustica merge`'s, which has no film): the
+  // arrays' sizes, every pixel's samples summing to passes x pixels (each
+  // equal to passes unless per-pixel), the passes listed, and nothing
+  // summed in a film of no passes. Throws caustica::Error saying which.
+  static void check_state_counts(const FilmState& state, const FilmLayout& layout);
   void restore(const FilmState& state);
   void clear_pass_range(size_t first_pixel, size_t pixel_count);  // of the pass in progress only
   // The planned wave is dropped unaccumulated (a time limit ran out within

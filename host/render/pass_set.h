@@ -32,6 +32,7 @@ class PassSet {
   const std::vector<Range>& ranges() const { return ranges_; }
   bool empty() const { return ranges_.empty(); }
   int count() const;
+  int first() const { return ranges_.empty() ? -1 : ranges_.front().first; }
   int last() const { return ranges_.empty() ? -1 : ranges_.back().second - 1; }
   int end() const { return ranges_.empty() ? 0 : ranges_.back().second; }  // one past the last pass
   bool is_prefix() const { return ranges_.empty() || (ranges_.size() == 1 && ranges_[0].first == 0); }

@@ -47,6 +47,16 @@ void check_mergeable(const NamedState& first, const NamedState& named) {
                 std::to_string(b.accumulated.size()) + " sum words, " + first.path + "'s has " +
                 std::to_string(a.spp.size()) + " and " + std::to_string(a.accumulated.size()));
   if (b.per_pixel) throw Error(path + ": an uneven (adaptive) film cannot be merged");
+  // The header's counts agree with the data they describe.
+  FilmLayout layout;
+  if (!FilmLayout::from_words(b.spp.size(), b.accumulated.size(), &layout))
+    throw Error(path + ": a film of " + std::to_string(b.spp.size()) + " pixels and " +
+                std::to_string(b.accumulated.size()) + " sum words, which no film layout has");
+  try {
+    Film::check_state_counts(b, layout);
+  } catch (const Error& e) {
+    throw Error(path + ": " + e.what());
+  }
 }
 
 void add_film_sums(uint64_t* into, const uint64_t* from, size_t values) {
