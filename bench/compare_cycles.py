@@ -297,46 +297,7 @@ class SceneDescription(cm.Converter):
 
     def convert(self):
         sc = self.scene
-        for i, s in enumerate(sc["scene"]["shapes"]):
-            t = str(s.get("type", "")).lower()
-            if t in ("cubemap", "sphericalmap"):
-                self.note("shape %d (%s) skipped, as caustica skips it" % (i, t))
-                continue
-            if t in ("mesh", "ply"):
-                self.add_mesh(s, self.shape_material(s) if "material" in s else None)
-                continue
-            m = self.shape_material(s)
-            if t in ("sphere", "uvsphere"):
-                self.add_sphere(s["center"], s["radius"], m, self.dir)
-            elif t in ("cylinder", "uvcylinder"):
-                self.add_cylinder(s, m, self.dir)
-            elif t == "triangle":
-                uv = [s["uv0"], s["uv1"], s["uv2"]] if "uv0" in s else None
-                self.add_triangle([s["v0"], s["v1"], s["v2"]], m, uv)
-            elif t == "rectangle" and "v0" in s:
-                self.add_quad([s["v0"], s["v1"], s["v2"], s["v3"]], m)
-            elif t == "rectangle":
-                c1, c2 = s["corner1"], s["corner2"]
-                k = [j for j in range(3) if c1[j] == c2[j]][0]
-                a, b = (k + 1) % 3, (k + 2) % 3
-
-                def pt(ua, vb, k=k, a=a, b=b, c1=c1):
-                    p = [0.0] * 3
-                    p[k], p[a], p[b] = c1[k], ua, vb
-                    return p
-                la, ha = sorted((c1[a], c2[a]))
-                lb, hb = sorted((c1[b], c2[b]))
-                self.add_quad([pt(la, lb), pt(ha, lb), pt(ha, hb), pt(la, hb)], m)
-            elif t == "box":
-                lo = [min(x, y) for x, y in zip(s["min"], s["max"])]
-                hi = [max(x, y) for x, y in zip(s["min"], s["max"])]
-                rot = cm.rotation_xyz(s.get("rotation", [0, 0, 0]))
-                corner = [cm.matvec(rot, [hi[0] if j & 1 else lo[0], hi[1] if j & 2 else lo[1],
-                                          hi[2] if j & 4 else lo[2]]) for j in range(8)]
-                for f in ((0, 4, 6, 2), (1, 3, 7, 5), (0, 1, 5, 4), (2, 6, 7, 3), (0, 2, 3, 1), (4, 5, 7, 6)):
-                    self.add_quad([corner[j] for j in f], m)
-            else:
-                raise cm.Unsupported("shape type %r" % t)
+        self.add_shapes()  # compare_mitsuba.Converter's walk, through this class's add_* methods
         for i, l in enumerate(sc["scene"].get("lightsources", [])):
             t = str(l.get("type", "")).lower()
             if t == "arealight":

@@ -572,7 +572,9 @@ class Converter:
                 n = [xn(vns[i[2]]) for i in tri] if all(i[2] is not None for i in tri) else None
                 self.add_triangle(p, m, uv, n)
 
-    def convert(self):
+    def add_shapes(self):
+        """The file's shapes as this converter's triangles, spheres and meshes
+        (compare_cycles.py's converter inherits it)."""
         sc = self.scene
         for i, s in enumerate(sc["scene"]["shapes"]):
             t = str(s.get("type", "")).lower()
@@ -614,6 +616,10 @@ class Converter:
                     self.add_quad([corner[j] for j in f], m)
             else:
                 raise Unsupported("shape type %r" % t)
+
+    def convert(self):
+        sc = self.scene
+        self.add_shapes()
 
         for i, l in enumerate(sc["scene"].get("lightsources", [])):
             t = str(l.get("type", "")).lower()

@@ -151,10 +151,7 @@ TEST(AuxPasses, HaveTheSameBitsForAnyWorkGroupSize) {
   EXPECT_TRUE(same_bits(base, render_aux(text, spp, options))) << "1000 path slots";
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using test::slurp;
 
 std::string cornell_args(const std::string& rest) {
   return "render '" + test::source_dir() + "/scenes/cornell_box.json' --width 24 --caustics off --no-adaptive "

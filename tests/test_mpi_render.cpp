@@ -71,10 +71,7 @@ test::CliResult run_mpi(int ranks, const std::string& args, const std::string& e
   return r;
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using test::slurp;
 
 // The cornell box, 32 pixels wide, uniform, no photon pass.
 std::string render_args(const std::string& rest) {

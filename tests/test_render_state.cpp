@@ -68,10 +68,7 @@ const char* kPhongScene = R"({"nbounces": 3, "rendermode": "phong",
                 "material": {"ks": 0.1, "kd": 0.9, "specularexponent": 10, "diffusecolor": [0.2, 0.8, 0.3],
                              "specularcolor": [1, 1, 1]}}]}})";
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using test::slurp;
 
 std::string spew(const std::string& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
@@ -444,6 +441,60 @@ TEST(RenderState, TheCliRefusesWhatItCannotResume) {
   r = test::run_cli(base + " --resume '" + state + "' -o '" + dir + "/c.pfm'");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(slurp(dir + "/a.pfm") == slurp(dir + "/c.pfm"));
+}
+
+}  // namespace
+}  // namespace caustica
+
+namespace caustica {
+namespace {
+
+// Issue 38: state files keep what they promise. No option may make a render
+// overwrite its own output with its state, save to a device or to an empty
+// name, resume passes that leave a gap, or merge a state whose header does
+// not describe its data; passes near 2^31 cost what they render.
+TEST(RenderState, StateFilesKeepWhatTheyPromise) {
+  if (test::on_simulator()) GTEST_SKIP() << "CLI renders: the other tests cover the simulator";
+  const std::string dir = test::temp_dir();
+  const std::string args = "render '" + test::source_dir() + "/scenes/cornell_box.json' --width 16 --no-adaptive "
+                           "--caustics off --device '" + test::device_spec() + "' -q ";
+  auto refused = [&](const std::string& rest, std::initializer_list<std::string> parts) {
+    const test::CliResult r = test::run_cli(args + rest);
+    EXPECT_NE(r.status, 0) << rest << ": " << r.output;
+    EXPECT_TRUE(test::Contains(r.output, parts)) << rest << ": " << r.output;
+  };
+  refused("--spp 2 --checkpoint '" + dir + "/out.pfm' -o '" + dir + "/out.pfm'", {"name the same file"});
+  refused("--spp 2 --checkpoint '" + dir + "/./out.exr' -o '" + dir + "/out.exr'", {"name the same file"});
+  ASSERT_EQ(::symlink("/dev/full", (dir + "/full.cst").c_str()), 0);
+  refused("--spp 2 --checkpoint '" + dir + "/full.cst' -o '" + dir + "/a.pfm'", {"full.cst", "not a regular file"});
+  refused("--spp 2 --checkpoint '' -o '" + dir + "/a.pfm'", {"--checkpoint", "expected a file name"});
+  refused("--spp 2 -o ''", {"expected a file name"});
+  EXPECT_FALSE(std::ifstream(dir + "/out.pfm").good()) << "nothing written";
+  // A state of passes [2, 4) resumes only where the render begins at 2.
+  ASSERT_EQ(test::run_cli(args + "--passes 2:4 --checkpoint '" + dir + "/p.cst' -o '" + dir + "/p.pfm'").status, 0);
+  refused("--spp 4 --resume '" + dir + "/p.cst' -o '" + dir + "/r.pfm'",
+          {"p.cst", "holds passes [2, 4)", "does not begin at pass 0", "caustica merge"});
+  EXPECT_EQ(test::run_cli(args + "--passes 2:6 --resume '" + dir + "/p.cst' -o '" + dir + "/r.pfm'").status, 0);
+  // Headers altered consistently with the checksum: counts that do not
+  // describe the data are refused by merge.
+  RenderState state = read_render_state(dir + "/p.cst");
+  RenderState no_passes = state;
+  no_passes.film.passes = 0;
+  no_passes.film.held = PassSet();
+  std::fill(no_passes.film.spp.begin(), no_passes.film.spp.end(), 0u);
+  write_render_state(dir + "/none.cst", no_passes);
+  RenderState huge = state;
+  huge.film.passes = 2147483647;
+  write_render_state(dir + "/huge.cst", huge);
+  for (const char* name : {"none.cst", "huge.cst"}) {
+    const test::CliResult r = test::run_cli("merge '" + dir + "/" + name + "' -q -o '" + dir + "/m.pfm'");
+    EXPECT_NE(r.status, 0) << name << ": " << r.output;
+    EXPECT_TRUE(test::Contains(r.output, {name, "film:"})) << r.output;
+  }
+  // One pass at index 2^31 - 2 renders in the time of one pass.
+  const test::CliResult last =
+      test::run_cli(args + "--passes 2147483646:2147483647 -o '" + dir + "/last.pfm'");
+  EXPECT_EQ(last.status, 0) << last.output;
 }
 
 }  // namespace

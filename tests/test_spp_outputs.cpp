@@ -25,10 +25,7 @@ using test::Contains;
 #define REQUIRE_GNUPLOT() \
   if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed (Debian: gnuplot-nox): skipped"
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using test::slurp;
 
 // Neither symmetric nor repeating, so a flipped or transposed read shows.
 ImageF ramp_image(int w, int h) {

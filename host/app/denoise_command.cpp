@@ -19,13 +19,8 @@ CLI::App* add_denoise_command(CLI::App& app, DenoiseArgs& a) {
       ->required();
   cmd->add_option("--albedo", a.albedo, "the albedo guide as a file of its own (.exr/.pfm)");
   cmd->add_option("--normal", a.normal, "the normal guide as a file of its own (.exr/.pfm; needs an albedo)");
-  cmd->add_option_function<std::string>(
-      "--quality",
-      [&a](const std::string& q) {
-        parse_denoise_quality(q);
-        a.quality = q;
-      },
-      "fast | balanced | high (default)");
+  cmd->add_option("--quality", a.quality, "fast | balanced | high (default)")
+      ->check(CLI::IsMember({"fast", "balanced", "high"}));
   cmd->add_option("--threads", a.threads, "CPU threads (default: every core)")->check(CLI::Range(1, 1024));
   cmd->add_flag("--noisy-guides", a.noisy_guides,
                 "the guides are noisy (depth of field, few samples): clean them first");

@@ -96,26 +96,22 @@ void plot_error_reports(const std::vector<std::string>& csv_paths, const std::st
     const Series& s = series[i];
     const std::string colour = "lc rgb '" + std::string(kColours[i % kColourCount]) + "'";
     const std::string block = "$r" + std::to_string(i);
-    if (!s.truth.empty()) {
-      gp << datablock(block + "t", s.truth);
-      plots.push_back(block + "t using 1:2 with linespoints lw 2 pt 7 ps 0.6 " + colour + " title " +
-                      gnuplot_quote(s.name + " (true)") + " noenhanced");
-    }
-    if (!s.estimate.empty()) {
-      gp << datablock(block + "e", s.estimate);
-      plots.push_back(block + "e using 1:2 with lines lw 2 dt 2 " + colour + " title " +
-                      gnuplot_quote(s.name + " (estimated)") + " noenhanced");
-    }
-    // The denoised image's: squares, thinner, in the same colour.
-    if (!s.denoised_truth.empty()) {
-      gp << datablock(block + "dt", s.denoised_truth);
-      plots.push_back(block + "dt using 1:2 with linespoints lw 1.5 pt 5 ps 0.6 " + colour + " title " +
-                      gnuplot_quote(s.name + " denoised (true)") + " noenhanced");
-    }
-    if (!s.denoised_estimate.empty()) {
-      gp << datablock(block + "de", s.denoised_estimate);
-      plots.push_back(block + "de using 1:2 with linespoints lw 1.5 dt 3 pt 4 ps 0.6 " + colour + " title " +
-                      gnuplot_quote(s.name + " denoised (estimated)") + " noenhanced");
+    // The raw image's curves, then the denoised image's: squares, thinner,
+    // in the same colour.
+    const struct {
+      const std::vector<Point>* points;
+      const char *suffix, *style, *title;
+    } curves[] = {
+        {&s.truth, "t", "with linespoints lw 2 pt 7 ps 0.6", " (true)"},
+        {&s.estimate, "e", "with lines lw 2 dt 2", " (estimated)"},
+        {&s.denoised_truth, "dt", "with linespoints lw 1.5 pt 5 ps 0.6", " denoised (true)"},
+        {&s.denoised_estimate, "de", "with linespoints lw 1.5 dt 3 pt 4 ps 0.6", " denoised (estimated)"},
+    };
+    for (const auto& c : curves) {
+      if (c.points->empty()) continue;
+      gp << datablock(block + c.suffix, *c.points);
+      plots.push_back(block + c.suffix + " using 1:2 " + c.style + " " + colour + " title " +
+                      gnuplot_quote(s.name + c.title) + " noenhanced");
     }
   }
   char guide[160];

@@ -268,13 +268,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_flag("--denoise", a.denoise,
                        "path: every output's main image is denoised by Intel Open Image Denoise, guided by the "
                        "film's albedo and normal passes (an .exr keeps the raw film as its 'beauty' layer)");
-  render_cmd->add_option_function<std::string>(
-      "--denoise-quality",
-      [&a](const std::string& q) {
-        parse_denoise_quality(q);
-        a.denoise_quality = q;
-      },
-      "path: fast | balanced | high (default): OIDN's filter quality");
+  render_cmd->add_option("--denoise-quality", a.denoise_quality, "path: fast | balanced | high (default): OIDN's filter quality")
+      ->check(CLI::IsMember({"fast", "balanced", "high"}));
   render_cmd->add_option("--aov-dir", a.aov_dir,
                          "path: also write each pass as its own .exr in DIR (beauty, denoised, albedo, normal, "
                          "depth, variance, spp)")

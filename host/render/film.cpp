@@ -257,9 +257,11 @@ void Film::abandon_wave() {
 
 namespace {
 // The half buffer's next restart after `passes`: the smallest power of two
-// above it (accumulate_film_pass.cl; pass 0 is never in the half).
-int next_half_restart(int passes) {
-  int p = 1;
+// above it (accumulate_film_pass.cl; pass 0 is never in the half). In 64
+// bits: above 2^30 passes an int's doubling overflowed, and the loop never
+// ended (issue 38: --passes 2147483646:2147483647 hung).
+int64_t next_half_restart(int passes) {
+  int64_t p = 1;
   while (p <= passes) p *= 2;
   return p;
 }
@@ -276,9 +278,9 @@ void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats, int pass
   // While every pixel is alike the half buffer restarts at each power of
   // two: a wave may start there but not cross one.
   const int first = wave_first_pass();
-  const int next_restart = next_half_restart(first);
-  if (!per_pixel_ && first + pass_count > next_restart)
-    throw Error("film: a wave of passes [" + std::to_string(first) + ", " + std::to_string(first + pass_count) +
+  const int64_t next_restart = next_half_restart(first);
+  if (!per_pixel_ && int64_t(first) + pass_count > next_restart)
+    throw Error("film: a wave of passes [" + std::to_string(first) + ", " + std::to_string(int64_t(first) + pass_count) +
                 ") crosses the half buffer's restart at " + std::to_string(next_restart));
   FilmAccumulate a{};
   a.value_count = cl_uint(pass_values());
@@ -318,8 +320,8 @@ void Film::accumulate_pass(StageLauncher& launcher, RenderStats* stats, int pass
 }
 
 int Film::most_passes_from(int passes, int wanted) {
-  const int next_restart = next_half_restart(passes);
-  return std::max(1, std::min({wanted, kMostWavePasses, next_restart - passes}));
+  const int64_t room = next_half_restart(passes) - passes;
+  return std::max(1, int(std::min<int64_t>({wanted, kMostWavePasses, room})));
 }
 
 std::vector<float> Film::read_values(size_t offset, size_t count) const {

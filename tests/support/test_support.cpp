@@ -149,6 +149,11 @@ std::string shared_dir() {
 
 std::string binary_path() { return CAUSTICA_BINARY; }
 
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
 std::string error_of(const std::function<void()>& fn) {
   try {
     fn();

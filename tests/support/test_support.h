@@ -51,6 +51,8 @@ std::string binary_path();  // the caustica executable
 // The message of the caustica::Error that `fn` throws; fails the test if it
 // throws nothing or something else.
 std::string error_of(const std::function<void()>& fn);
+// A file's bytes ("" when it cannot be read).
+std::string slurp(const std::string& path);
 
 // What running the caustica executable gave: its exit status, whether a
 // signal ended it (the shell reports one as 128 + signal), stdout + stderr.
