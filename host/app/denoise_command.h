@@ -17,7 +17,8 @@ struct DenoiseArgs {
   std::string input, output, albedo, normal;
   std::string quality = "high";
   int threads = 0;          // 0: every core
-  bool noisy_guides = false;  // --noisy-guides: clean the guides first (depth of field, ...)
+  bool noisy_guides = false;      // --noisy-guides: OIDN's models for noisy guides
+  bool prefilter_guides = false;  // --prefilter-guides: clean the guides first, then use them as clean
   bool quiet = false;
 };
 

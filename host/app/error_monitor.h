@@ -43,6 +43,7 @@ struct ErrorMonitorOptions {
   // --denoise: each measurement also denoises the image (and, for its
   // estimate, the film's two halves: host/denoise/film_denoise.h).
   const Denoiser* denoiser = nullptr;
+  bool noisy_guides = false;  // as FilmOutputOptions::noisy_guides
 };
 
 class ErrorMonitor {

@@ -503,6 +503,9 @@ int run_render(RenderArgs& a) {
   error_options.exposure_scale = display.exposure_scale;
   error_options.header = report_header(*session, a, resumed_passes);
   error_options.denoiser = denoiser.get();
+  // Guides noisy in kind: a lens, or smooth glass splitting paths.
+  const bool noisy_guides = scene.camera.aperture_radius > 0.0f || session->features.refraction;
+  error_options.noisy_guides = noisy_guides;
   ErrorMonitor monitor(std::move(error_options));
   progress.set_error_monitor(&monitor);
   double last_write = 0.0, render_seconds = 0.0, last_checkpoint = 0.0;
@@ -528,6 +531,7 @@ int run_render(RenderArgs& a) {
   output_options.display = display;
   output_options.denoiser = denoiser.get();
   output_options.verbose = a.verbose;
+  output_options.noisy_guides = noisy_guides;
   // Path mode: the film's outputs (denoised, with its passes); otherwise
   // the image.
   auto write_outputs = [&](const ImageF& image, const Film& film) {

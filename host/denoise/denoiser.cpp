@@ -204,18 +204,18 @@ ImageF Denoiser::denoise(const ImageF& colour, const DenoiseGuides& guides) cons
     albedo->write(*guides.albedo);
     // Noisy guides are denoised on their own first (in place), then given
     // to the colour filter as clean.
-    if (!guides.clean) impl_->run({{"albedo", albedo.get()}}, *albedo, w, h, false, false);
+    if (!guides.clean && guides.prefilter) impl_->run({{"albedo", albedo.get()}}, *albedo, w, h, false, false);
     inputs.emplace_back("albedo", albedo.get());
   }
   if (guides.normal) {
     normal = std::make_unique<DeviceImage>(device, pixels);
     normal->write(*guides.normal);
-    if (!guides.clean) impl_->run({{"normal", normal.get()}}, *normal, w, h, false, false);
+    if (!guides.clean && guides.prefilter) impl_->run({{"normal", normal.get()}}, *normal, w, h, false, false);
     inputs.emplace_back("normal", normal.get());
   }
   // Guides that are clean, or were just cleaned: cleanAux (OIDN's best
   // quality; noisy guides given as clean would leave their noise in).
-  impl_->run(inputs, out, w, h, true, guides.albedo != nullptr);
+  impl_->run(inputs, out, w, h, true, guides.albedo != nullptr && (guides.clean || guides.prefilter));
   ImageF result(w, h);
   out.read(result);
   return result;

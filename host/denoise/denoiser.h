@@ -32,13 +32,15 @@ struct DenoiserOptions {
 
 // The guides that go with a colour image: both or neither (OIDN takes a
 // normal only with an albedo). clean: they are (nearly) noise-free, as a
-// pinhole camera's first rough surfaces are; otherwise they are denoised
-// first (OIDN's recommended prefiltering) and the colour filter is told
-// they are clean (cleanAux).
+// pinhole camera's first rough surfaces are (OIDN's cleanAux). Otherwise,
+// with prefilter they are denoised first (OIDN's recommended prefiltering,
+// three filter runs) and then given as clean; without, the colour filter is
+// told they are noisy (its models for noisy guides).
 struct DenoiseGuides {
   const ImageF* albedo = nullptr;
   const ImageF* normal = nullptr;
   bool clean = true;
+  bool prefilter = true;
 };
 
 class Denoiser {

@@ -34,8 +34,9 @@ AuxImages other_half(const AuxImages& mean, const AuxImages& half, const std::ve
 
 }  // namespace
 
-FilmPasses read_film_passes(const Film& film) {
+FilmPasses read_film_passes(const Film& film, bool noisy_guides) {
   FilmPasses passes;
+  passes.noisy_guides = noisy_guides;
   passes.colour = film.mean();
   const bool halves = film.has_half_buffer() && film.passes() >= 2;
   if (halves) {
@@ -60,12 +61,14 @@ ImageF denoise_passes(const Denoiser& denoiser, const FilmPasses& passes) {
   if (passes.aux) {
     guides.albedo = &passes.aux->albedo;
     guides.normal = &passes.aux->normal;
-    guides.clean = passes.guides_clean();
+    guides.clean = !passes.noisy_guides;
+    guides.prefilter = false;
   }
   return denoiser.denoise(passes.colour, guides);
 }
 
-std::optional<double> estimate_denoised_rel_mse(const Denoiser& denoiser, const Film& film, const ImageF& denoised) {
+std::optional<double> estimate_denoised_rel_mse(const Denoiser& denoiser, const Film& film, const ImageF& denoised,
+                                                bool noisy_guides) {
   if (!film.has_half_buffer() || !film.has_aux_passes() || film.passes() < 2) return std::nullopt;
   const std::vector<uint32_t>& spp = film.pixel_spp();
   const std::vector<uint32_t> half_counts = film.half_counts();
@@ -73,14 +76,9 @@ std::optional<double> estimate_denoised_rel_mse(const Denoiser& denoiser, const 
   const AuxImages aux = film.aux_mean(), aux_b = film.aux_half_mean();
   const ImageF half_a = other_half(mean, half_b, spp, half_counts);
   const AuxImages aux_a = other_half(aux, aux_b, spp, half_counts);
-  // Each half's guides are as noisy as its samples: cleaned unless the
-  // whole film's are clean.
-  const bool clean =
-      estimated_rel_mse(aux.albedo, aux_b.albedo, spp, half_counts) +
-          estimated_rel_mse(aux.normal, aux_b.normal, spp, half_counts) <=
-      kNoisyGuideRelMse;
-  const ImageF da = denoiser.denoise(half_a, {&aux_a.albedo, &aux_a.normal, clean});
-  const ImageF db = denoiser.denoise(half_b, {&aux_b.albedo, &aux_b.normal, clean});
+  // Each half denoised as the whole film is.
+  const ImageF da = denoiser.denoise(half_a, {&aux_a.albedo, &aux_a.normal, !noisy_guides, false});
+  const ImageF db = denoiser.denoise(half_b, {&aux_b.albedo, &aux_b.normal, !noisy_guides, false});
   // Three sums over pixels and channels, each relative to D(M)^2 + eps:
   // the denoised image's variance, the raw image's, and how far denoising
   // moved the image.

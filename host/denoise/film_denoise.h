@@ -2,11 +2,16 @@
 //
 // Rules: everything is read from the film, never written to it. The
 // colour is Film::mean() (the photon map's caustics included), the guides
-// the film's albedo and normal passes. The guides are given as clean
-// unless their own half-buffer estimate (the colour's estimator, applied
-// to them) says they are noisy (depth of field, paths that glass splits):
-// then the denoiser cleans them first. Without a half buffer, or before two
-// passes, that cannot be measured and they are cleaned.
+// the film's albedo and normal passes. The guides are given as clean (OIDN's
+// cleanAux) unless the scene makes them noisy in kind: a lens (depth of
+// field) or smooth glass, whose paths split between reflection and
+// refraction; then OIDN's models for noisy guides take them. Measured
+// (docs/denoise.md): on the Cornell box clean guides win at every spp even
+// where their own half-buffer estimate is high (the anti-aliased edges'
+// noise, which the clean models tolerate), and on caustics.json the noisy
+// models win even where it is low; cleaning the guides first (OIDN's
+// prefiltering, three filter runs) came within a few percent of the better
+// of the two at three times the cost (`caustica denoise --prefilter-guides`).
 //
 // The denoised image's error, estimated as its variance plus its bias
 // squared, each summed relative to D(M)^2 + 0.01 and averaged as the
@@ -38,23 +43,21 @@
 
 namespace caustica {
 
-// Above this, the guides' own estimated relMSE (albedo and normal's summed)
-// makes them noisy (cleaned before the colour is denoised).
-inline constexpr double kNoisyGuideRelMse = 1e-3;
-
 struct FilmPasses {
   ImageF colour;
   std::optional<AuxImages> aux;  // with the film's aux passes
   std::vector<float> variance;   // each pixel's estimated variance (empty without a half buffer or 2 passes)
-  std::optional<double> guide_noise;  // the guides' estimated relMSE, where it can be measured
-  bool guides_clean() const { return guide_noise && *guide_noise <= kNoisyGuideRelMse; }
+  std::optional<double> guide_noise;  // the guides' estimated relMSE (-v), where it can be measured
+  bool noisy_guides = false;     // the rule above
 };
 
-FilmPasses read_film_passes(const Film& film);
+// noisy_guides: the scene has a lens or smooth glass (the rule above).
+FilmPasses read_film_passes(const Film& film, bool noisy_guides = false);
 // The colour denoised with the passes' guides (none without aux passes).
 ImageF denoise_passes(const Denoiser& denoiser, const FilmPasses& passes);
 // The rules above; nullopt without a half buffer or aux passes, or before
 // two passes.
-std::optional<double> estimate_denoised_rel_mse(const Denoiser& denoiser, const Film& film, const ImageF& denoised);
+std::optional<double> estimate_denoised_rel_mse(const Denoiser& denoiser, const Film& film, const ImageF& denoised,
+                                                bool noisy_guides = false);
 
 }  // namespace caustica
