@@ -23,6 +23,7 @@
 #include <string>
 
 #include "host/error.h"
+#include "host/image/image_io.h"
 #include "host/lights/light_table.h"
 #include "host/lights/light_types.h"
 #include "host/scene/load_scene.h"
@@ -139,6 +140,25 @@ TEST(DirectionalLight, DirectionsOfAnyMagnitudeAndScenesTooLargeForItsPower) {
     EXPECT_TRUE(test::Contains(r.output, {"dir_far.json: light 0", "overflows a 32-bit float", "scale the scene"}))
         << r.output;
     EXPECT_EQ(r.output.find("kernel"), std::string::npos) << r.output;
+  }
+  // The same for a sky whose power overflows, in phong's photon pass too
+  // (it failed with "shade_surface_phong declares 48 arguments, the host
+  // binds 44").
+  write_image(test::temp_dir() + "/huge_sky.pfm", ImageF(8, 4, 3e38f), DisplaySettings{});
+  const std::string sky = write_scene("sky_huge.json", R"({"nbounces": 4, "rendermode": "phong",
+    "camera": {"type": "pinhole", "width": 16, "height": 12, "position": [0, 1, -5], "lookAt": [0, 0, 0],
+               "upVector": [0, 1, 0], "fov": 45},
+    "scene": {"environment": {"file": "huge_sky.pfm"},
+      "lightsources": [{"type": "pointlight", "position": [0, 3, 0], "intensity": [1, 1, 1]}],
+      "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": {"type": "dielectric"}},
+                 {"type": "triangle", "v0": [-5, -1, -5], "v1": [5, -1, -5], "v2": [0, -1, 5],
+                  "material": {"type": "diffuse"}}]}})");
+  for (const char* mode : {"phong", "path"}) {
+    const test::CliResult r = test::run_cli("render " + sky + " --mode " + mode + " --caustics on --spp 1 -q --device " +
+                                            test::device_spec() + " -o " + test::temp_dir() + "/sky.pfm");
+    EXPECT_EQ(r.status, 1) << mode << ": " << r.output;
+    EXPECT_TRUE(test::Contains(r.output, {"sky_huge.json: the environment", "overflows a 32-bit float"}))
+        << mode << ": " << r.output;
   }
 }
 
