@@ -335,6 +335,17 @@ TEST(DenoiseInputs, FindsOtherRenderersLayersAndSaysWhatIsMissing) {
                     {"B", std::vector<float>(4, 1.f)}});
   EXPECT_TRUE(Contains(test::error_of([&] { read_denoise_inputs(dir + "/mitsuba.exr", dir + "/small.exr"); }),
                        {"small.exr", "albedo is 2x2, the colour 4x3"}));
+  // A header "type" that Debian's tinyexr asserts on (it aborted the
+  // process; fuzz_denoise_inputs found it) is refused first, by every reader.
+  const std::string good = test::slurp(dir + "/small.exr");
+  for (const std::string& type : {std::string("bogus"), std::string("tiledimage")}) {
+    std::string attribute = std::string("type") + '\0' + "string" + '\0';
+    attribute += std::string(1, char(type.size())) + std::string(3, '\0') + type;
+    std::ofstream(dir + "/typed.exr", std::ios::binary) << good.substr(0, 8) + attribute + good.substr(8);
+    const std::string error = test::error_of([&] { read_denoise_inputs(dir + "/typed.exr"); });
+    EXPECT_TRUE(Contains(error, {"typed.exr", "header attribute 'type' is '" + type + "'"})) << error;
+    EXPECT_TRUE(Contains(test::error_of([&] { read_exr(dir + "/typed.exr"); }), {"typed.exr", "'type'"}));
+  }
 }
 
 }  // namespace

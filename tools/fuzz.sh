@@ -58,14 +58,23 @@ collect fuzz_gltf "$shared" '*.gltf' '*.glb'
 
 declare -A max_len=([fuzz_scene]=16384 [fuzz_obj]=8192 [fuzz_ply]=8192 [fuzz_texture]=4096 [fuzz_gltf]=16384
   [fuzz_denoise_inputs]=8192)
+# Debian's tinyexr 1.0.1 leaks part of an image whose load fails midway
+# (LoadEXRImageFromMemory on a malformed chunk: ~60-byte blocks inside
+# libtinyexr, whose other parts it has already freed, so freeing the image
+# after the failure is a double free). Not ours to fix; everything else
+# (crashes, sanitizer reports, exceptions, time and memory limits) is
+# still a finding for that target. (LeakSanitizer also checks at exit, so
+# both libFuzzer's flag and ASAN_OPTIONS say it.)
+declare -A extra=([fuzz_denoise_inputs]="-detect_leaks=0")
+declare -A asan=([fuzz_denoise_inputs]="detect_leaks=0")
 run_one() {
   local t=$1
   local corpus="$build/corpus/$t"  # grows between runs; the committed corpus stays as it is
   mkdir -p "$corpus"
   local log="$out/$t.log"
   echo "[fuzz] $t: ${seconds}s" >&2
-  if "$build/fuzz/$t" "$corpus" "$root/fuzz/corpus/$t" "$seeds/$t" -max_total_time="$seconds" -seed=1 \
-      -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2560 -print_final_stats=1  \
+  if ASAN_OPTIONS="${ASAN_OPTIONS:-}${asan[$t]:+:${asan[$t]}}" "$build/fuzz/$t" "$corpus" "$root/fuzz/corpus/$t" "$seeds/$t" -max_total_time="$seconds" -seed=1 \
+      -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2560 -print_final_stats=1 ${extra[$t]:-} \
       -artifact_prefix="$out/$t-" >"$log" 2>&1; then
     echo "[fuzz] $t: no findings ($(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$') runs)" >&2
   else

@@ -349,11 +349,54 @@ ImageF read_pfm(const std::string& path) {
   return img;
 }
 
+// What Debian's tinyexr 1.0.1 asserts on instead of reporting (an abort,
+// found by fuzz_denoise_inputs): a header "type" attribute other than the
+// four OpenEXR names, or one that disagrees with the version field's tiled
+// bit. Checked here, before any tinyexr call reads the header: the
+// attributes of a single-part header (name, type name, int32 size, value)
+// up to its closing null byte, every length bounded by the file.
+static void check_exr_header_for_tinyexr(const std::string& path, const std::string& bytes) {
+  if (bytes.size() < 8) return;  // tinyexr reports this one itself
+  const unsigned char flags = static_cast<unsigned char>(bytes[5]);
+  const bool tiled = (flags & 0x02) != 0, multipart = (flags & 0x10) != 0;
+  if (multipart) return;  // tinyexr's single-part readers refuse it with a message
+  size_t at = 8;
+  auto c_string = [&](std::string* out) {
+    const size_t end = bytes.find('\0', at);
+    if (end == std::string::npos) return false;
+    *out = bytes.substr(at, end - at);
+    at = end + 1;
+    return true;
+  };
+  for (int attributes = 0; attributes < 4096; ++attributes) {
+    if (at >= bytes.size()) return;
+    if (bytes[at] == '\0') return;  // the header's end
+    std::string name, type;
+    if (!c_string(&name) || !c_string(&type) || at + 4 > bytes.size()) return;
+    uint32_t size = 0;
+    for (int i = 0; i < 4; ++i) size |= uint32_t(static_cast<unsigned char>(bytes[at + i])) << (8 * i);
+    at += 4;
+    if (size > bytes.size() - at) return;  // tinyexr refuses a truncated header itself
+    if (name == "type") {
+      const std::string value = bytes.substr(at, size).c_str();
+      const bool known = value == "scanlineimage" || value == "tiledimage" || value == "deeptile" ||
+                         value == "deepscanline";
+      if (!known) fail_read(path, "header attribute 'type' is '" + value + "', not an OpenEXR part type");
+      const bool wants_tiles = value == "tiledimage" || value == "deeptile";
+      if (wants_tiles != tiled)
+        fail_read(path, "header attribute 'type' is '" + value + "' but the version field says the image is " +
+                            (tiled ? "tiled" : "scanline"));
+    }
+    at += size;
+  }
+}
+
 ImageF read_exr(const std::string& path) {
   float* rgba = nullptr;
   int w = 0, h = 0;
   const char* err = nullptr;
   const std::string bytes = read_all(path);
+  check_exr_header_for_tinyexr(path, bytes);
   const int rc = LoadEXRFromMemory(&rgba, &w, &h, reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), &err);
   if (rc != TINYEXR_SUCCESS) {
     std::string why = err ? err : ("tinyexr error " + std::to_string(rc));
@@ -389,6 +432,7 @@ std::vector<std::string> read_exr_channel_names(const std::string& path) {
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   EXRVersion version;
   if (ParseEXRVersionFromMemory(&version, data, bytes.size()) != TINYEXR_SUCCESS) fail_read(path, "not an EXR file");
+  check_exr_header_for_tinyexr(path, bytes);
   if (version.tiled || version.multipart || version.non_image)
     fail_read(path, "only single-part scanline EXR files are read");
   EXRHeader header;
@@ -415,6 +459,7 @@ std::vector<float> read_exr_channel(const std::string& path, const std::string& 
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   EXRVersion version;
   if (ParseEXRVersionFromMemory(&version, data, bytes.size()) != TINYEXR_SUCCESS) fail_read(path, "not an EXR file");
+  check_exr_header_for_tinyexr(path, bytes);
   if (version.tiled || version.multipart || version.non_image)
     fail_read(path, "channel '" + channel + "' can only be read from a single-part scanline EXR");
   EXRHeader header;
