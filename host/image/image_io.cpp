@@ -427,23 +427,30 @@ void write_exr_with_spp(const std::string& path, const ImageF& hdr, float exposu
   write_exr_planes(path, hdr.width, hdr.height, std::move(planes));
 }
 
-std::vector<std::string> read_exr_channel_names(const std::string& path) {
-  const std::string bytes = read_all(path);
+// The header of a single-part scanline EXR's bytes into *header (InitEXRHeader'd
+// by the caller, who frees it); `not_scanline` says why another kind is
+// refused. Throws naming the file.
+static void parse_scanline_header(const std::string& path, const std::string& bytes, const std::string& not_scanline,
+                                  EXRVersion* version, EXRHeader* header) {
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
-  EXRVersion version;
-  if (ParseEXRVersionFromMemory(&version, data, bytes.size()) != TINYEXR_SUCCESS) fail_read(path, "not an EXR file");
+  if (ParseEXRVersionFromMemory(version, data, bytes.size()) != TINYEXR_SUCCESS) fail_read(path, "not an EXR file");
   check_exr_header_for_tinyexr(path, bytes);
-  if (version.tiled || version.multipart || version.non_image)
-    fail_read(path, "only single-part scanline EXR files are read");
-  EXRHeader header;
-  InitEXRHeader(&header);
-  std::unique_ptr<EXRHeader, int (*)(EXRHeader*)> header_guard(&header, FreeEXRHeader);
+  if (version->tiled || version->multipart || version->non_image) fail_read(path, not_scanline);
   const char* err = nullptr;
-  if (const int rc = ParseEXRHeaderFromMemory(&header, &version, data, bytes.size(), &err); rc != TINYEXR_SUCCESS) {
+  if (const int rc = ParseEXRHeaderFromMemory(header, version, data, bytes.size(), &err); rc != TINYEXR_SUCCESS) {
     std::string why = err ? err : ("tinyexr error " + std::to_string(rc));
     if (err) FreeEXRErrorMessage(err);
     fail_read(path, why);
   }
+}
+
+std::vector<std::string> read_exr_channel_names(const std::string& path) {
+  const std::string bytes = read_all(path);
+  EXRVersion version;
+  EXRHeader header;
+  InitEXRHeader(&header);
+  std::unique_ptr<EXRHeader, int (*)(EXRHeader*)> header_guard(&header, FreeEXRHeader);
+  parse_scanline_header(path, bytes, "only single-part scanline EXR files are read", &version, &header);
   std::vector<std::string> names;
   for (int c = 0; c < header.num_channels; ++c) names.emplace_back(header.channels[c].name);
   return names;
@@ -458,21 +465,17 @@ std::vector<float> read_exr_channel(const std::string& path, const std::string& 
   const std::string bytes = read_all(path);
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   EXRVersion version;
-  if (ParseEXRVersionFromMemory(&version, data, bytes.size()) != TINYEXR_SUCCESS) fail_read(path, "not an EXR file");
-  check_exr_header_for_tinyexr(path, bytes);
-  if (version.tiled || version.multipart || version.non_image)
-    fail_read(path, "channel '" + channel + "' can only be read from a single-part scanline EXR");
   EXRHeader header;
   InitEXRHeader(&header);
   std::unique_ptr<EXRHeader, int (*)(EXRHeader*)> header_guard(&header, FreeEXRHeader);
+  parse_scanline_header(path, bytes, "channel '" + channel + "' can only be read from a single-part scanline EXR",
+                        &version, &header);
   const char* err = nullptr;
   auto fail_tinyexr = [&](int rc) {
     std::string why = err ? err : ("tinyexr error " + std::to_string(rc));
     if (err) FreeEXRErrorMessage(err);
     fail_read(path, why);
   };
-  if (const int rc = ParseEXRHeaderFromMemory(&header, &version, data, bytes.size(), &err); rc != TINYEXR_SUCCESS)
-    fail_tinyexr(rc);
   int index = -1;
   for (int c = 0; c < header.num_channels; ++c)
     if (channel == header.channels[c].name) index = c;
