@@ -76,9 +76,9 @@ void ErrorMonitor::measure(const Film& film, double seconds) {
   // The denoised image's, only where someone reads it (a report, or a
   // reference to measure against): each costs one to three denoiser runs.
   if (options_.denoiser && (options_.reference || !options_.report_path.empty())) {
-    const FilmPasses film_passes = read_film_passes(film, options_.noisy_guides);
+    const FilmPasses film_passes = read_film_passes(film, options_.guides);
     const ImageF denoised = denoise_passes(*options_.denoiser, film_passes);
-    denoised_estimate_ = estimate_denoised_rel_mse(*options_.denoiser, film, denoised, options_.noisy_guides);
+    denoised_estimate_ = estimate_denoised_rel_mse(*options_.denoiser, film, denoised, options_.guides);
     row.denoised_est_relmse = denoised_estimate_;
     if (options_.reference) {
       ImageF scaled = denoised;

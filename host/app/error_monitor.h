@@ -25,12 +25,12 @@
 #include <vector>
 
 #include "host/app/error_report.h"
+#include "host/denoise/denoiser.h"
 #include "host/image/image.h"
 
 namespace caustica {
 
 class Film;
-class Denoiser;
 
 struct ErrorMonitorOptions {
   std::string report_path;           // --report: "" none
@@ -43,7 +43,7 @@ struct ErrorMonitorOptions {
   // --denoise: each measurement also denoises the image (and, for its
   // estimate, the film's two halves: host/denoise/film_denoise.h).
   const Denoiser* denoiser = nullptr;
-  bool noisy_guides = false;  // as FilmOutputOptions::noisy_guides
+  GuideMode guides = GuideMode::Clean;  // as FilmOutputOptions::guides
 };
 
 class ErrorMonitor {

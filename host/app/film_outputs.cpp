@@ -44,7 +44,7 @@ std::vector<ExrPlane> film_pass_planes(const FilmPasses& passes, const std::vect
 }
 
 ImageF write_film_outputs(const FilmOutputOptions& options, const Film& film) {
-  const FilmPasses passes = read_film_passes(film, options.noisy_guides);
+  const FilmPasses passes = read_film_passes(film, options.guides);
   ImageF denoised;
   if (options.denoiser) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -52,7 +52,7 @@ ImageF write_film_outputs(const FilmOutputOptions& options, const Film& film) {
     if (options.verbose)
       std::fprintf(stderr, "[caustica] denoised at %d spp in %.3f s; guides %s (their estimated relMSE %s)\n",
                    film.passes(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-                   !passes.aux ? "none" : passes.noisy_guides ? "noisy (a lens or smooth glass)" : "clean",
+                   !passes.aux ? "none" : guide_mode_name(passes.guides),
                    passes.guide_noise ? std::to_string(*passes.guide_noise).c_str() : "not measured");
   }
   const ImageF& main_image = options.denoiser ? denoised : passes.colour;

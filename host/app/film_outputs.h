@@ -29,7 +29,7 @@ struct FilmOutputOptions {
   DisplaySettings display;     // 8-bit outputs' tone curve; exposure_scale scales HDR ones
   const Denoiser* denoiser = nullptr;  // --denoise: the main image is denoised
   bool verbose = false;                // -v: say how the guides were judged and what denoising took
-  bool noisy_guides = false;           // the scene has a lens or smooth glass (host/denoise/film_denoise.h)
+  GuideMode guides = GuideMode::Clean;  // how the guides are handed over (host/denoise/film_denoise.h)
 };
 
 // Every pass the film holds as the EXR's planes: R, G, B are `main_image`

@@ -270,6 +270,10 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
                        "film's albedo and normal passes (an .exr keeps the raw film as its 'beauty' layer)");
   render_cmd->add_option("--denoise-quality", a.denoise_quality, "path: fast | balanced | high (default): OIDN's filter quality")
       ->check(CLI::IsMember({"fast", "balanced", "high"}));
+  render_cmd->add_option("--denoise-guides", a.denoise_guides,
+                         "path: auto (default: noisy with a lens or smooth glass, else clean) | clean | noisy | "
+                         "prefilter (clean them first: OIDN's best, 3x the time)")
+      ->check(CLI::IsMember({"auto", "clean", "noisy", "prefilter"}));
   render_cmd->add_option("--aov-dir", a.aov_dir,
                          "path: also write each pass as its own .exr in DIR (beauty, denoised, albedo, normal, "
                          "depth, variance, spp)")
@@ -504,8 +508,10 @@ int run_render(RenderArgs& a) {
   error_options.header = report_header(*session, a, resumed_passes);
   error_options.denoiser = denoiser.get();
   // Guides noisy in kind: a lens, or smooth glass splitting paths.
-  const bool noisy_guides = scene.camera.aperture_radius > 0.0f || session->features.refraction;
-  error_options.noisy_guides = noisy_guides;
+  const GuideMode guides = a.denoise_guides == "auto"
+                              ? guide_mode_for(scene.camera.aperture_radius > 0.0f, session->features.refraction)
+                              : parse_guide_mode(a.denoise_guides);
+  error_options.guides = guides;
   ErrorMonitor monitor(std::move(error_options));
   progress.set_error_monitor(&monitor);
   double last_write = 0.0, render_seconds = 0.0, last_checkpoint = 0.0;
@@ -531,7 +537,7 @@ int run_render(RenderArgs& a) {
   output_options.display = display;
   output_options.denoiser = denoiser.get();
   output_options.verbose = a.verbose;
-  output_options.noisy_guides = noisy_guides;
+  output_options.guides = guides;
   // Path mode: the film's outputs (denoised, with its passes); otherwise
   // the image.
   auto write_outputs = [&](const ImageF& image, const Film& film) {

@@ -38,6 +38,7 @@ struct RenderArgs {
   // quality, and --aov-dir (each pass as its own file).
   bool denoise = false;
   std::string denoise_quality = "high";
+  std::string denoise_guides = "auto";  // --denoise-guides
   std::string aov_dir;
   // Under mpirun (host/main.cpp): the ranks; nullptr or one rank: a
   // single-process render.

@@ -27,6 +27,22 @@ const char* denoise_quality_name(DenoiseQuality quality) {
   return "?";
 }
 
+GuideMode parse_guide_mode(const std::string& name) {
+  if (name == "clean") return GuideMode::Clean;
+  if (name == "noisy") return GuideMode::Noisy;
+  if (name == "prefilter") return GuideMode::Prefilter;
+  throw Error("--denoise-guides '" + name + "': expected auto, clean, noisy or prefilter");
+}
+
+const char* guide_mode_name(GuideMode mode) {
+  switch (mode) {
+    case GuideMode::Clean: return "clean";
+    case GuideMode::Noisy: return "noisy";
+    case GuideMode::Prefilter: return "cleaned first (prefilter)";
+  }
+  return "?";
+}
+
 namespace {
 // CAUSTICA_NO_OIDN=1: behave as a build without the library (what the
 // tests check of that build's message, and comparisons without it).

@@ -43,6 +43,16 @@ struct DenoiseGuides {
   bool prefilter = true;
 };
 
+// How a render's guides are handed over (--denoise-guides): as clean, as
+// noisy (OIDN's models for noisy guides), or cleaned first (prefilter).
+enum class GuideMode { Clean, Noisy, Prefilter };
+// "clean", "noisy" or "prefilter"; anything else throws caustica::Error.
+GuideMode parse_guide_mode(const std::string& name);
+const char* guide_mode_name(GuideMode mode);
+inline DenoiseGuides guides_for(GuideMode mode, const ImageF* albedo, const ImageF* normal) {
+  return {albedo, normal, mode == GuideMode::Clean, mode == GuideMode::Prefilter};
+}
+
 class Denoiser {
  public:
   static bool available();

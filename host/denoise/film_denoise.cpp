@@ -34,9 +34,9 @@ AuxImages other_half(const AuxImages& mean, const AuxImages& half, const std::ve
 
 }  // namespace
 
-FilmPasses read_film_passes(const Film& film, bool noisy_guides) {
+FilmPasses read_film_passes(const Film& film, GuideMode guides) {
   FilmPasses passes;
-  passes.noisy_guides = noisy_guides;
+  passes.guides = guides;
   passes.colour = film.mean();
   const bool halves = film.has_half_buffer() && film.passes() >= 2;
   if (halves) {
@@ -57,18 +57,12 @@ FilmPasses read_film_passes(const Film& film, bool noisy_guides) {
 }
 
 ImageF denoise_passes(const Denoiser& denoiser, const FilmPasses& passes) {
-  DenoiseGuides guides;
-  if (passes.aux) {
-    guides.albedo = &passes.aux->albedo;
-    guides.normal = &passes.aux->normal;
-    guides.clean = !passes.noisy_guides;
-    guides.prefilter = false;
-  }
-  return denoiser.denoise(passes.colour, guides);
+  if (!passes.aux) return denoiser.denoise(passes.colour);
+  return denoiser.denoise(passes.colour, guides_for(passes.guides, &passes.aux->albedo, &passes.aux->normal));
 }
 
 std::optional<double> estimate_denoised_rel_mse(const Denoiser& denoiser, const Film& film, const ImageF& denoised,
-                                                bool noisy_guides) {
+                                                GuideMode guides) {
   if (!film.has_half_buffer() || !film.has_aux_passes() || film.passes() < 2) return std::nullopt;
   const std::vector<uint32_t>& spp = film.pixel_spp();
   const std::vector<uint32_t> half_counts = film.half_counts();
@@ -77,8 +71,8 @@ std::optional<double> estimate_denoised_rel_mse(const Denoiser& denoiser, const 
   const ImageF half_a = other_half(mean, half_b, spp, half_counts);
   const AuxImages aux_a = other_half(aux, aux_b, spp, half_counts);
   // Each half denoised as the whole film is.
-  const ImageF da = denoiser.denoise(half_a, {&aux_a.albedo, &aux_a.normal, !noisy_guides, false});
-  const ImageF db = denoiser.denoise(half_b, {&aux_b.albedo, &aux_b.normal, !noisy_guides, false});
+  const ImageF da = denoiser.denoise(half_a, guides_for(guides, &aux_a.albedo, &aux_a.normal));
+  const ImageF db = denoiser.denoise(half_b, guides_for(guides, &aux_b.albedo, &aux_b.normal));
   // Three sums over pixels and channels, each relative to D(M)^2 + eps:
   // the denoised image's variance, the raw image's, and how far denoising
   // moved the image.

@@ -11,7 +11,8 @@
 // noise, which the clean models tolerate), and on caustics.json the noisy
 // models win even where it is low; cleaning the guides first (OIDN's
 // prefiltering, three filter runs) came within a few percent of the better
-// of the two at three times the cost (`caustica denoise --prefilter-guides`).
+// of the two at three times the cost (`--denoise-guides prefilter`,
+// `caustica denoise --prefilter-guides`).
 //
 // The denoised image's error, estimated as its variance plus its bias
 // squared, each summed relative to D(M)^2 + 0.01 and averaged as the
@@ -48,16 +49,21 @@ struct FilmPasses {
   std::optional<AuxImages> aux;  // with the film's aux passes
   std::vector<float> variance;   // each pixel's estimated variance (empty without a half buffer or 2 passes)
   std::optional<double> guide_noise;  // the guides' estimated relMSE (-v), where it can be measured
-  bool noisy_guides = false;     // the rule above
+  GuideMode guides = GuideMode::Clean;  // how they are handed over (the rule above, or --denoise-guides)
 };
 
-// noisy_guides: the scene has a lens or smooth glass (the rule above).
-FilmPasses read_film_passes(const Film& film, bool noisy_guides = false);
+// The guides' mode for a scene by the rule above: noisy with a lens or
+// smooth glass, else clean.
+inline GuideMode guide_mode_for(bool lens, bool smooth_glass) {
+  return lens || smooth_glass ? GuideMode::Noisy : GuideMode::Clean;
+}
+
+FilmPasses read_film_passes(const Film& film, GuideMode guides = GuideMode::Clean);
 // The colour denoised with the passes' guides (none without aux passes).
 ImageF denoise_passes(const Denoiser& denoiser, const FilmPasses& passes);
 // The rules above; nullopt without a half buffer or aux passes, or before
 // two passes.
 std::optional<double> estimate_denoised_rel_mse(const Denoiser& denoiser, const Film& film, const ImageF& denoised,
-                                                bool noisy_guides = false);
+                                                GuideMode guides = GuideMode::Clean);
 
 }  // namespace caustica
