@@ -157,6 +157,33 @@ TEST(Gltf, AccessorAndIndexErrorsNameTheirPointer) {
     d.node({{"mesh", 0}});
     EXPECT_TRUE(test::Contains(error_of_text(d.text()), {"t.gltf: /accessors/0/count: expected at most"}));
   }
+  // Issue 38: an index past an int wrapped to a valid one; a string where
+  // a number belongs loaded as the default.
+  {
+    Doc d;
+    d.mesh(kTriangle);
+    d.node({{"mesh", (uint64_t(1) << 32) + 1}});
+    EXPECT_TRUE(test::Contains(error_of_text(d.text()),
+                               {"t.gltf: /nodes/0/mesh: expected an index (an integer from 0 to 2147483647)"}));
+  }
+  {
+    Doc d;
+    d.mesh(kTriangle);
+    d.j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = (uint64_t(1) << 32);
+    d.node({{"mesh", 0}});
+    EXPECT_TRUE(test::Contains(error_of_text(d.text()), {"/attributes/POSITION: expected an accessor index"}));
+  }
+  for (const char* key : {"translation", "rotation", "scale", "matrix"}) {
+    Doc d;
+    d.mesh(kTriangle);
+    const size_t n = std::string(key) == "matrix" ? 16 : std::string(key) == "rotation" ? 4 : 3;
+    nlohmann::json values = nlohmann::json::array();
+    for (size_t i = 0; i < n; ++i) values.push_back(i == 1 ? nlohmann::json("NaN") : nlohmann::json(1.0));
+    d.node({{"mesh", 0}, {key, values}});
+    EXPECT_TRUE(test::Contains(error_of_text(d.text()),
+                               {"t.gltf: /nodes/0/" + std::string(key) + "/1: expected a number", "\"NaN\""}))
+        << key << ": " << error_of_text(d.text());
+  }
 }
 
 TEST(Gltf, CyclesDeepChainsAndSharedChildrenAreRefusedWithoutRecursion) {

@@ -11,6 +11,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <set>
 
 #include "host/error.h"
@@ -55,9 +56,24 @@ const std::set<std::string> kCheckedExtensions = {"KHR_lights_punctual", "KHR_ma
                                                   "KHR_materials_transmission", "KHR_materials_ior",
                                                   "KHR_texture_transform"};
 
+// An index or count as tinygltf keeps it: an int, so 2^32 + 1 must not
+// wrap to 1 (issue 38) but be refused here.
 bool non_negative_integer(const json& v) {
+  if (v.is_number_unsigned()) return v.get<uint64_t>() <= uint64_t(std::numeric_limits<int>::max());
+  return v.is_number_integer() && v.get<int64_t>() >= 0 && v.get<int64_t>() <= std::numeric_limits<int>::max();
+}
+
+// Sizes, which tinygltf keeps as size_t (their limits are checked where
+// they are read, host/scene/gltf_accessors.cpp): any integer >= 0.
+const std::set<std::string> kSizes = {"byteOffset", "byteLength", "byteStride", "count"};
+bool non_negative_size(const json& v) {
   return v.is_number_unsigned() || (v.is_number_integer() && v.get<int64_t>() >= 0);
 }
+
+// Arrays whose elements are numbers: a string such as "NaN" there made the
+// file invalid but loaded as the default value (issue 38).
+const std::set<std::string> kNumberArrays = {"baseColorFactor", "emissiveFactor", "translation", "matrix",
+                                             "min", "max", "weights", "color"};
 
 class SchemaCheck {
  public:
@@ -96,14 +112,22 @@ class SchemaCheck {
     // maps extension names to objects.
     const bool in_primitive = parent.find("/primitives/") != std::string::npos;
     if (in_primitive && (ends_with(parent, "/attributes") || ends_with(parent, "/targets/" + last_token(parent)))) {
-      if (!non_negative_integer(v)) expected(p, "an accessor index (an integer >= 0)", v);
+      if (!non_negative_integer(v)) expected(p, "an accessor index (an integer from 0 to 2147483647)", v);
       return;
     }
     if (ends_with(parent, "/extensions")) {
       if (!v.is_object()) expected(p, "an extension object", v);
       return;
     }
-    if (kIndices.count(key) && !non_negative_integer(v)) expected(p, "an index (an integer >= 0)", v);
+    if (kSizes.count(key)) {
+      if (!non_negative_size(v)) expected(p, "a size (an integer >= 0)", v);
+    } else if (kIndices.count(key) && !non_negative_integer(v)) {
+      expected(p, "an index (an integer from 0 to 2147483647)", v);
+    }
+    const bool numbers_here = kNumberArrays.count(key) || ((key == "scale" || key == "rotation") && v.is_array());
+    if (numbers_here && v.is_array())
+      for (size_t i = 0; i < v.size(); ++i)
+        if (!v[i].is_number()) expected(p + "/" + std::to_string(i), "a number", v[i]);
     if (kStrings.count(key) && !v.is_string()) expected(p, "a string", v);
     if (kObjects.count(key) && !v.is_object()) expected(p, "an object", v);
     if (kArrays.count(key) && !v.is_array()) expected(p, "an array", v);
@@ -115,7 +139,8 @@ class SchemaCheck {
     if (kIndexLists.count(key) && !(key == "nodes" && parent.empty())) {  // the top-level "nodes" holds objects
       if (!v.is_array()) expected(p, "an array of indices", v);
       for (size_t i = 0; i < v.size(); ++i)
-        if (!non_negative_integer(v[i])) expected(p + "/" + std::to_string(i), "an index (an integer >= 0)", v[i]);
+        if (!non_negative_integer(v[i]))
+          expected(p + "/" + std::to_string(i), "an index (an integer from 0 to 2147483647)", v[i]);
     }
   }
 
