@@ -186,6 +186,45 @@ TEST(Gltf, AccessorAndIndexErrorsNameTheirPointer) {
   }
 }
 
+// Issue 38: a .glb header of another version or length, an empty scenes
+// array, and JSON that does not parse (an Infinity literal, a number past
+// a double) are refused in our words, with the line and column.
+TEST(Gltf, GlbHeadersEmptyScenesAndJsonErrorsAreRefusedPrecisely) {
+  Doc d;
+  d.mesh(kTriangle);
+  d.node({{"mesh", 0}});
+  std::string json = d.text();
+  while (json.size() % 4) json += ' ';
+  auto glb = [&](uint32_t version, int length_delta) {
+    std::string b = "glTF";
+    auto u32 = [&](uint32_t v) {
+      for (int i = 0; i < 4; ++i) b += char((v >> (8 * i)) & 0xff);
+    };
+    u32(version);
+    u32(uint32_t(12 + 8 + json.size() + length_delta));
+    u32(uint32_t(json.size()));
+    b += "JSON" + json;
+    return b;
+  };
+  EXPECT_NO_THROW(import(glb(2, 0)));
+  EXPECT_TRUE(test::Contains(error_of_text(glb(3, 0)), {"t.gltf: a binary glTF (.glb) header of version 3"}));
+  EXPECT_TRUE(test::Contains(error_of_text(glb(2, 1)), {"header gives a length of", "the file has"}));
+  Doc empty;
+  empty.mesh(kTriangle);
+  empty.node({{"mesh", 0}});
+  empty.j["scenes"] = nlohmann::json::array();
+  EXPECT_TRUE(test::Contains(error_of_text(empty.text()), {"t.gltf: /scenes: expected at least one scene"}));
+  std::string infinity = d.text();
+  infinity.replace(infinity.find('{'), 1, "{\n  \"x\": Infinity,");
+  const std::string e = error_of_text(infinity);
+  EXPECT_TRUE(test::Contains(e, {"t.gltf:2:", "JSON syntax error"})) << e;
+  EXPECT_EQ(e.find("json.exception"), std::string::npos) << e;
+  std::string overflow = d.text();
+  overflow.replace(overflow.find('{'), 1, "{\"extras\": {\"big\": 1e400},");
+  const std::string o = error_of_text(overflow);
+  EXPECT_TRUE(test::Contains(o, {"t.gltf:1:", "/extras/big: expected a finite number, got 1e400"})) << o;
+}
+
 TEST(Gltf, CyclesDeepChainsAndSharedChildrenAreRefusedWithoutRecursion) {
   {
     Doc d;

@@ -120,6 +120,20 @@ std::string glb_json_chunk(const std::string& bytes) {
   return length <= bytes.size() - 20 ? bytes.substr(20, length) : std::string();
 }
 
+// The 12-byte .glb header (issue 38: version 3 and a length one byte off
+// were accepted): magic, version 2, and the file's length.
+void check_glb_header(const std::string& path, const std::string& bytes) {
+  if (bytes.size() < 12) throw Error(path + ": a binary glTF (.glb) of " + std::to_string(bytes.size()) + " bytes, shorter than its 12-byte header");
+  const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+  auto u32 = [&](size_t at) {
+    return uint32_t(b[at]) | uint32_t(b[at + 1]) << 8 | uint32_t(b[at + 2]) << 16 | uint32_t(b[at + 3]) << 24;
+  };
+  if (u32(4) != 2) throw Error(path + ": a binary glTF (.glb) header of version " + std::to_string(u32(4)) + " (expected 2: glTF 2.0)");
+  if (u32(8) != bytes.size())
+    throw Error(path + ": the binary glTF (.glb) header gives a length of " + std::to_string(u32(8)) + " bytes, the file has " +
+                std::to_string(bytes.size()));
+}
+
 void check_extensions(Context& ctx) {
   const tinygltf::Model& m = ctx.model;
   for (size_t i = 0; i < m.extensionsRequired.size(); ++i) {
@@ -166,6 +180,7 @@ GltfModel import_gltf_bytes(const std::string& path, const std::string& bytes, c
   const bool binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
   if (bytes.size() > limits::kMaxMeshFileBytes)
     throw Error(path + ": file larger than the limit of " + format_bytes(limits::kMaxMeshFileBytes));
+  if (binary) check_glb_header(path, bytes);
   check_schema(path, binary ? glb_json_chunk(bytes) : bytes, base_dir, allow_files);
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   const auto size = static_cast<unsigned int>(bytes.size());

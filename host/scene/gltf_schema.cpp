@@ -119,6 +119,8 @@ class SchemaCheck {
       if (!v.is_object()) expected(p, "an extension object", v);
       return;
     }
+    if (key == "scenes" && parent.empty() && v.is_array() && v.empty())
+      expected(p, "at least one scene (glTF: minItems 1)", v);
     if (kSizes.count(key)) {
       if (!non_negative_size(v)) expected(p, "a size (an integer >= 0)", v);
     } else if (kIndices.count(key) && !non_negative_integer(v)) {
@@ -205,8 +207,8 @@ void check_buffer_files(const std::string& file, const json& doc, const std::str
 
 void check_schema(const std::string& file, const std::string& json_text, const std::string& base_dir,
                   bool allow_files) {
-  const json doc = json::parse(json_text, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/false);
-  if (doc.is_discarded()) return;  // tinygltf reports the syntax error
+  if (json_text.empty()) return;  // a .glb without a JSON chunk: tinygltf says how
+  const json doc = scene_detail::parse_json_text(json_text, file);
   if (!doc.is_object()) throw Error(file + ": /: expected a glTF JSON object, got " + scene_detail::describe(doc));
   SchemaCheck(file).value(doc, "", 0);
   if (allow_files) check_buffer_files(file, doc, base_dir);

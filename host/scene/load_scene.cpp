@@ -248,7 +248,11 @@ class PathTrackingSax {
   std::vector<Frame> frames_;
 };
 
-json parse_text(const std::string& text, const std::string& path) {
+
+}  // namespace
+
+namespace scene_detail {
+json parse_json_text(const std::string& text, const std::string& path) {
   json j;
   PathTrackingSax sax(j);
   if (json::sax_parse(text, &sax, json::input_format_t::json, /*strict=*/true, /*ignore_comments=*/true)) return j;
@@ -263,7 +267,7 @@ json parse_text(const std::string& text, const std::string& path) {
   throw Error(where + "JSON syntax error: " + parse_reason(sax.error_what));
 }
 
-}  // namespace
+}  // namespace scene_detail
 
 Scene parse_scene(const json& j, const std::string& file_for_messages, const std::string& base_dir,
                   const LoadOptions& options) {
@@ -295,7 +299,7 @@ Scene parse_scene(const json& j, const std::string& file_for_messages, const std
 
 Scene parse_scene_text(const std::string& text, const std::string& file_for_messages, const std::string& base_dir,
                        const LoadOptions& options) {
-  const json j = parse_text(text, file_for_messages);
+  const json j = scene_detail::parse_json_text(text, file_for_messages);
   return parse_scene(j, file_for_messages, base_dir, options);
 }
 

@@ -47,6 +47,11 @@ std::string describe(const json& v);
 std::string lower(std::string s);
 // A key as a JSON pointer token ("~" -> "~0", "/" -> "~1").
 std::string pointer_token(const std::string& key);
+// JSON text as a document, or caustica::Error naming `path`, the line and
+// column and what was expected, in our words (numbers out of range with
+// their JSON pointer, nesting deeper than limits::kMaxJsonDepth refused):
+// the coursework loader's and the glTF importer's one parser.
+json parse_json_text(const std::string& text, const std::string& path);
 
 using KeyList = std::vector<const char*>;
 
