@@ -44,6 +44,12 @@ std::vector<ExrPlane> film_pass_planes(const FilmPasses& passes, const std::vect
 }
 
 ImageF write_film_outputs(const FilmOutputOptions& options, const Film& film) {
+  // A plain image needs the mean alone: no passes, no variance read back.
+  if (!options.denoiser && options.aov_dir.empty() && lower_extension(options.output) != ".exr") {
+    ImageF image = film.mean();
+    write_image(options.output, image, options.display);
+    return image;
+  }
   const FilmPasses passes = read_film_passes(film, options.guides);
   ImageF denoised;
   if (options.denoiser) {
