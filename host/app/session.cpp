@@ -153,12 +153,15 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   }
   const bool path = session->mode == RenderMode::Path;
   session->features.check_numerics = path && options.check_numerics;
-  session->settings.check_numerics = session->features.check_numerics;
   session->features.aux_passes = path && options.aux_passes;
+  if (options.edit_features) options.edit_features(session->features);
+  // What the program declares, the integrators bind: these settings are the
+  // features, never decided apart from them.
+  session->settings.check_numerics = session->features.check_numerics;
   session->settings.aux_passes = session->features.aux_passes;
+  session->settings.caustics = session->features.caustics;
   session->settings.adaptive = path && options.adaptive;
   session->settings.half_buffer = path && (options.error_estimate || options.adaptive);
-  session->settings.caustics = session->features.caustics;
   session->settings.caustics_auto = options.caustics == CausticsMode::Auto;
   if (options.photons > 0) session->settings.photons_per_pass = options.photons;
   if (options.caustic_radius > 0.0f) session->settings.caustic_radius = options.caustic_radius;

@@ -54,6 +54,11 @@ struct SessionOptions {
   // Applied to the loaded scene before anything is derived from it (tests:
   // the stiff-case suite scales and moves whole scenes, tests/stiff/).
   std::function<void(Scene&)> edit_scene;
+  // Applied to the features decided from the scene and the options, before
+  // the program is built and anything binds it: the render settings follow
+  // the features, so the host binds what the program declares (tests: the
+  // feature-flag combinations, tests/test_feature_combinations.cpp).
+  std::function<void(SceneFeatures&)> edit_features;
 };
 
 inline constexpr int kDefaultPathSpp = 64;

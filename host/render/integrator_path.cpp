@@ -272,8 +272,11 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
     // Zeroed here too: a resumed render (render_state.h) starts past pass 0.
     launcher.runtime().fill(numerics_, cl_ulong(0), 0, NUMERICS_COUNTERS * sizeof(cl_ulong));
   }
-  if (settings.caustics && light_count_ > 0)
+  if (settings.caustics) {
+    // As phong's: the program declares the photon map's parameters.
+    if (light_count_ == 0) throw Error("path: the photon pass needs a light that emits photons");
     photons_ = std::make_unique<PhotonPass>(launcher, scene, program, lights_, uint32_t(light_count_), settings);
+  }
 }
 
 bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int passes,

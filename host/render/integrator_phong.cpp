@@ -21,6 +21,7 @@
 #include <cstring>
 
 #include "host/cl/runtime.h"
+#include "host/error.h"
 #include "host/lights/light_table.h"
 #include "host/render/photon_pass.h"
 #include "host/render/state_bytes.h"
@@ -107,12 +108,14 @@ PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& sce
   shade_ = StageKernel(program, "shade_surface_phong");
   shadow_stage_ = StageKernel(program, "intersect_shadow");
   if (settings.caustics) {
+    // The program declares the photon map's parameters: without a pass to
+    // bind them, no stage could launch (prepare_session turns the pass off
+    // first for a scene without emitters).
     const std::vector<Light> photon_lights = phong_photon_lights(scene.scene());
-    if (!photon_lights.empty()) {
-      photon_lights_ = upload_buffer(ctx, photon_lights);
-      photons_ = std::make_unique<PhotonPass>(launcher, scene, program, photon_lights_,
-                                              uint32_t(photon_lights.size()), settings, PhotonGather::SharedRadius);
-    }
+    if (photon_lights.empty()) throw Error("phong: the photon pass needs a light that emits photons");
+    photon_lights_ = upload_buffer(ctx, photon_lights);
+    photons_ = std::make_unique<PhotonPass>(launcher, scene, program, photon_lights_, uint32_t(photon_lights.size()),
+                                            settings, PhotonGather::SharedRadius);
   }
 }
 

@@ -1,5 +1,6 @@
 #include "host/render/kernel_args.h"
 
+#include "host/cl/runtime.h"
 #include "host/error.h"
 
 namespace caustica {
@@ -67,6 +68,29 @@ std::vector<std::string> kernel_arg_names(const cl::Kernel& kernel) {
   return names;
 }
 
+std::string KernelArgs::declared_kind(cl_uint i) const {
+  cl_kernel_arg_address_qualifier qualifier = 0;
+  if (clGetKernelArgInfo(stage_.kernel(), i, CL_KERNEL_ARG_ADDRESS_QUALIFIER, sizeof qualifier, &qualifier, nullptr) !=
+      CL_SUCCESS)
+    return {};
+  if (qualifier == CL_KERNEL_ARG_ADDRESS_GLOBAL || qualifier == CL_KERNEL_ARG_ADDRESS_CONSTANT) return "a buffer";
+  if (qualifier == CL_KERNEL_ARG_ADDRESS_LOCAL) return "a __local allocation";
+  return "a value";
+}
+
+void KernelArgs::refuse(const std::string& name, ArgKind kind, const cl::Error& e) const {
+  const cl_uint i = cl_uint(names_.size());
+  const cl_uint declared = stage_.kernel.getInfo<CL_KERNEL_NUM_ARGS>();
+  if (i >= declared)
+    throw Error("kernel " + stage_.name + " declares " + std::to_string(declared) + " arguments, the host binds \"" +
+                name + "\" as argument " + std::to_string(i));
+  const std::string declared_as = declared_kind(i);
+  throw Error("kernel " + stage_.name + " argument " + std::to_string(i) + " (\"" + name + "\")" +
+              (declared_as.empty() ? "" : " is " + declared_as) + ", the host binds " +
+              (kind == ArgKind::Buffer ? "a buffer" : "a value") + " there: " + e.what() + " failed with " +
+              cl_error_name(e.err()));
+}
+
 void KernelArgs::finish() {
   if (stage_.binding_checked) return;
   const cl_uint declared = stage_.kernel.getInfo<CL_KERNEL_NUM_ARGS>();
@@ -78,6 +102,14 @@ void KernelArgs::finish() {
     if (names[i] != names_[i])
       throw Error("kernel " + stage_.name + " argument " + std::to_string(i) + " is \"" + names[i] +
                   "\", the host binds \"" + names_[i] + "\" there");
+  for (cl_uint i = 0; i < declared; ++i) {
+    const std::string kind = declared_kind(i);
+    if (kind.empty()) break;  // no argument info from this device: the count is all we can check
+    const std::string bound = kinds_[i] == ArgKind::Buffer ? "a buffer" : "a value";
+    if (kind != bound)
+      throw Error("kernel " + stage_.name + " argument " + std::to_string(i) + " (\"" + names_[i] + "\") is " + kind +
+                  ", the host binds " + bound + " there");
+  }
   stage_.binding_checked = true;
 }
 

@@ -14,6 +14,7 @@
 #include <CL/opencl.hpp>
 
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "kernels/shared/records.h"
@@ -72,8 +73,14 @@ class KernelArgs {
 
   template <typename T>
   KernelArgs& arg(const std::string& name, const T& value) {
-    stage_.kernel.setArg(cl_uint(names_.size()), value);
+    const ArgKind kind = std::is_base_of_v<cl::Memory, T> ? ArgKind::Buffer : ArgKind::Value;
+    try {
+      stage_.kernel.setArg(cl_uint(names_.size()), value);
+    } catch (const cl::Error& e) {
+      refuse(name, kind, e);
+    }
     names_.push_back(name);
+    kinds_.push_back(kind);
     return *this;
   }
   // The whole queue: prefix_count, then prefix_<field> for every field.
@@ -84,13 +91,22 @@ class KernelArgs {
   // The ray view of a queue (RAY_VIEW_PARAMS): prefix_count, _origin, _dir.
   KernelArgs& ray_view(const std::string& prefix, const DeviceQueue& q);
   KernelArgs& ray_view(const std::string& prefix, const DeviceQueue& q, const cl::Buffer& count);
-  // On the stage's first binding: throws caustica::Error when the count or
-  // (where reported) a name differs from the kernel's declaration.
+  // On the stage's first binding: throws caustica::Error when the count,
+  // or (where the device reports them) a name or a kind differs from the
+  // kernel's declaration: a buffer bound where the kernel takes a value, or
+  // a value where it takes a __global or __constant pointer.
   void finish();
 
  private:
+  enum class ArgKind { Buffer, Value };
+  // What the kernel declares at position i ("a buffer", "a value", "a
+  // __local allocation"), "" where the device does not say.
+  std::string declared_kind(cl_uint i) const;
+  // The device refused an argument (its size or kind): an error naming it.
+  [[noreturn]] void refuse(const std::string& name, ArgKind kind, const cl::Error& e) const;
   StageKernel& stage_;
   std::vector<std::string> names_;
+  std::vector<ArgKind> kinds_;
 };
 
 // The kernel's parameter names, or an empty list where the device does not

@@ -1,11 +1,13 @@
-// The glTF node graph: the scene's root nodes walked depth-first with an
-// explicit stack (no recursion; a cycle is an error naming the edge that
-// closes it, and depth and instance counts are bounded, host/limits.h),
+// The glTF node graph: checked first (every index, no cycle: an error naming
+// the edge that closes it; depth and instance counts bounded, host/limits.h,
+// counted on the graph before anything is expanded), then the scene's root
+// nodes walked depth-first with an explicit stack (no recursion),
 // each node's world transform composed as parent * local, and what a node
 // places: mesh primitives as triangles, a camera, a KHR_lights_punctual
 // light.
 #include <glm/gtc/quaternion.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "host/limits.h"
@@ -31,50 +33,87 @@ class NodeWalker {
   NodeWalker(Context& ctx, const glm::dmat4& root) : ctx_(ctx), m_(ctx.model), root_(root) {}
 
   void walk(const std::vector<int>& roots, const std::string& roots_pointer) {
-    std::vector<char> on_path(m_.nodes.size(), 0);
+    check_graph(roots, roots_pointer);
     struct Frame {
       size_t node;
       glm::dmat4 parent;
-      int depth;
-      bool leave;
     };
     std::vector<Frame> stack;
-    for (size_t i = roots.size(); i-- > 0;) {
-      const size_t n =
-          checked_index(ctx_, roots[i], m_.nodes.size(), roots_pointer + "/" + std::to_string(i), "nodes");
-      stack.push_back(Frame{n, root_, 0, false});
-    }
-    uint64_t instances = 0;
+    for (size_t i = roots.size(); i-- > 0;) stack.push_back(Frame{size_t(roots[i]), root_});
     while (!stack.empty()) {
       const Frame f = stack.back();
       stack.pop_back();
-      if (f.leave) {
-        on_path[f.node] = 0;
-        continue;
-      }
-      if (++instances > limits::kMaxGltfNodeInstances)
-        ctx_.fail(node_pointer(f.node), "the node graph places more than " +
-                                            std::to_string(limits::kMaxGltfNodeInstances) +
-                                            " node instances (the limit; nodes sharing children multiply)");
-      if (f.depth >= limits::kMaxGltfNodeDepth)
-        ctx_.fail(node_pointer(f.node), "nodes nested deeper than " + std::to_string(limits::kMaxGltfNodeDepth) +
-                                            " levels (the limit)");
       const glm::dmat4 world = f.parent * node_local_transform(ctx_, f.node);
       visit(f.node, world);
-      on_path[f.node] = 1;
-      stack.push_back(Frame{f.node, world, f.depth, true});
       const std::vector<int>& children = m_.nodes[f.node].children;
-      for (size_t k = children.size(); k-- > 0;) {
-        const std::string cp = node_pointer(f.node) + "/children/" + std::to_string(k);
-        const size_t c = checked_index(ctx_, children[k], m_.nodes.size(), cp, "nodes");
-        if (on_path[c])
-          ctx_.fail(cp, "node " + std::to_string(c) + " is its own ancestor (a cycle in the node graph)");
-        stack.push_back(Frame{c, world, f.depth + 1, false});
-      }
+      for (size_t k = children.size(); k-- > 0;) stack.push_back(Frame{size_t(children[k]), world});
     }
   }
 
  private:
+  // Before anything is expanded: every index valid, no cycle, no chain
+  // deeper than the limit, and the instances the walk will place (each node
+  // once per path from a root: nodes sharing children multiply) counted on
+  // the graph itself, once per node, so a graph of 2^40 instances is
+  // refused in microseconds. A depth-first search in the walk's order (so a
+  // cycle is named by the same edge), with an explicit stack.
+  void check_graph(const std::vector<int>& roots, const std::string& roots_pointer) {
+    enum : char { kUnseen, kOnPath, kDone };
+    std::vector<char> state(m_.nodes.size(), kUnseen);
+    std::vector<uint64_t> instances(m_.nodes.size(), 0);  // saturated at the limit + 1
+    std::vector<int> height(m_.nodes.size(), 0);          // levels from the node down to its deepest leaf
+    constexpr uint64_t kOver = limits::kMaxGltfNodeInstances + 1;
+    struct Frame {
+      size_t node;
+      size_t next_child;
+    };
+    std::vector<Frame> path;
+    uint64_t total = 0;
+    for (size_t i = 0; i < roots.size(); ++i) {
+      const std::string rp = roots_pointer + "/" + std::to_string(i);
+      const size_t root = checked_index(ctx_, roots[i], m_.nodes.size(), rp, "nodes");
+      if (state[root] == kUnseen) {
+        state[root] = kOnPath;
+        path.push_back(Frame{root, 0});
+      }
+      while (!path.empty()) {
+        Frame& f = path.back();
+        const std::vector<int>& children = m_.nodes[f.node].children;
+        if (f.next_child < children.size()) {
+          const size_t k = f.next_child++;
+          const std::string cp = node_pointer(f.node) + "/children/" + std::to_string(k);
+          const size_t c = checked_index(ctx_, children[k], m_.nodes.size(), cp, "nodes");
+          if (state[c] == kOnPath)
+            ctx_.fail(cp, "node " + std::to_string(c) + " is its own ancestor (a cycle in the node graph)");
+          // c at depth path.size(): its deepest descendant at depth + height - 1.
+          if (state[c] == kUnseen ? path.size() >= size_t(limits::kMaxGltfNodeDepth)
+                                  : path.size() + size_t(height[c]) > size_t(limits::kMaxGltfNodeDepth))
+            ctx_.fail(node_pointer(c), "nodes nested deeper than " + std::to_string(limits::kMaxGltfNodeDepth) +
+                                           " levels (the limit)");
+          if (state[c] == kUnseen) {
+            state[c] = kOnPath;
+            path.push_back(Frame{c, 0});
+          }
+          continue;
+        }
+        uint64_t count = 1;
+        int below = 0;
+        for (int c : children) {
+          count = std::min(kOver, count + instances[size_t(c)]);
+          below = std::max(below, height[size_t(c)]);
+        }
+        instances[f.node] = count;
+        height[f.node] = below + 1;
+        state[f.node] = kDone;
+        path.pop_back();
+      }
+      total = std::min(kOver, total + instances[root]);
+      if (total > limits::kMaxGltfNodeInstances)
+        ctx_.fail(rp, "the node graph places more than " + std::to_string(limits::kMaxGltfNodeInstances) +
+                          " node instances (the limit; nodes sharing children multiply)");
+    }
+  }
+
   void visit(size_t n, const glm::dmat4& world) {
     const tinygltf::Node& node = m_.nodes[n];
     const std::string np = node_pointer(n);
