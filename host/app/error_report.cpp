@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "host/error.h"
+#include "host/write_file.h"
 
 namespace caustica {
 namespace {
@@ -181,22 +182,7 @@ void write_error_report(const std::string& path, const ErrorReport& report) {
         << field(r.denoised_relmse) << "\n";
   }
 
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream file(tmp, std::ios::binary | std::ios::trunc);
-    if (!file) throw Error("cannot write error report '" + path + "': cannot open '" + tmp + "': " + std::strerror(errno));
-    file << out.str();
-    if (!file.flush()) {
-      std::remove(tmp.c_str());
-      throw Error("cannot write error report '" + path + "': write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw Error("cannot write error report '" + path + "': " + ec.message());
-  }
+  write_output_file(path, out.str(), "error report");
 }
 
 }  // namespace caustica

@@ -19,6 +19,7 @@
 
 #include "host/limits.h"
 #include "host/read_file.h"
+#include "host/write_file.h"
 
 namespace caustica {
 
@@ -51,25 +52,9 @@ void check_consistent(const std::string& path, const Img& img) {
                          std::to_string(img.rgb.size()) + " values");
 }
 
-struct FileCloser {
-  void operator()(std::FILE* f) const {
-    if (f) std::fclose(f);
-  }
-};
-using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
-
-FilePtr open_for_write(const std::string& path) {
-  FilePtr f(std::fopen(path.c_str(), "wb"));
-  if (!f) fail_write(path, std::string("could not open for writing: ") + std::strerror(errno));
-  return f;
-}
-
-void write_all(const std::string& path, FilePtr f, const std::string& bytes) {
-  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f.get()) == bytes.size();
-  std::FILE* raw = f.release();
-  // fclose flushes: a full disk often only shows up here.
-  if (std::fclose(raw) != 0 || !ok) fail_write(path, std::string("write failed: ") + std::strerror(errno));
-}
+// Replaced atomically, every step checked (host/write_file.h): a full disk
+// or a failed write leaves the previous image.
+void write_all(const std::string& path, std::string_view bytes) { write_output_file(path, bytes, "image"); }
 
 // Bounded, regular files only (host/read_file.h): its errors name the file.
 std::string read_all(const std::string& path) {
@@ -89,7 +74,6 @@ void check_read_size(const std::string& path, long long w, long long h, size_t f
 }
 
 void write_ppm(const std::string& path, const Image8& img) {
-  auto f = open_for_write(path);
   std::string out = "P3\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n255\n";
   out.reserve(out.size() + img.rgb.size() * 4);
   for (size_t i = 0; i < img.rgb.size(); i += 3) {
@@ -100,7 +84,7 @@ void write_ppm(const std::string& path, const Image8& img) {
     out += std::to_string(img.rgb[i + 2]);
     out += '\n';
   }
-  write_all(path, std::move(f), out);
+  write_all(path, out);
 }
 
 // Encoded in memory and written by write_all: stbi_write_png ignores the
@@ -112,8 +96,7 @@ void write_png(const std::string& path, const Image8& img) {
   };
   if (!stbi_write_png_to_func(append, &png, img.width, img.height, 3, img.rgb.data(), img.width * 3))
     fail_write(path, "stb_image_write could not encode the PNG");
-  auto f = open_for_write(path);
-  write_all(path, std::move(f), png);
+  write_all(path, png);
 }
 
 void put_le32(std::string& out, float v) {
@@ -123,7 +106,6 @@ void put_le32(std::string& out, float v) {
 }
 
 void write_pfm(const std::string& path, const ImageF& hdr, float scale) {
-  auto f = open_for_write(path);
   // Negative scale = little-endian; the magnitude is conventionally 1.
   std::string out = "PF\n" + std::to_string(hdr.width) + " " + std::to_string(hdr.height) + "\n-1.0\n";
   out.reserve(out.size() + hdr.rgb.size() * 4);
@@ -131,7 +113,7 @@ void write_pfm(const std::string& path, const ImageF& hdr, float scale) {
     const float* row = hdr.at(0, y);
     for (int i = 0; i < hdr.width * 3; ++i) put_le32(out, row[i] * scale);
   }
-  write_all(path, std::move(f), out);
+  write_all(path, out);
 }
 
 }  // namespace
@@ -180,8 +162,7 @@ void write_exr_planes(const std::string& path, int width, int height, std::vecto
     if (err) FreeEXRErrorMessage(err);
     fail_write(path, why);
   }
-  auto f = open_for_write(path);
-  write_all(path, std::move(f), std::string(reinterpret_cast<const char*>(memory), size));
+  write_all(path, std::string_view(reinterpret_cast<const char*>(memory), size));
 }
 
 namespace {

@@ -1,8 +1,5 @@
 #include "host/render/render_state.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +13,7 @@
 #include "host/render/integrator.h"
 #include "host/render/state_bytes.h"
 #include "host/scene/gltf.h"
+#include "host/write_file.h"
 
 namespace caustica {
 namespace {
@@ -225,48 +223,7 @@ RenderState read_render_state(const std::string& path) {
 }
 
 void write_render_state(const std::string& path, const RenderState& state) {
-  const std::string bytes = encode_render_state(state);
-  const std::string temporary = path + ".tmp";
-  // A failed write leaves the previous state and no temporary file.
-  auto fail = [&](const std::string& what) {
-    const std::string reason = std::strerror(errno);
-    ::unlink(temporary.c_str());
-    return Error(temporary + ": cannot " + what + " the state file: " + reason);
-  };
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw fail("create");
-  size_t written = 0;
-  while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const Error e = fail("write");
-      ::close(fd);
-      throw e;
-    }
-    written += size_t(n);
-  }
-  // On disk before it replaces the previous state: a crash after the rename
-  // must not leave a state whose bytes never arrived.
-  if (::fsync(fd) != 0) {
-    const Error e = fail("flush");
-    ::close(fd);
-    throw e;
-  }
-  if (::close(fd) != 0) throw fail("close");
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
-    ::unlink(temporary.c_str());
-    throw Error(path + ": cannot rename " + temporary + " to it: " + reason);
-  }
-  // The rename itself on disk: the directory flushed. Best effort: some file
-  // systems refuse fsync on a directory, and the state is complete either way.
-  const std::string dir = fs::path(path).parent_path().string();
-  const int dir_fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dir_fd >= 0) {
-    ::fsync(dir_fd);
-    ::close(dir_fd);
-  }
+  write_output_file(path, encode_render_state(state), "state file");
 }
 
 void check_render_state(const std::string& path, const RenderState& state, const StateIdentity& render) {
