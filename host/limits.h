@@ -66,6 +66,15 @@ inline constexpr uint64_t kMaxPixelsPerFileByteRle = 256;
 // sphere lights count as one stand-in each) is bounded. Path mode samples
 // lights and has no such limit.
 inline constexpr uint64_t kMaxPhongLights = 1024;
+// Scene coordinates (positions, centres, vertices, corners, translations,
+// the camera) lie within +-kMaxSceneCoordinate, and sizes (radii,
+// half-heights, light extents, the lens) are at most that, in scene units.
+// The kernels square distances and the triangle test multiplies three
+// coordinate differences (its determinants), which must stay finite in
+// float32: (2e12)^3 x 3 = 2.4e37 < 3.4e38. A scene 1e30 across overflowed
+// there (and its lights' power) instead of rendering; it is refused with
+// the key or the mesh that put a point that far (scale the scene down).
+inline constexpr float kMaxSceneCoordinate = 1e12f;
 // Colours and coefficients that scale reflected light (diffusecolor, kd,
 // specularcolor, ks, ka, checker colours): 1 reflects all of it; the
 // community scenes go up to 9. Far above is a typo or a unit mistake.

@@ -131,16 +131,26 @@ TEST(DirectionalLight, DirectionsOfAnyMagnitudeAndScenesTooLargeForItsPower) {
       "lightsources": [{"type": "directional", "direction": [0, -1, 0.2], "intensity": [2, 2, 2]}],
       "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": {"type": "dielectric"}},
                  {"type": "sphere", "center": [1e30, 0, 0], "radius": 1e28, "material": {"type": "diffuse"}}]}})";
-  const std::string scene = write_scene("dir_far.json", far);
-  for (const char* caustics : {"on", "off"}) {
-    const test::CliResult r = test::run_cli("render " + scene + " --caustics " + std::string(caustics) +
-                                            " --spp 1 -q --device " + test::device_spec() + " -o " +
-                                            test::temp_dir() + "/far.pfm");
-    EXPECT_EQ(r.status, 1) << r.output;
-    EXPECT_TRUE(test::Contains(r.output, {"dir_far.json: light 0", "overflows a 32-bit float", "scale the scene"}))
-        << r.output;
-    EXPECT_EQ(r.output.find("kernel"), std::string::npos) << r.output;
-  }
+  // A scene 1e30 across is beyond the coordinate limit: refused by the key.
+  // One within it whose directional light is bright enough that E pi R^2
+  // overflows: refused by the light, both before any kernel is built.
+  std::string bright = far;
+  bright.replace(bright.find("[1e30, 0, 0], \"radius\": 1e28"), std::string("[1e30, 0, 0], \"radius\": 1e28").size(),
+                 "[1e11, 0, 0], \"radius\": 1e10");
+  bright.replace(bright.find("[2, 2, 2]"), std::string("[2, 2, 2]").size(), "[1e20, 1e20, 1e20]");
+  const std::pair<std::string, std::vector<std::string>> cases[] = {
+      {write_scene("dir_far.json", far), {"dir_far.json: /scene/shapes/1/center/0", "coordinate limit", "scale the scene"}},
+      {write_scene("dir_bright.json", bright),
+       {"dir_bright.json: /scene/lightsources/0: its power", "overflows a 32-bit float", "scale the scene"}}};
+  for (const auto& [scene, expected] : cases)
+    for (const char* caustics : {"on", "off"}) {
+      const test::CliResult r = test::run_cli("render " + scene + " --caustics " + std::string(caustics) +
+                                              " --spp 1 -q --device " + test::device_spec() + " -o " +
+                                              test::temp_dir() + "/far.pfm");
+      EXPECT_EQ(r.status, 1) << r.output;
+      for (const std::string& part : expected) EXPECT_TRUE(test::Contains(r.output, {part})) << r.output;
+      EXPECT_EQ(r.output.find("kernel"), std::string::npos) << r.output;
+    }
   // The same for a sky whose power overflows, in phong's photon pass too
   // (it failed with "shade_surface_phong declares 48 arguments, the host
   // binds 44").

@@ -18,7 +18,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 seconds=${1:-60}
 shift || true
 targets=("$@")
-((${#targets[@]})) || targets=(fuzz_scene fuzz_obj fuzz_ply fuzz_texture fuzz_gltf fuzz_denoise_inputs)
+((${#targets[@]})) || targets=(fuzz_scene fuzz_obj fuzz_ply fuzz_texture fuzz_gltf fuzz_denoise_inputs fuzz_cli fuzz_state)
 build="${CAUSTICA_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 out="${CAUSTICA_FUZZ_OUT:-$build/findings}"
 shared="${CAUSTICA_SHARED_DIR:-$root/../shared}"
@@ -34,7 +34,7 @@ cmake --build "$build" -j "$(nproc 2>/dev/null || echo 2)" --target "${targets[@
 # (inputs are cut to -max_len anyway).
 seeds="$build/seeds"
 rm -rf "$seeds"
-mkdir -p "$seeds"/{fuzz_scene,fuzz_obj,fuzz_ply,fuzz_texture,fuzz_gltf,fuzz_denoise_inputs} "$out"
+mkdir -p "$seeds"/{fuzz_scene,fuzz_obj,fuzz_ply,fuzz_texture,fuzz_gltf,fuzz_denoise_inputs,fuzz_cli,fuzz_state} "$out"
 collect() {  # collect TARGET DIR PATTERN...
   local target=$1 dir=$2
   shift 2
@@ -57,7 +57,7 @@ collect fuzz_gltf "$root/scenes" '*.gltf' '*.glb'
 collect fuzz_gltf "$shared" '*.gltf' '*.glb'
 
 declare -A max_len=([fuzz_scene]=16384 [fuzz_obj]=8192 [fuzz_ply]=8192 [fuzz_texture]=4096 [fuzz_gltf]=16384
-  [fuzz_denoise_inputs]=8192)
+  [fuzz_denoise_inputs]=8192 [fuzz_cli]=2048 [fuzz_state]=65536)
 # Debian's tinyexr 1.0.1 leaks part of an image whose load fails midway
 # (LoadEXRImageFromMemory on a malformed chunk: ~60-byte blocks inside
 # libtinyexr, whose other parts it has already freed, so freeing the image

@@ -284,7 +284,7 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   return render_cmd;
 }
 
-int run_render(RenderArgs& a) {
+void check_render_options(RenderArgs& a) {
   // Every option is checked before the scene is read: a typo in one must not
   // cost a render (the size against the scene's camera is checked as soon as
   // the scene is read, in prepare_session).
@@ -357,6 +357,11 @@ int run_render(RenderArgs& a) {
     a.session.first_pass = first;
     a.session.spp = end;
   }
+}
+
+int run_render(RenderArgs& a) {
+  check_render_options(a);
+  const bool distributed = a.ranks && a.ranks->size() > 1;
   // A state that cannot be read, or is damaged, fails before the scene is read.
   std::optional<RenderState> resume;
   if (!a.resume.empty()) resume = read_render_state(a.resume);
@@ -444,21 +449,8 @@ int run_render(RenderArgs& a) {
     } catch (const Error& e) {
       throw Error(a.resume + ": " + e.what());
     }
-    // The render continues the state's passes up to its own end: the state
-    // must hold the start of the render's range, or passes would be missing
-    // (a state of passes [2, 4) resumed to --spp 4 wrote a 2-spp image).
-    const PassSet& held = resume->film.held;
-    const int first = session->settings.first_pass;
-    if (!held.empty() && !(held == PassSet::range(first, held.end())))
-      throw Error(a.resume + ": holds " + held.describe() + ", which does not begin at pass " + std::to_string(first) +
-                  " where this render does: render the passes before it (--passes " + std::to_string(first) + ":" +
-                  std::to_string(first < held.first() ? held.first() : first) +
-                  " --checkpoint) and `caustica merge` the states, or resume it with --passes " +
-                  std::to_string(held.first()) + ":END");
-    if (resume->film.held.end() > session->settings.passes)
-      throw Error(a.resume + ": holds " + resume->film.held.describe() + ", past the " +
-                  std::to_string(session->settings.passes) + " asked" +
-                  (session->mode == RenderMode::Path ? " (--spp)" : " (phong and binary take one pass)"));
+    // The pass range (a state of passes [2, 4) resumed to --spp 4 wrote a
+    // 2-spp image) and the sampler's state: Renderer::check_state.
   }
   const int resumed_passes = resume ? resume->film.passes : 0;
   const Scene& scene = session->scene;

@@ -49,6 +49,10 @@ inline constexpr double kDefaultCheckpointSeconds = 60.0;
 
 // The `render` subcommand's options, bound to `args`.
 CLI::App* add_render_command(CLI::App& app, RenderArgs& args);
+// Every option's value and combination, before anything is read (the
+// command line's fuzz target runs it too); fills in what they decide
+// (the output's default name, the session's mode, pass range, aux passes).
+void check_render_options(RenderArgs& args);
 int run_render(RenderArgs& args);
 // "START:END" (--passes): [START, END), 0 <= START < END; throws caustica::Error.
 std::pair<int, int> parse_pass_range(const std::string& text);

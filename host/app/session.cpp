@@ -167,7 +167,7 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   if (options.caustic_radius > 0.0f) session->settings.caustic_radius = options.caustic_radius;
   const DeviceInfo device = select_device(options.device);
   check_device_memory(device, session->settings, scene);
-  session->runtime = std::make_unique<Runtime>(device, options.profile_stages);
+  session->runtime = Runtime::shared(device, options.profile_stages);
   session->runtime->set_cache_enabled(options.use_kernel_cache);
   session->program = session->runtime->build_file(program_file, session->features.build_options());
 

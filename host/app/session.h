@@ -69,7 +69,7 @@ struct Session {
   SceneFeatures features;
   Bvh bvh;       // binary: the host trace of `caustica bench` (host/bench/host_trace.cpp) walks it
   WideBvh wide;  // collapsed from bvh: what the kernels traverse
-  std::unique_ptr<Runtime> runtime;
+  std::shared_ptr<Runtime> runtime;  // Runtime::shared: one per device in a process
   BuiltProgram program;
   RenderSettings settings;
   std::unique_ptr<DeviceScene> device_scene;

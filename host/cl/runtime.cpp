@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -580,6 +581,12 @@ BuiltProgram Runtime::build_source(const std::string& name, const std::string& t
   const std::filesystem::path cache_file = std::filesystem::path(cache_directory()) / (std::string(key_hex) + ".bin");
 
   if (cache_enabled_) {
+    if (auto it = built_.find(key); it != built_.end()) {
+      built.program = it->second;
+      built.from_cache = true;
+      built.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      return built;
+    }
     std::ifstream in(cache_file, std::ios::binary);
     if (in) {
       std::vector<unsigned char> binary((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -621,8 +628,20 @@ BuiltProgram Runtime::build_source(const std::string& name, const std::string& t
       }
     }
   }
+  if (cache_enabled_) built_[key] = built.program;
   built.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return built;
+}
+
+std::shared_ptr<Runtime> Runtime::shared(const DeviceInfo& device, bool profiling) {
+  static std::mutex guard;
+  static auto* runtimes = new std::map<std::string, std::shared_ptr<Runtime>>();  // never destroyed (above)
+  const std::string key = std::to_string(device.index) + "|" + device.platform_name + "|" + device.name + "|" +
+                          (profiling ? "profiling" : "");
+  std::lock_guard<std::mutex> lock(guard);
+  std::shared_ptr<Runtime>& runtime = (*runtimes)[key];
+  if (!runtime) runtime = std::make_shared<Runtime>(device, profiling);
+  return runtime;
 }
 
 }  // namespace caustica

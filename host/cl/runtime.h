@@ -5,6 +5,7 @@
 
 #include <CL/opencl.hpp>
 #include <map>
+#include <memory>
 
 #include <string>
 #include <vector>
@@ -74,6 +75,13 @@ class Runtime {
   // profiling: the queue records kernel start/end times (caustica bench's
   // stage breakdown); off for renders, where it would only cost.
   explicit Runtime(const DeviceInfo& device, bool profiling = false);
+  // The process's one runtime for this device and profiling choice, made on
+  // first use and kept until the process ends (never destroyed: at exit the
+  // OpenCL implementation's own statics may already be gone). Renders one
+  // after another in one process (tests, a script's loop) share its context
+  // and the programs it has built, instead of a context and a cache load
+  // each.
+  static std::shared_ptr<Runtime> shared(const DeviceInfo& device, bool profiling = false);
   bool profiling() const { return profiling_; }
 
   const DeviceInfo& device_info() const { return info_; }
@@ -106,7 +114,8 @@ class Runtime {
   // The device is Oclgrind, a checking simulator.
   bool on_simulator() const { return simulator_; }
 
-  // Disables the on-disk cache (tests that time or exercise cold builds).
+  // Disables the on-disk cache and the programs kept in memory (tests that
+  // time or exercise cold builds).
   void set_cache_enabled(bool enabled) { cache_enabled_ = enabled; }
   static std::string cache_directory();
 
@@ -115,6 +124,9 @@ class Runtime {
   cl::Context context_;
   cl::CommandQueue queue_;
   bool cache_enabled_ = true;
+  // Programs built in this process, by the cache key (source, options,
+  // device): a second build of the same program is a lookup.
+  std::map<uint64_t, cl::Program> built_;
   bool profiling_ = false;
   bool simulator_ = false;
   cl::Kernel fill_words_, copy_words_;  // built on first use on a simulator

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "host/error.h"
 #include "host/image/image_io.h"
@@ -80,7 +81,13 @@ Scene::Environment make_environment(const std::string& source, int width, int he
     }
     rgb[i] *= intensity;
     if (!std::isfinite(rgb[i]))
-      throw Error(source + ": texel radiance times the intensity " + std::to_string(intensity) + " is not finite");
+      throw Error(source + ": texel (" + std::to_string(i / 3 % size_t(width)) + ", " +
+                  std::to_string(i / 3 / size_t(width)) + ") times the intensity (/scene/environment/intensity " +
+                  [&] {
+                    char t[32];
+                    std::snprintf(t, sizeof t, "%g", double(intensity));
+                    return std::string(t);
+                  }() + ") is not finite in single precision");
   }
   Scene::Environment env;
   env.source = source;

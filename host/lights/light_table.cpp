@@ -37,6 +37,12 @@ void add_light_geometry(Scene& scene) {
   }
 }
 
+// A light in messages: where the file wrote it, else its index.
+std::string light_name(const Scene& scene, size_t i) {
+  if (i < scene.light_sources.size() && !scene.light_sources[i].empty()) return scene.light_sources[i];
+  return "light " + std::to_string(i);
+}
+
 LightTable build_light_table(const Scene& scene) {
   LightTable t;
   t.light_of_sphere.assign(scene.spheres.size(), LIGHT_NONE);
@@ -73,7 +79,7 @@ LightTable build_light_table(const Scene& scene) {
   for (uint32_t i : lights_by_kind(scene)) {
     const LightType& type = light_type(scene.lights[i].kind);
     if (!type.delta && !g.added) continue;  // an area light without its geometry: not sampled
-    if (add(light_in_scene(scene, i), glm::vec3(1.0f), "light " + std::to_string(i)))
+    if (add(light_in_scene(scene, i), glm::vec3(1.0f), light_name(scene, i)))
       table_index[i] = uint32_t(t.lights.size() - 1);
   }
   std::vector<bool> geometry_sphere(scene.spheres.size(), false), geometry_triangle(scene.triangles.size(), false);
@@ -169,7 +175,7 @@ std::vector<Light> phong_photon_lights(const Scene& scene) {
     if (std::isnan(p) || std::isinf(p))
       throw Error(scene.source_path + ": " +
                   (lights[i].kind == LIGHT_ENVIRONMENT ? std::string("the environment")
-                                                       : "light " + std::to_string(i)) +
+                                                       : light_name(scene, i)) +
                   ": its photon power overflows a 32-bit float (a sky's grows with the scene's extent squared): "
                   "scale the scene, or its emission, down");
   }

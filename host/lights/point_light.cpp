@@ -11,7 +11,7 @@ using namespace scene_detail;
 void read_point_light(const Reader& r, const json& l, const std::string& path, Scene& scene) {
   r.check_keys(l, path, {"type", "position", "intensity"});
   scene.lights.push_back(
-      delta_light_at(r.read_vec3(l, "position", path, Range::Any), r.read_vec3(l, "intensity", path, Range::NonNegative)));
+      delta_light_at(r.read_vec3(l, "position", path, Range::Coordinate), r.read_vec3(l, "intensity", path, Range::NonNegative)));
 }
 
 float point_light_power(const Light& l) { return 4.0f * 3.14159265358979f * luminance(to_vec3(l.emitted)); }

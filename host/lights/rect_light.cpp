@@ -18,7 +18,7 @@ constexpr float kDefaultAreaLightSize = 0.1f;
 void read_rect_light(const Reader& r, const json& l, const std::string& path, Scene& scene) {
   r.check_keys(l, path, {"type", "position", "intensity", "u", "v", "u_axis", "v_axis", "width", "height", "size",
                          "samples"});
-  const glm::vec3 centre = r.read_vec3(l, "position", path, Range::Any);
+  const glm::vec3 centre = r.read_vec3(l, "position", path, Range::Coordinate);
   const glm::vec3 intensity = r.read_vec3(l, "intensity", path, Range::NonNegative);
   r.read_int(l, "samples", path, 1, 1 << 20, 0);  // checked; path mode's samples per pixel decide instead
   const char* u_key = nullptr;
@@ -28,8 +28,8 @@ void read_rect_light(const Reader& r, const json& l, const std::string& path, Sc
   const json* size = Reader::find(l, "size");
   const bool wh = Reader::find(l, "width") || Reader::find(l, "height");
   if (size && wh) r.fail(path + "/size", "give the size either as \"size\" or as \"width\"/\"height\", not both");
-  glm::vec3 du = u ? r.vec3(*u, path + "/" + u_key, Range::Any) : glm::vec3(1, 0, 0);
-  glm::vec3 dv = v ? r.vec3(*v, path + "/" + v_key, Range::Any) : glm::vec3(0, 0, 1);
+  glm::vec3 du = u ? r.vec3(*u, path + "/" + u_key, Range::Coordinate) : glm::vec3(1, 0, 0);
+  glm::vec3 dv = v ? r.vec3(*v, path + "/" + v_key, Range::Coordinate) : glm::vec3(0, 0, 1);
   glm::vec3 unit_u = du, unit_v = dv;
   if (u && !unit_direction(du, &unit_u)) r.expected(path + "/" + u_key, "a direction of nonzero length", *u);
   if (v && !unit_direction(dv, &unit_v)) r.expected(path + "/" + v_key, "a direction of nonzero length", *v);
@@ -38,10 +38,10 @@ void read_rect_light(const Reader& r, const json& l, const std::string& path, Sc
     // u and v give directions only; the extent comes from the size.
     glm::vec2 extent;
     if (size) {
-      extent = r.vec2(*size, path + "/size", Range::Positive);
+      extent = r.vec2(*size, path + "/size", Range::Size);
     } else {
-      extent.x = r.read_number(l, "width", path, Range::Positive);
-      extent.y = r.read_number(l, "height", path, Range::Positive);
+      extent.x = r.read_number(l, "width", path, Range::Size);
+      extent.y = r.read_number(l, "height", path, Range::Size);
     }
     du = unit_u;
     dv = unit_v;

@@ -15,8 +15,8 @@ void read_sphere_light(const Reader& r, const json& l, const std::string& path, 
   r.check_keys(l, path, {"type", "position", "intensity", "radius", "samples"});
   Light s{};
   s.kind = LIGHT_SPHERE;
-  const glm::vec3 centre = r.read_vec3(l, "position", path, Range::Any);
-  const float radius = r.read_number(l, "radius", path, Range::Positive);
+  const glm::vec3 centre = r.read_vec3(l, "position", path, Range::Coordinate);
+  const float radius = r.read_number(l, "radius", path, Range::Size);
   s.p0 = to_float4(centre, radius);
   s.emitted = to_float4(r.read_vec3(l, "intensity", path, Range::NonNegative), 4.0f * kPi * radius * radius);
   r.read_int(l, "samples", path, 1, 1 << 20, 1);  // checked; path mode's samples per pixel decide instead

@@ -16,7 +16,7 @@ using namespace scene_detail;
 
 void read_spot_light(const Reader& r, const json& l, const std::string& path, Scene& scene) {
   r.check_keys(l, path, {"type", "position", "direction", "intensity", "inner_cone_angle", "outer_cone_angle"});
-  const glm::vec3 position = r.read_vec3(l, "position", path, Range::Any);
+  const glm::vec3 position = r.read_vec3(l, "position", path, Range::Coordinate);
   glm::vec3 direction;
   if (!unit_direction(r.read_vec3(l, "direction", path, Range::Any), &direction))
     r.expected(path + "/direction", "a direction of nonzero length", l["direction"]);

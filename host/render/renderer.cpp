@@ -1,5 +1,7 @@
 #include "host/render/renderer.h"
 
+#include <cmath>
+
 #include <chrono>
 
 #include "host/cl/runtime.h"
@@ -9,7 +11,7 @@ namespace caustica {
 
 Renderer::Renderer(Runtime& runtime, const DeviceScene& scene, RenderMode mode, const cl::Program& program,
                    const RenderSettings& settings)
-    : runtime_(runtime), settings_(settings), launcher_(runtime, settings.local_size) {
+    : runtime_(runtime), mode_(mode), settings_(settings), launcher_(runtime, settings.local_size) {
   if (settings.width <= 0 || settings.height <= 0) throw Error("render: image size must be positive");
   if (settings.passes <= 0) throw Error("render: the number of passes must be positive");
   try {
@@ -32,9 +34,32 @@ void Renderer::check_state(const RenderState& state) const {
     throw Error(std::string("render state: ") +
                 (state.adaptive ? "an adaptive sampler's state" : "no adaptive sampler's state") +
                 " for a render " + (settings_.adaptive ? "with" : "without") + " adaptive sampling");
-  if (state.adaptive && !state.adaptive->weights.empty() && state.adaptive->weights.size() != film_->pixel_count())
-    throw Error("render state: " + std::to_string(state.adaptive->weights.size()) + " adaptive weights for " +
-                std::to_string(film_->pixel_count()) + " pixels");
+  if (state.adaptive) {
+    const AdaptiveSamplerState& a = *state.adaptive;
+    if (!a.weights.empty() && a.weights.size() != film_->pixel_count())
+      throw Error("render state: " + std::to_string(a.weights.size()) + " adaptive weights for " +
+                  std::to_string(film_->pixel_count()) + " pixels");
+    if (a.weights_passes < 0 || a.weights_passes > state.film.passes)
+      throw Error("render state: adaptive weights taken at pass " + std::to_string(a.weights_passes) +
+                  " of a film of " + std::to_string(state.film.passes));
+    for (size_t i = 0; i < a.weights.size(); ++i)
+      if (!(std::isfinite(a.weights[i]) && a.weights[i] >= 0.0))
+        throw Error("render state: adaptive weight " + std::to_string(i) + " is not a finite non-negative number");
+  }
+  // The render continues the state's passes up to its own end: the state
+  // must hold the start of the render's range, or passes would be missing
+  // (a state of passes [2, 4) resumed to --spp 4 wrote a 2-spp image).
+  const PassSet& held = state.film.held;
+  const int first = settings_.first_pass;
+  if (!held.empty() && !(held == PassSet::range(first, held.end())))
+    throw Error("holds " + held.describe() + ", which does not begin at pass " + std::to_string(first) +
+                " where this render does: render the passes before it (--passes " + std::to_string(first) + ":" +
+                std::to_string(first < held.first() ? held.first() : first) +
+                " --checkpoint) and `caustica merge` the states, or resume it with --passes " +
+                std::to_string(held.first()) + ":END");
+  if (held.end() > settings_.passes)
+    throw Error("holds " + held.describe() + ", past the " + std::to_string(settings_.passes) + " asked" +
+                (mode_ == RenderMode::Path ? " (--spp)" : " (phong and binary take one pass)"));
 }
 
 RenderState Renderer::state() const {

@@ -38,8 +38,9 @@ class Renderer {
   // (render_identity).
   RenderState state() const;
   // Throws caustica::Error, saying what differs, when `state` cannot be
-  // resumed by this renderer (sizes, the adaptive sampler's presence);
-  // render(..., &state) checks it too.
+  // resumed by this renderer (sizes, the adaptive sampler's presence and
+  // state, a pass range that does not start where the render does or ends
+  // past it); render(..., &state) checks it too.
   void check_state(const RenderState& state) const;
 
   Integrator& integrator() { return *integrator_; }
@@ -49,6 +50,7 @@ class Renderer {
 
  private:
   Runtime& runtime_;
+  RenderMode mode_;
   RenderSettings settings_;
   StageLauncher launcher_;
   std::unique_ptr<Integrator> integrator_;

@@ -9,6 +9,7 @@
 #include "host/limits.h"
 #include "host/scene/gltf_internal.h"
 #include "host/scene/mesh_internal.h"
+#include "host/scene/scene.h"
 
 namespace caustica::gltf_detail {
 
@@ -133,7 +134,11 @@ void add_mesh_instance(Context& ctx, size_t mi, const glm::dmat4& world) {
       glm::vec2 tuv[3];
       for (int k = 0; k < 3; ++k) {
         const uint32_t v = d.corners[t + size_t(mirrored && k > 0 ? 3 - k : k)];
-        tp[k] = glm::vec3(world * glm::dvec4(d.p[v], 1.0));
+        const glm::dvec3 placed(world * glm::dvec4(d.p[v], 1.0));
+        if (!within_coordinate_limit(placed))
+          ctx.fail(d.pointer, "a node's world transform places vertex " + std::to_string(v) + " " +
+                                  beyond_coordinate_limit(placed));
+        tp[k] = glm::vec3(placed);
         if (!d.n.empty()) tn[k] = glm::vec3(normal_matrix * glm::dvec3(d.n[v]));
         if (!d.uv.empty()) tuv[k] = d.uv[v];
       }

@@ -85,6 +85,7 @@ void add_lights(const Reader& r, const GltfModel& model, Scene& scene) {
       // Along the node's -z (GltfLight::direction); lux read as W/m^2.
       scene.lights.push_back(directional_light_along(l.direction, l.intensity));
     }
+    scene.light_sources.resize(scene.lights.size(), l.pointer);
   }
 }
 

@@ -82,13 +82,13 @@ CameraDesc read_camera(const Reader& r, const json& top, bool* animated) {
   // An animated camera (position0, position1, ... keyed by movement0, ...)
   // has no "position"; its first keyframe stands in.
   if (!Reader::find(cam, "position") && Reader::find(cam, "position0")) {
-    c.position = r.read_vec3(cam, "position0", path, Range::Any);
+    c.position = r.read_vec3(cam, "position0", path, Range::Coordinate);
     *animated = true;
   } else {
-    c.position = r.read_vec3(cam, "position", path, Range::Any);
+    c.position = r.read_vec3(cam, "position", path, Range::Coordinate);
   }
   if (Reader::find(cam, "movement0") || Reader::find(cam, "position1")) *animated = true;
-  c.look_at = r.read_vec3(cam, "lookAt", path, Range::Any);
+  c.look_at = r.read_vec3(cam, "lookAt", path, Range::Coordinate);
   c.up = r.read_vec3(cam, "upVector", path, Range::Any);
   const std::string fov_what = "a vertical field of view in degrees, 0 < fov < 180";
   const json& fov = r.require(cam, "fov", path + "/fov", fov_what);
@@ -115,11 +115,11 @@ CameraDesc read_camera(const Reader& r, const json& top, bool* animated) {
   std::string where = path;
   const json* aperture = Reader::find_any(cam, kApertureKeys, &which);
   if (!aperture && (aperture = Reader::find(top, "aperture"))) where = "", which = "aperture";
-  if (aperture) c.aperture_radius = 0.5f * r.number(*aperture, where + "/" + which, Range::NonNegative);
+  if (aperture) c.aperture_radius = 0.5f * r.number(*aperture, where + "/" + which, Range::Extent);
   where = path;
   const json* focus = Reader::find_any(cam, kFocusKeys, &which);
   if (!focus && (focus = Reader::find(top, "focus_distance"))) where = "", which = "focus_distance";
-  c.focus_distance = focus ? r.number(*focus, where + "/" + which, Range::Positive)
+  c.focus_distance = focus ? r.number(*focus, where + "/" + which, Range::Size)
                            : glm::length(glm::dvec3(c.look_at) - glm::dvec3(c.position));
   if (!r.read_bool(top, "use_dof", "", true)) c.aperture_radius = 0.0f;
   if (lens_type && !aperture)
@@ -143,6 +143,7 @@ void read_lights(const Reader& r, const json& scene_obj, Scene& out) {
       out.ambient_light = out.ambient_light.value_or(glm::vec3(0.0f)) + r.read_vec3(l, "intensity", path, Range::NonNegative);
     } else if (const LightType* light = light_type_of_file(type)) {
       light->read(r, l, path, out);  // host/lights/<type>_light.cpp
+      out.light_sources.resize(out.lights.size(), path);
     } else {
       r.expected(path + "/type", what, l["type"]);
     }

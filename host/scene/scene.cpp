@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "host/error.h"
+#include "host/limits.h"
 
 namespace caustica {
 
@@ -83,6 +85,19 @@ CameraBasis camera_basis(const CameraDesc& camera) {
   const glm::dvec3 right = r / r_len;
   const glm::dvec3 true_up = glm::cross(forward, right);
   return CameraBasis{glm::vec3(forward), glm::vec3(right), glm::vec3(true_up)};
+}
+
+bool within_coordinate_limit(const glm::dvec3& p) {
+  for (int i = 0; i < 3; ++i)
+    if (!(std::fabs(p[i]) <= double(limits::kMaxSceneCoordinate))) return false;
+  return true;
+}
+
+std::string beyond_coordinate_limit(const glm::dvec3& p) {
+  char text[160];
+  std::snprintf(text, sizeof text, "at (%.4g, %.4g, %.4g), beyond +-1e12 scene units", p.x, p.y, p.z);
+  return std::string(text) +
+         " (the coordinate limit: distances squared and cubed must fit a float; scale the scene down)";
 }
 
 CameraGPU camera_for_image(const CameraDesc& camera, int width, int height) {

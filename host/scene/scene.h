@@ -42,6 +42,10 @@ struct Scene {
   // holds: kernels/lib/lights/<type>_light.h); select_probability and
   // select_cdf are set by the light table (host/lights/light_table.h).
   std::vector<Light> lights;
+  // Where each of `lights` was written, for messages: its JSON pointer in
+  // the file ("/scene/lightsources/3", a glTF light's node); "" where a
+  // light was made another way (tests, generated scenes).
+  std::vector<std::string> light_sources;
   // Ambient light colour from the file ("ambientlight", lights of type
   // "ambient"); unset when it gives none (phong then uses white). It scales
   // phong's ambient term ka * diffuse colour; see scenes/FORMAT.md.
@@ -112,6 +116,12 @@ struct CameraBasis {
   glm::vec3 forward, right, up;
 };
 CameraBasis camera_basis(const CameraDesc& camera);
+
+// A point within the scene's coordinate limit (limits::kMaxSceneCoordinate
+// on every axis, finite); and, for messages, why a point beyond it is
+// refused: "at (x, y, z), beyond +-1e12 scene units (...)".
+bool within_coordinate_limit(const glm::dvec3& p);
+std::string beyond_coordinate_limit(const glm::dvec3& p);
 
 // The device camera for a width x height image (kernels/shared/camera.h
 // turns it into rays); pixel_offset 0, pixel_count the whole image.

@@ -19,6 +19,8 @@ const char* range_words(Range r) {
     case Range::NonNegative: return "non-negative ";
     case Range::Positive: return "positive ";
     case Range::Reflectance: return "non-negative ";  // and at most kMaxReflectance: its own message
+    case Range::Size: return "positive ";              // and at most kMaxSceneCoordinate: its own message
+    case Range::Extent: return "non-negative ";
     default: return "";
   }
 }
@@ -191,9 +193,17 @@ float Reader::number(const json& v, const std::string& path, Range range) const 
   const double d = v.get<double>();
   if (!std::isfinite(d)) expected(path, what, v);
   if (std::fabs(d) > FLT_MAX) expected(path, what + " within single precision (|x| <= 3.4e38)", v);
-  if (((range == Range::NonNegative || range == Range::Reflectance) && d < 0) ||
-      (range == Range::Positive && !(static_cast<float>(d) > 0)))
+  if (((range == Range::NonNegative || range == Range::Reflectance || range == Range::Extent) && d < 0) ||
+      ((range == Range::Positive || range == Range::Size) && !(static_cast<float>(d) > 0)))
     expected(path, what, v);
+  // Squared and cubed in the kernels: within the scene's coordinate limit.
+  if ((range == Range::Coordinate || range == Range::Size || range == Range::Extent) &&
+      std::fabs(d) > limits::kMaxSceneCoordinate)
+    expected(path,
+             what + " within " + std::string(range == Range::Coordinate ? "+-" : "") +
+                 "1e12 scene units (the coordinate limit: distances squared and cubed must fit a "
+                 "float; scale the scene down)",
+             v);
   // A reflectance far above 1 is a typo or a unit mistake; one of 1e29 made
   // every other value of the image meaningless (issue 24).
   if (range == Range::Reflectance && d > limits::kMaxReflectance)

@@ -38,8 +38,10 @@ inline bool unit_direction(const glm::vec3& v, glm::vec3* unit) {
 using nlohmann::json;
 
 // Reflectance: a colour or coefficient that scales reflected light, in
-// [0, kMaxReflectance] (host/limits.h).
-enum class Range { Any, NonNegative, Positive, Reflectance };
+// [0, kMaxReflectance]. Coordinate: a position, |x| <= kMaxSceneCoordinate;
+// Size: a length in (0, kMaxSceneCoordinate]; Extent: one in [0,
+// kMaxSceneCoordinate] (host/limits.h).
+enum class Range { Any, NonNegative, Positive, Reflectance, Coordinate, Size, Extent };
 
 const char* range_words(Range r);
 // The offending value as the user wrote it, shortened.

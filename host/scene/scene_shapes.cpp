@@ -70,8 +70,8 @@ class ShapeReader {
     if (type == "sphere" || type == "uvsphere") {
       r_.check_keys(s, path, {"type", "material", "texture", "center", "radius"}, kCommonIgnored);
       Sphere sp{};
-      sp.center_radius =
-          to_float4(r_.read_vec3(s, "center", path, Range::Any), r_.read_number(s, "radius", path, Range::Positive));
+      const glm::vec3 center = r_.read_vec3(s, "center", path, Range::Coordinate);  // read in the file's order
+      sp.center_radius = to_float4(center, r_.read_number(s, "radius", path, Range::Size));
       sp.material = material(s, path);
       out_.spheres.push_back(sp);
     } else if (type == "cylinder" || type == "uvcylinder") {
@@ -142,12 +142,12 @@ class ShapeReader {
     r_.check_keys(s, path, {"type", "material", "texture", "center", "axis", "radius", "height"},
                   {"alias", "name", "topmaterial", "bottommaterial"});
     Cylinder cy{};
-    cy.center_radius =
-        to_float4(r_.read_vec3(s, "center", path, Range::Any), r_.read_number(s, "radius", path, Range::Positive));
+    const glm::vec3 center = r_.read_vec3(s, "center", path, Range::Coordinate);
+    cy.center_radius = to_float4(center, r_.read_number(s, "radius", path, Range::Size));
     const glm::dvec3 axis(r_.read_vec3(s, "axis", path, Range::Any));
     const double len = glm::length(axis);
     if (!(len > 0.0)) r_.expected(path + "/axis", "a direction of nonzero length", s["axis"]);
-    cy.axis_half = to_float4(glm::vec3(axis / len), r_.read_number(s, "height", path, Range::Positive));
+    cy.axis_half = to_float4(glm::vec3(axis / len), r_.read_number(s, "height", path, Range::Size));
     cy.material = material(s, path);
     for (const char* cap : {"topmaterial", "bottommaterial"})
       if (const json* m = Reader::find(s, cap)) {
@@ -160,8 +160,8 @@ class ShapeReader {
 
   void triangle(const json& s, const std::string& path) {
     r_.check_keys(s, path, {"type", "material", "texture", "v0", "v1", "v2", "uv0", "uv1", "uv2"}, kCommonIgnored);
-    const glm::vec3 p[3] = {r_.read_vec3(s, "v0", path, Range::Any), r_.read_vec3(s, "v1", path, Range::Any),
-                            r_.read_vec3(s, "v2", path, Range::Any)};
+    const glm::vec3 p[3] = {r_.read_vec3(s, "v0", path, Range::Coordinate), r_.read_vec3(s, "v1", path, Range::Coordinate),
+                            r_.read_vec3(s, "v2", path, Range::Coordinate)};
     const int uv_count = !!Reader::find(s, "uv0") + !!Reader::find(s, "uv1") + !!Reader::find(s, "uv2");
     glm::vec2 uv[3];
     if (uv_count > 0) {
@@ -188,8 +188,8 @@ class ShapeReader {
     if (corners && Reader::find(s, "v0"))
       r_.fail(path, "expected either \"v0\"..\"v3\" or \"corner1\"/\"corner2\", got both");
     if (corners) {
-      const glm::vec3 a = r_.read_vec3(s, "corner1", path, Range::Any);
-      const glm::vec3 b = r_.read_vec3(s, "corner2", path, Range::Any);
+      const glm::vec3 a = r_.read_vec3(s, "corner1", path, Range::Coordinate);
+      const glm::vec3 b = r_.read_vec3(s, "corner2", path, Range::Coordinate);
       int flat = -1, flat_count = 0;
       for (int k = 0; k < 3; ++k) {
         const float tolerance = 1e-6f * std::max({1.0f, std::fabs(a[k]), std::fabs(b[k])});
@@ -209,7 +209,7 @@ class ShapeReader {
         q[i][a2] = (i >= 2) ? hi[a2] : lo[a2];
       }
     } else {
-      for (int i = 0; i < 4; ++i) q[i] = r_.read_vec3(s, ("v" + std::to_string(i)).c_str(), path, Range::Any);
+      for (int i = 0; i < 4; ++i) q[i] = r_.read_vec3(s, ("v" + std::to_string(i)).c_str(), path, Range::Coordinate);
     }
     const cs_uint m = material(s, path);
     add_quad(q, m, path, "rectangle");
@@ -219,7 +219,7 @@ class ShapeReader {
 
   void box(const json& s, const std::string& path) {
     r_.check_keys(s, path, {"type", "material", "texture", "min", "max", "rotation"}, kCommonIgnored);
-    const glm::vec3 a = r_.read_vec3(s, "min", path, Range::Any), b = r_.read_vec3(s, "max", path, Range::Any);
+    const glm::vec3 a = r_.read_vec3(s, "min", path, Range::Coordinate), b = r_.read_vec3(s, "max", path, Range::Coordinate);
     // The corpus box has "min" above "max" in two coordinates: corners, really.
     const glm::vec3 lo = glm::min(a, b), hi = glm::max(a, b);
     for (int k = 0; k < 3; ++k)
@@ -278,11 +278,11 @@ class ShapeReader {
       const std::string tp = path + "/transform";
       r_.object(*transform, tp);
       r_.check_keys(*transform, tp, {"translate", "rotate", "scale"});
-      translate = r_.read_vec3(*transform, "translate", tp, Range::Any, glm::vec3(0.0f));
+      translate = r_.read_vec3(*transform, "translate", tp, Range::Coordinate, glm::vec3(0.0f));
       degrees = r_.read_vec3(*transform, "rotate", tp, Range::Any, glm::vec3(0.0f));
       scale = read_scale(*transform, tp);
     } else {
-      translate = r_.read_vec3(s, "offset", path, Range::Any, glm::vec3(0.0f));
+      translate = r_.read_vec3(s, "offset", path, Range::Coordinate, glm::vec3(0.0f));
       degrees = r_.read_vec3(s, "euler", path, Range::Any, glm::vec3(0.0f));
       scale = read_scale(s, path);
     }
@@ -354,7 +354,12 @@ class ShapeReader {
       glm::vec2 uv[3];
       for (int i = 0; i < 3; ++i) {
         const int j = mirrored && i > 0 ? 3 - i : i;
-        p[i] = linear * tri.p[j] + translate;
+        const glm::dvec3 placed = glm::dmat3(linear) * glm::dvec3(tri.p[j]) + glm::dvec3(translate);
+        if (!within_coordinate_limit(placed))
+          r_.fail(transform ? path + "/transform" : path,
+                  "places triangle " + std::to_string(info.triangles + dropped) + " of " + written + " " +
+                      beyond_coordinate_limit(placed));
+        p[i] = linear * tri.p[j] + translate;  // in float, as every render so far
         n[i] = tri.has_normals ? glm::normalize(normal_matrix * tri.n[j]) : glm::vec3(0.0f);
         uv[i] = tri.has_uvs ? tri.uv[j] : kDefaultUv[i];
       }

@@ -60,7 +60,13 @@ inline void count_bsdf_weight(volatile __global ulong* numerics, uint depth, flo
 
 inline float power_heuristic(float a, float b) {
   const float a2 = a * a, b2 = b * b;
-  return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
+  if (a2 + b2 < INFINITY) return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
+  /* A density beyond sqrt(FLT_MAX) (a light seen edge-on from its own
+   * plane): the ratio form, which inf / inf would make NaN. */
+  if (!(a > 0.0f)) return 0.0f;
+  if (isinf(a)) return isinf(b) ? 0.5f : 1.0f;
+  const float r = b / a;
+  return 1.0f / (1.0f + r * r);
 }
 
 inline uint light_of_hit(__global const uint* light_of_sphere, __global const uint* light_of_cylinder,

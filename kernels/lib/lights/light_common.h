@@ -71,7 +71,8 @@ inline bool sample_area_light_point(__global const Light* l, float3 p, float3 q,
   s->normal = n_l;
   s->radiance = l->emitted.xyz;
   s->pdf = area_to_solid_angle(p, q, s->wi, l->emitted.w, n_l);
-  return s->pdf > 0.0f;
+  /* An infinite density (the light edge-on, cos_l near 0) carries nothing. */
+  return s->pdf > 0.0f && s->pdf < INFINITY;
 }
 
 /* A delta light at l->p0 seen from p: direction, distance, the point. */
