@@ -245,6 +245,10 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option("--caustic-radius", a.session.caustic_radius,
                          "path: every pixel's initial photon gather radius (default: its camera path's footprint)")
       ->check(finite_positive());
+  render_cmd->add_option_function<std::string>(
+      "--kernel-shape", [&a](const std::string& s) { a.session.kernel_shape = parse_kernel_shape(s); },
+      "path: how the stages run: auto (default: paths on a CPU device, the wavefront on a GPU), wavefront (kernels "
+      "over queues) or paths (whole paths per work-item, one kernel); the same image either way");
   render_cmd->add_flag("--check-numerics", a.session.check_numerics,
                        "path: count NaN/Inf and negative samples and the BSDF weights of every bounce (energy gain), "
                        "and report them");
@@ -473,6 +477,9 @@ int run_render(RenderArgs& a) {
                  session->features.build_options().c_str());
     std::fprintf(stderr, "[caustica] device: %s (%s)\n", session->runtime->device_info().name.c_str(),
                  session->runtime->device_info().platform_name.c_str());
+    if (session->mode == RenderMode::Path)
+      std::fprintf(stderr, "[caustica] kernel shape: %s (--kernel-shape %s)\n",
+                   kernel_shape_name(session->settings.kernel_shape), kernel_shape_name(a.session.kernel_shape));
     std::fprintf(stderr, "[caustica] kernel build: %.1f ms (%s)\n", session->program.build_ms,
                  session->program.from_cache ? "cached" : "cold");
     std::fprintf(stderr, "[caustica] BVH build: %.2f ms, %zu nodes, SAH cost %.2f, depth %d\n", session->bvh.build_ms,

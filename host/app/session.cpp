@@ -168,6 +168,11 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   const DeviceInfo device = select_device(options.device);
   check_device_memory(device, session->settings, scene);
   session->runtime = Runtime::shared(device, options.profile_stages);
+  // The CPU's shape where the device is a CPU (issue 39): whole paths per
+  // work-item; the wavefront on GPUs, whose threads want queues of like work.
+  session->settings.kernel_shape = options.kernel_shape != KernelShape::Auto ? options.kernel_shape
+                                   : device.type == "cpu"                    ? KernelShape::Paths
+                                                                             : KernelShape::Wavefront;
   session->runtime->set_cache_enabled(options.use_kernel_cache);
   session->program = session->runtime->build_file(program_file, session->features.build_options());
 

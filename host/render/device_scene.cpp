@@ -47,6 +47,10 @@ KernelArgs& DeviceScene::bind_surfaces(KernelArgs& args) const {
               {"spheres", "cylinders", "triangles", "triangle_shading", "materials", "textures", "texels", "environment"});
 }
 
+KernelArgs& DeviceScene::bind_scene(KernelArgs& args) const {
+  return bind_surfaces(bind(args, {"bvh_nodes", "tri_blocks", "prim_refs"}));
+}
+
 KernelArgs& DeviceScene::bind_light_data(KernelArgs& args) const {
   return bind(args, {"triangle_shading", "textures", "texels", "environment"});
 }

@@ -29,6 +29,9 @@ class DeviceScene {
   KernelArgs& bind_geometry(KernelArgs& args) const;
   // SCENE_SURFACE_PARAMS (kernels/lib/surface.h), in order.
   KernelArgs& bind_surfaces(KernelArgs& args) const;
+  // Both: the BVH's own buffers, then bind_surfaces (trace_paths.cl traces
+  // and shades in one kernel).
+  KernelArgs& bind_scene(KernelArgs& args) const;
   // What the lights' emission reads beyond the light table (emit_photons):
   // triangle_shading, textures and texels (emission textures,
   // lib/lights.h: light_emission_texel) and the environment map, in order.

@@ -66,6 +66,22 @@ void Integrator::generate_camera_rays(StageKernel& generate, const DeviceQueue& 
   if (stats) stats->camera_rays += pixel_count;
 }
 
+KernelShape parse_kernel_shape(const std::string& name) {
+  if (name == "auto") return KernelShape::Auto;
+  if (name == "wavefront") return KernelShape::Wavefront;
+  if (name == "paths") return KernelShape::Paths;
+  throw Error("--kernel-shape: expected auto, wavefront or paths, got '" + name + "'");
+}
+
+const char* kernel_shape_name(KernelShape shape) {
+  switch (shape) {
+    case KernelShape::Auto: return "auto";
+    case KernelShape::Wavefront: return "wavefront";
+    case KernelShape::Paths: return "paths";
+  }
+  return "?";
+}
+
 std::string integrator_program_file(RenderMode mode) {
   switch (mode) {
     case RenderMode::Binary: return "integrator_binary.cl";

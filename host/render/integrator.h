@@ -34,6 +34,12 @@ class DeviceQueue;
 class Runtime;
 struct StageKernel;
 
+// --kernel-shape: Wavefront, Paths, or (Auto) paths on CPU devices and the
+// wavefront elsewhere; prepare_session resolves Auto.
+enum class KernelShape { Auto, Wavefront, Paths };
+KernelShape parse_kernel_shape(const std::string& name);  // auto | wavefront | paths
+const char* kernel_shape_name(KernelShape shape);
+
 struct RenderSettings {
   int width = 0;  // image size (already resolved from the camera and CLI)
   int height = 0;
@@ -70,6 +76,10 @@ struct RenderSettings {
   // Path: the film's albedo, normal and depth passes (program built with
   // -DHAS_AUX_PASSES=1; host/render/film.h).
   bool aux_passes = false;
+  // Path: how the stages run (issue 39): as a wavefront of kernels over
+  // queues, or whole paths per work-item in one kernel (the CPU's shape).
+  // The same bits either way.
+  KernelShape kernel_shape = KernelShape::Wavefront;
 };
 
 struct RenderStats {
@@ -123,6 +133,7 @@ class StageLauncher {
   // stats->stage_ms (waits for them).
   void collect(RenderStats* stats);
   Runtime& runtime() { return runtime_; }
+  size_t local_size() const { return local_size_; }
 
  private:
   Runtime& runtime_;

@@ -89,6 +89,7 @@ constexpr size_t kPathSlots = size_t(1) << 18;
 // path queues, the hits and the shadow slots, all sized for its path slots.
 class PathIntegrator final : public Integrator {
   StageKernel generate_, intersect_, shade_, shadow_stage_;
+  StageKernel paths_;  // trace_paths: the CPU shape (settings.kernel_shape)
   size_t light_count_ = 0;
   uint32_t environment_light_ = LIGHT_NONE;  // its index in the light table (PathParams)
   size_t slots_ = 0;  // paths in flight
@@ -112,6 +113,12 @@ class PathIntegrator final : public Integrator {
   PixelShare* share_ = nullptr;           // shared by pixels among processes (share_pixels)
 
   void decide_photon_pass(const Film& film);
+  // The wave as whole paths per work-item (trace_paths.cl), one launch.
+  bool trace_paths(Film& film, const PathParams& params, const CameraGPU& camera, size_t samples,
+                   RenderStats* stats);
+  // The shade stage's and trace_paths' arguments after the film (the
+  // photon pass's, the numeric counters, the aux passes), in their order.
+  void bind_vertex_tail(KernelArgs& args, Film& film);
 
  public:
   PathIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
@@ -267,6 +274,7 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
   shadow_ = DeviceQueue(ctx, shadow_record_layout(), slots_);
   hits_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, slots_ * sizeof(Hit));
   loop_ = std::make_unique<WaveLoop>(launcher, std::vector<int>{1, int(WAVE_PROGRESS_VALUES)});
+  if (settings.kernel_shape == KernelShape::Paths) paths_ = StageKernel(program, "trace_paths");
   if (settings.check_numerics) {
     numerics_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, NUMERICS_COUNTERS * sizeof(cl_ulong));
     // Zeroed here too: a resumed render (render_state.h) starts past pass 0.
@@ -302,6 +310,7 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
   if (params.wave_entries > 0 && (first_pixel != 0 || pixel_count != film.pixel_count()))
     throw Error("path: an adaptive wave must cover the whole image");
   const CameraGPU camera = chunk_camera(first_pixel, pixel_count);
+  if (settings_.kernel_shape == KernelShape::Paths) return trace_paths(film, params, camera, samples, stats);
 
   KernelArgs generate(generate_);
   generate.arg("camera", camera)
@@ -339,11 +348,7 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
         .arg("wave_progress", loop_->extra(kWaveProgress));
     film.bind_pixel_rays(film.bind_wave_allocation(shade))
         .arg("count_pixel_rays", cl_uint(settings_.adaptive && settings_.adaptive_options.weigh_cost ? 1 : 0));
-    if (photons_)
-      photons_->bind_photon_map(photons_->bind_visible_points(shade).arg("record_visible_points",
-                                                                          cl_uint(photon_pass_now_ ? 1 : 0)));
-    if (numerics_()) shade.arg("numerics", numerics_);
-    if (settings_.aux_passes) film.bind_aux(shade);
+    bind_vertex_tail(shade, film);
     shade.finish();
     launcher_.launch(shade_, bound, stats);
 
@@ -368,6 +373,56 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
   // The wave's rays: the counters run over the render (modulo 2^32).
   const cl_uint closest = closest_rays - closest_rays_seen_, shadow = shadow_rays - shadow_rays_seen_;
   closest_rays_seen_ = closest_rays;
+  shadow_rays_seen_ = shadow_rays;
+  pass_rays_ += uint64_t(closest) + shadow;
+  if (stats) {
+    stats->secondary_rays += closest - std::min<uint64_t>(closest, samples);
+    stats->shadow_rays += shadow;
+  }
+  return true;
+}
+
+void PathIntegrator::bind_vertex_tail(KernelArgs& args, Film& film) {
+  if (photons_)
+    photons_->bind_photon_map(
+        photons_->bind_visible_points(args).arg("record_visible_points", cl_uint(photon_pass_now_ ? 1 : 0)));
+  if (numerics_()) args.arg("numerics", numerics_);
+  if (settings_.aux_passes) film.bind_aux(args);
+}
+
+bool PathIntegrator::trace_paths(Film& film, const PathParams& params, const CameraGPU& camera, size_t samples,
+                                 RenderStats* stats) {
+  // One work-item per thread the device runs at once, a work-group each:
+  // the work-items take samples until the wave's are all started.
+  const size_t workers =
+      std::max<size_t>(1, launcher_.runtime().device_info().compute_units) * launcher_.local_size();
+  launcher_.runtime().fill(loop_->extra(kWaveProgress), cl_uint(0), WAVE_SAMPLES_STARTED * sizeof(cl_uint),
+                           sizeof(cl_uint));
+  KernelArgs paths(paths_);
+  scene_.bind_scene(paths)
+      .arg("lights", lights_)
+      .arg("light_of_sphere", light_of_sphere_)
+      .arg("light_of_cylinder", light_of_cylinder_)
+      .arg("light_of_triangle", light_of_triangle_)
+      .arg("params", params);
+  film.bind(paths)
+      .arg("camera", camera)
+      .arg("wave_progress", loop_->extra(kWaveProgress))
+      .arg("traced", loop_->extra(kShadowRays));
+  film.bind_pixel_rays(film.bind_wave_allocation(paths))
+      .arg("count_pixel_rays", cl_uint(settings_.adaptive && settings_.adaptive_options.weigh_cost ? 1 : 0));
+  bind_vertex_tail(paths, film);
+  paths.finish();
+  launcher_.launch(paths_, workers, stats);
+  if (stats) stats->camera_rays += samples;
+  // The counters run over the render (modulo 2^32), as the wavefront's.
+  cl_uint progress[WAVE_PROGRESS_VALUES], shadow_rays = 0;
+  launcher_.runtime().queue().enqueueReadBuffer(loop_->extra(kWaveProgress), CL_FALSE, 0, sizeof progress, progress);
+  launcher_.runtime().queue().enqueueReadBuffer(loop_->extra(kShadowRays), CL_TRUE, 0, sizeof shadow_rays,
+                                                &shadow_rays);
+  if (stats) ++stats->blocking_transfers;
+  const cl_uint closest = progress[WAVE_CLOSEST_RAYS] - closest_rays_seen_, shadow = shadow_rays - shadow_rays_seen_;
+  closest_rays_seen_ = progress[WAVE_CLOSEST_RAYS];
   shadow_rays_seen_ = shadow_rays;
   pass_rays_ += uint64_t(closest) + shadow;
   if (stats) {

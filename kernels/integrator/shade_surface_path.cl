@@ -105,22 +105,22 @@ inline uint light_of_hit(__global const uint* light_of_sphere, __global const ui
 #define PATH_VERTEX_PARAMS                                                                                  \
   SCENE_SURFACE_PARAMS, __global const Light *restrict lights, __global const uint *restrict light_of_sphere, \
       __global const uint *restrict light_of_cylinder, __global const uint *restrict light_of_triangle,        \
-      const PathParams *params, PATH_QUEUE_PARAMS(in), __global const Hit *restrict hits, FILM_PARAMS,        \
-      PATH_QUEUE_PARAMS(next), SHADOW_QUEUE_PARAMS(shadow) PATH_CAUSTIC_PARAMS PATH_NUMERICS_PARAMS PATH_AUX_PARAMS
+      const PathParams *params, FILM_PARAMS PATH_CAUSTIC_PARAMS PATH_NUMERICS_PARAMS PATH_AUX_PARAMS
 #define PATH_VERTEX_ARGS                                                                                   \
   spheres, cylinders, triangles, triangle_shading, materials, textures, texels, environment, lights,        \
-      light_of_sphere,                                                                                      \
-      light_of_cylinder, light_of_triangle, &params, PATH_QUEUE_ARGS(in), hits, FILM_ARGS, PATH_QUEUE_ARGS(next), \
-      SHADOW_QUEUE_ARGS(shadow) PATH_CAUSTIC_ARGS PATH_NUMERICS_ARGS PATH_AUX_ARGS
+      light_of_sphere, light_of_cylinder, light_of_triangle, &params, FILM_ARGS PATH_CAUSTIC_ARGS            \
+          PATH_NUMERICS_ARGS PATH_AUX_ARGS
 
-/* Path i's vertex: true when the path goes on, as *child. *aux_open: the
- * aux passes still wait for this sample's surface (it passed through a
- * mirror or smooth glass here): if the path ends, the caller adds "no
- * surface" for it. */
-inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out, bool* aux_open) {
-  shadow_mark_empty(SHADOW_QUEUE_ARGS(shadow), i);
-  const Hit hit = hits[i];
-  const PathRecord ray = path_load(PATH_QUEUE_ARGS(in), i);
+/* One vertex of a path: the ray that arrived and what it hit, in; out, its
+ * shadow ray (pixel SHADOW_SLOT_EMPTY: none) and, when the path goes on
+ * (true), its continuation. Records by value: the wavefront stage loads
+ * and stores them in its queues, the paths shape (trace_paths below) keeps
+ * them in registers. *aux_open: the aux passes still wait for this
+ * sample's surface (it passed through a mirror or smooth glass here): if
+ * the path ends, the caller adds "no surface" for it. */
+inline bool shade_path_vertex(PATH_VERTEX_PARAMS, const PathRecord ray, const Hit hit, ShadowRecord* shadow,
+                              PathRecord* child_out, bool* aux_open) {
+  shadow->pixel = SHADOW_SLOT_EMPTY;
   const float3 throughput = ray.throughput.xyz;
   const float3 d = ray.dir.xyz;
   *aux_open = false;
@@ -288,13 +288,11 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, uint i, PathRecord* child_out,
           float tmax;
           const float3 origin = spawn_ray_to(sp.position, sp.p_error, sp.normal, ls.point, ls.p_error, ls.normal,
                                                     &dir, &tmax);
-          ShadowRecord s;
-          s.origin = (float4)(origin, 0.0f);
-          s.dir = (float4)(dir, 0.0f);
-          s.contribution = (float4)(contribution, 0.0f);
-          s.pixel = ray.pixel;
-          s.tmax = tmax;
-          shadow_store(SHADOW_QUEUE_ARGS(shadow), i, s);
+          shadow->origin = (float4)(origin, 0.0f);
+          shadow->dir = (float4)(dir, 0.0f);
+          shadow->contribution = (float4)(contribution, 0.0f);
+          shadow->pixel = ray.pixel;
+          shadow->tmax = tmax;
         }
       }
     }
@@ -386,7 +384,13 @@ __kernel void shade_surface_path(SCENE_SURFACE_PARAMS, __global const Light* res
   bool goes_on = false, starts = false;
   if (i < count) {
     bool aux_open;
-    goes_on = shade_path_vertex(PATH_VERTEX_ARGS, i, &child, &aux_open);
+    ShadowRecord shadow_ray;
+    goes_on = shade_path_vertex(PATH_VERTEX_ARGS, path_load(PATH_QUEUE_ARGS(in), i), hits[i], &shadow_ray, &child,
+                                &aux_open);
+    if (shadow_ray.pixel == SHADOW_SLOT_EMPTY)
+      shadow_mark_empty(SHADOW_QUEUE_ARGS(shadow), i);
+    else
+      shadow_store(SHADOW_QUEUE_ARGS(shadow), i, shadow_ray);
 #if HAS_AUX_PASSES
     /* its path ended before a rough surface: none, once */
     if (!goes_on && aux_open)
