@@ -17,6 +17,7 @@
 #if HAS_CAUSTICS
 #include "photon/emit_photons.cl"
 #include "photon/bounce_photons.cl"
+#include "photon/trace_photons.cl"
 #include "photon/compact_photons.cl"
 #include "photon_grid.cl"
 #include "photon/gather_photons.cl"

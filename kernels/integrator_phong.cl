@@ -15,6 +15,7 @@
 #if HAS_CAUSTICS
 #include "photon/emit_photons.cl"
 #include "photon/bounce_photons.cl"
+#include "photon/trace_photons.cl"
 #include "photon/compact_photons.cl"
 #include "photon_grid.cl"
 #endif

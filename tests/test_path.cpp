@@ -239,11 +239,13 @@ TEST(PathTracer, SameBitsForAnyThreadCountAndWorkGroupSize) {
 TEST(PathTracer, RegeneratedPathsGiveTheSameBitsAsSlotsToSpare) {
   const std::string scene = write_scene("arealit.json", kAreaLit);
   const int spp = 8;
-  test::PathRenderOptions few, few_wide;
+  test::PathRenderOptions wavefront, few, few_wide;
+  wavefront.kernel_shape = few.kernel_shape = few_wide.kernel_shape = KernelShape::Wavefront;  // the queues' test
   few.path_slots = 64;
   few_wide.path_slots = 64;
   few_wide.local_size = 16;
-  const PathRender spare = render(scene, spp), a = render_path(scene, spp, few), b = render_path(scene, spp, few_wide);
+  const PathRender spare = render_path(scene, spp, wavefront), a = render_path(scene, spp, few),
+                   b = render_path(scene, spp, few_wide);
   for (const PathRender* r : {&a, &b}) {
     ASSERT_EQ(r->image.rgb.size(), spare.image.rgb.size());
     EXPECT_EQ(0, std::memcmp(r->image.rgb.data(), spare.image.rgb.data(), spare.image.rgb.size() * sizeof(float)));

@@ -135,6 +135,12 @@ PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const 
   offsets_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, (n + 1) * sizeof(cl_uint));
   photons_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, n * sizeof(Photon));
   stored_count_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint));
+  if (settings.kernel_shape == KernelShape::Paths) {
+    paths_shape_ = true;
+    trace_ = StageKernel(program, "trace_photons");
+    progress_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint));
+    launcher.runtime().fill(progress_, cl_uint(0), 0, 2 * sizeof(cl_uint));
+  }
   if (gather_mode_ == PhotonGather::PerPixel) {
     gather_ = StageKernel(program, "gather_photons");
     visible_points_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixel_count_ * sizeof(VisiblePoint));
@@ -328,13 +334,7 @@ PhotonPassParams PhotonPass::params(uint32_t map_index) const {
   return p;
 }
 
-void PhotonPass::trace(RenderStats* stats) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const uint32_t pass_index = maps_++;
-  if (gather_mode_ == PhotonGather::PerPixel && pass_index == 0)
-    launcher_.runtime().fill(gather_counters_, cl_ulong(0), 0, GATHER_COUNTERS * sizeof(cl_ulong));
-  last_photon_rays_ = 0;
-  const PhotonPassParams p = params(pass_index);
+void PhotonPass::trace_wavefront(const PhotonPassParams& p, RenderStats* stats) {
   KernelArgs emit(emit_);
   emit.arg("lights", lights_);
   scene_.bind_light_data(emit)
@@ -379,6 +379,48 @@ void PhotonPass::trace(RenderStats* stats) {
   photon_rays_seen_ += rays;
   if (stats) stats->photon_rays += rays;
   last_photon_rays_ = rays;
+}
+
+// The paths shape: each work-item takes this process's next photon and
+// follows it to its end (trace_photons.cl); the same photon map.
+void PhotonPass::trace_paths(const PhotonPassParams& p, RenderStats* stats) {
+  const uint32_t traced = photon_end_ - first_photon_;
+  launcher_.runtime().fill(stored_, cl_uint(0), 0, size_t(photons_per_pass_) * sizeof(cl_uint));
+  launcher_.runtime().fill(progress_, cl_uint(0), 0, sizeof(cl_uint));
+  KernelArgs trace(trace_);
+  scene_.bind_scene(trace)
+      .arg("lights", lights_)
+      .arg("params", p)
+      .arg("casters", casters_)
+      .arg("caster_count", caster_count_)
+      .arg("candidates", candidates_)
+      .arg("stored", stored_)
+      .arg("progress", progress_)
+      .finish();
+  const size_t workers =
+      std::max<size_t>(1, launcher_.runtime().device_info().compute_units) * launcher_.local_size();
+  if (traced > 0) launcher_.launch(trace_, workers, stats);
+  cl_uint progress[2] = {0, 0};
+  launcher_.runtime().queue().enqueueReadBuffer(progress_, CL_TRUE, 0, sizeof progress, progress);
+  if (stats) ++stats->blocking_transfers;
+  const cl_uint rays = progress[1] - photon_rays_seen_;  // the counter runs over the render (mod 2^32)
+  photon_rays_seen_ += rays;
+  if (stats) stats->photon_rays += rays;
+  last_photon_rays_ = rays;
+}
+
+void PhotonPass::trace(RenderStats* stats) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const uint32_t pass_index = maps_++;
+  if (gather_mode_ == PhotonGather::PerPixel && pass_index == 0)
+    launcher_.runtime().fill(gather_counters_, cl_ulong(0), 0, GATHER_COUNTERS * sizeof(cl_ulong));
+  last_photon_rays_ = 0;
+  const PhotonPassParams p = params(pass_index);
+  if (paths_shape_) {
+    trace_paths(p, stats);
+  } else {
+    trace_wavefront(p, stats);
+  }
   // Stored photons packed in photon order: offsets = exclusive scan of the
   // flags, whose last entry (a 0 appended) becomes the total.
   launcher_.runtime().copy(stored_, offsets_, 0, 0, size_t(photons_per_pass_) * sizeof(cl_uint));

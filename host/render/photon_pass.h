@@ -223,6 +223,13 @@ class PhotonPass final : public SeparateEstimate {
   PhotonGatherStats last_gathers_;
   uint64_t last_photon_rays_ = 0, last_stored_ = 0;
   StageKernel emit_, intersect_, bounce_, compact_, gather_;  // gather_: PerPixel only
+  // The paths shape (settings.kernel_shape, trace_photons.cl): one kernel
+  // per map; progress_: photons taken, rays traced.
+  bool paths_shape_ = false;
+  void trace_wavefront(const PhotonPassParams& p, RenderStats* stats);
+  void trace_paths(const PhotonPassParams& p, RenderStats* stats);
+  StageKernel trace_;
+  cl::Buffer progress_;
   DeviceQueue queues_[2];
   std::unique_ptr<WaveLoop> loop_;  // the bounce loop (host/render/wave_loop.h)
   cl_uint photon_rays_seen_ = 0;    // its photon-ray counter after the latest map

@@ -45,6 +45,7 @@
       __global const Triangle *restrict triangles, __global const TriangleShading *restrict triangle_shading, \
       __global const Material *restrict materials, __global const Texture *restrict textures,           \
       __global const ushort *restrict texels, __global const float *restrict environment
+#define SCENE_SURFACE_ARGS spheres, cylinders, triangles, triangle_shading, materials, textures, texels, environment
 
 typedef struct {
   float3 position;

@@ -26,20 +26,13 @@ inline float phong_scale(PhotonRecord photon, float length) {
   return (photon.flags & PHOTON_FROM_ENVIRONMENT) ? M_1_PI_F : length * length;
 }
 
-__kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PHOTON_QUEUE_PARAMS(in),
-                             __global const Hit* restrict hits, PHOTON_QUEUE_PARAMS(next), uint ray_capacity,
-                             volatile __global uint* restrict cleared_count, volatile __global uint* restrict rays_traced,
-                             __global Photon* restrict candidates, __global uint* restrict stored) {
-  const uint i = get_global_id(0);
-  const uint count = *in_count;
-  if (i == 0) { /* the wave loop's counters (host/render/wave_loop.h) */
-    *cleared_count = 0u;
-    atomic_add(rays_traced, count);
-  }
-  if (i >= count) return;
-  const Hit hit = hits[i];
-  if (hit.prim == PRIM_NONE) return;
-  const PhotonRecord photon = photon_load(PHOTON_QUEUE_ARGS(in), i);
+/* Photon `photon` at `hit`: stored (candidates and stored, at its index)
+ * or scattered; true with its continuation in *child_out. The wavefront
+ * stage below and the paths shape (trace_photons.cl) call it. */
+inline bool bounce_photon(SCENE_SURFACE_PARAMS, const PhotonPassParams* params, const PhotonRecord photon,
+                          const Hit hit, __global Photon* restrict candidates, __global uint* restrict stored,
+                          PhotonRecord* child_out) {
+  if (hit.prim == PRIM_NONE) return false;
   const float3 d = photon.dir.xyz;
   const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, photon.origin.xyz, d);
   __global const Material* mat = &materials[sp.material];
@@ -62,25 +55,25 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PHOT
       candidates[photon.index] = p;
       stored[photon.index] = 1u;
     }
-    return;
+    return false;
   }
   /* The light path leaves this caster: 1 scattering event here, and at
    * least one more where it is gathered. */
-  if (photon.depth + 2u > params.max_depth) return;
+  if (photon.depth + 2u > params->max_depth) return false;
   const bool opaque = bsdf.kind != BSDF_DIELECTRIC;
   const ShadingFrame frame = shading_frame(bsdf, sp.shading_normal, sp.normal, d);
   const float3 t = frame.t, b = frame.b, n = frame.n, ng = frame.ng;
   const float3 wo = frame_to_local(-d, t, b, n);
-  const uint key = hash3(photon.index, params.pass_index, params.seed), dim = 8u + 4u * photon.depth;
+  const uint key = hash3(photon.index, params->pass_index, params->seed), dim = 8u + 4u * photon.depth;
   const float3 u = (float3)(random_float(key, dim), random_float(key, dim + 1u), random_float(key, dim + 2u));
   float3 wi_local, weight;
   float pdf;
   uint flags;
-  if (!bsdf_sample(bsdf, wo, u, &wi_local, &weight, &pdf, &flags)) return;
+  if (!bsdf_sample(bsdf, wo, u, &wi_local, &weight, &pdf, &flags)) return false;
   const float3 wi = frame_to_world(wi_local, t, b, n);
-  if (opaque && dot(wi, ng) <= 0.0f) return;
+  if (opaque && dot(wi, ng) <= 0.0f) return false;
   const float3 flux = photon.power.xyz * photon_weight(bsdf, wo, weight, flags);
-  if (!(fmax(flux.x, fmax(flux.y, flux.z)) > 0.0f)) return;
+  if (!(fmax(flux.x, fmax(flux.y, flux.z)) > 0.0f)) return false;
   PhotonRecord child = photon;
   child.origin = (float4)(spawn_ray_origin(sp.position, sp.p_error, sp.normal, wi), 0.0f);
   child.dir = (float4)(wi, 0.0f);
@@ -88,5 +81,23 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PHOT
   child.depth = photon.depth + 1u;
   child.path_length = photon.path_length + hit.t; /* phong's gather, lib/caustics.h */
   child.flags = PHOTON_AFTER_CASTER | (photon.flags & (PHOTON_FROM_ENVIRONMENT | PHOTON_FROM_DISTANT_LIGHT));
-  photon_push(PHOTON_QUEUE_ARGS(next), ray_capacity, child);
+  *child_out = child;
+  return true;
+}
+
+__kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PHOTON_QUEUE_PARAMS(in),
+                             __global const Hit* restrict hits, PHOTON_QUEUE_PARAMS(next), uint ray_capacity,
+                             volatile __global uint* restrict cleared_count, volatile __global uint* restrict rays_traced,
+                             __global Photon* restrict candidates, __global uint* restrict stored) {
+  const uint i = get_global_id(0);
+  const uint count = *in_count;
+  if (i == 0) { /* the wave loop's counters (host/render/wave_loop.h) */
+    *cleared_count = 0u;
+    atomic_add(rays_traced, count);
+  }
+  if (i >= count) return;
+  PhotonRecord child;
+  if (bounce_photon(SCENE_SURFACE_ARGS, &params, photon_load(PHOTON_QUEUE_ARGS(in), i), hits[i], candidates, stored,
+                    &child))
+    photon_push(PHOTON_QUEUE_ARGS(next), ray_capacity, child);
 }

@@ -116,25 +116,17 @@ inline float3 sample_toward_casters(__global const float4* restrict casters, uin
   return w;
 }
 
-__kernel void emit_photons(__global const Light* restrict lights,
-                           __global const TriangleShading* restrict triangle_shading,
-                           __global const Texture* restrict textures, __global const ushort* restrict texels,
-                           __global const float* restrict environment, PhotonPassParams params,
-                           __global const float4* restrict casters, uint caster_count, PHOTON_QUEUE_PARAMS(out),
-                           __global uint* restrict next_count) {
-  /* This process's photons [first_photon, photon_end) (all of them in one
-   * process): photon i's random numbers are keyed by i, so a share traces
-   * exactly the photons one process would, in queue slots from 0. */
-  const uint slot = get_global_id(0), i = params.first_photon + slot;
-  if (slot == 0) { /* the wave loop's counts (host/render/wave_loop.h): the host writes none */
-    *out_count = params.photon_end - params.first_photon;
-    *next_count = 0u;
-  }
-  if (i >= params.photon_end) return;
-  const uint li = pick_light(lights, params.light_count, photon_random(i, params, 0u));
+/* Photon i's first ray from its light (the paths shape, trace_photons.cl,
+ * calls this too). */
+inline PhotonRecord emit_photon(__global const Light* restrict lights,
+                                __global const TriangleShading* restrict triangle_shading,
+                                __global const Texture* restrict textures, __global const ushort* restrict texels,
+                                __global const float* restrict environment, const PhotonPassParams* params,
+                                __global const float4* restrict casters, uint caster_count, uint i) {
+  const uint li = pick_light(lights, params->light_count, photon_random(i, *params, 0u));
   __global const Light* l = &lights[li];
-  const float2 u_point = (float2)(photon_random(i, params, 1u), photon_random(i, params, 2u));
-  const float2 u_dir = (float2)(photon_random(i, params, 3u), photon_random(i, params, 4u));
+  const float2 u_point = (float2)(photon_random(i, *params, 1u), photon_random(i, *params, 2u));
+  const float2 u_dir = (float2)(photon_random(i, *params, 3u), photon_random(i, *params, 4u));
   float3 p_error, n; /* the point's error bound, as sample_light's (spawn_ray_origin), and its normal */
   const float3 point = light_emission_point(l, environment, u_point, &p_error, &n);
   float3 origin, dir, flux;
@@ -151,19 +143,38 @@ __kernel void emit_photons(__global const Light* restrict lights,
     flux = directional_emit_through(l, distant_light_disk(l, casters, caster_count), point, &origin, &dir);
   } else if (caster_count > 0u) {
     float pdf;
-    dir = sample_toward_casters(casters, caster_count, point, photon_random(i, params, 5u), u_dir, &pdf);
+    dir = sample_toward_casters(casters, caster_count, point, photon_random(i, *params, 5u), u_dir, &pdf);
     flux = light_emitted_toward(l, environment, point, p_error, n, &dir, pdf, &origin);
   } else {
-    flux = light_emit(l, environment, point, p_error, n, u_dir, photon_random(i, params, 5u), &origin, &dir);
+    flux = light_emit(l, environment, point, p_error, n, u_dir, photon_random(i, *params, 5u), &origin, &dir);
   }
   flux *= light_emission_texel(l, triangle_shading, textures, texels, u_point); /* the texel at the point */
   PhotonRecord photon;
   photon.origin = (float4)(origin, 0.0f);
   photon.dir = (float4)(dir, 0.0f);
-  photon.power = (float4)(flux / (l->select_probability * (float)params.photon_count), 0.0f);
+  photon.power = (float4)(flux / (l->select_probability * (float)params->photon_count), 0.0f);
   photon.index = i;
   photon.depth = 0u;
   photon.path_length = 0.0f;
   photon.flags = flags;
-  photon_store(PHOTON_QUEUE_ARGS(out), slot, photon);
+  return photon;
+}
+
+__kernel void emit_photons(__global const Light* restrict lights,
+                           __global const TriangleShading* restrict triangle_shading,
+                           __global const Texture* restrict textures, __global const ushort* restrict texels,
+                           __global const float* restrict environment, PhotonPassParams params,
+                           __global const float4* restrict casters, uint caster_count, PHOTON_QUEUE_PARAMS(out),
+                           __global uint* restrict next_count) {
+  /* This process's photons [first_photon, photon_end) (all of them in one
+   * process): photon i's random numbers are keyed by i, so a share traces
+   * exactly the photons one process would, in queue slots from 0. */
+  const uint slot = get_global_id(0), i = params.first_photon + slot;
+  if (slot == 0) { /* the wave loop's counts (host/render/wave_loop.h): the host writes none */
+    *out_count = params.photon_end - params.first_photon;
+    *next_count = 0u;
+  }
+  if (i >= params.photon_end) return;
+  photon_store(PHOTON_QUEUE_ARGS(out), slot,
+               emit_photon(lights, triangle_shading, textures, texels, environment, &params, casters, caster_count, i));
 }
