@@ -200,14 +200,7 @@ inline bool shade_path_vertex(PATH_VERTEX_PARAMS, const PathRecord ray, const Hi
   if (ray.depth >= params->max_depth) return false;
 #endif
 
-  float3 diffuse_colour = mat->diffuse.xyz;
-#if HAS_TEXTURES
-  if (mat->texture >= 0) diffuse_colour = texture_lookup(textures, (__global const half*)texels, mat->texture, sp.uv);
-  const float2 texel_scale = material_texel_scale(mat, textures, (__global const half*)texels, sp.uv);
-#else
-  const float2 texel_scale = make_float2(1.0f, 1.0f);
-#endif
-  const Bsdf bsdf = bsdf_of_material(mat, diffuse_colour, texel_scale);
+  const Bsdf bsdf = material_bsdf_at(mat, textures, texels, sp.uv);
   const bool opaque = bsdf.kind != BSDF_DIELECTRIC;
   const ShadingFrame frame = shading_frame(bsdf, sp.shading_normal, sp.normal, d);
   const float3 t = frame.t, b = frame.b, n = frame.n, ng = frame.ng;

@@ -129,11 +129,7 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const Light* re
   const bool front = dot(sp.normal, d) < 0.0f;
   const float3 n = front ? sp.normal : -sp.normal;                  /* geometric, faces the ray */
   const float3 ns = front ? sp.shading_normal : -sp.shading_normal; /* shading, same side */
-  float3 diffuse_colour = mat->diffuse.xyz;
-#if HAS_TEXTURES
-  /* An image or checker texture replaces the diffuse colour. */
-  if (mat->texture >= 0) diffuse_colour = texture_lookup(textures, (__global const half*)texels, mat->texture, sp.uv);
-#endif
+  const float3 diffuse_colour = material_diffuse_colour(mat, textures, texels, sp.uv);
   film_add(FILM_ARGS, pixel, weight * mat->emission.xyz * material_emission_texel(mat, textures, texels, sp.uv));
 
   /* Split the ray's weight between the local Phong term and the specular

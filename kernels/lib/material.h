@@ -68,6 +68,33 @@ inline float2 material_texel_scale(__global const Material* m, __global const Te
 }
 #endif
 
+/* m's diffuse colour at uv: its texture's texel (an image or checker
+ * texture replaces the colour), else its own. */
+inline float3 material_diffuse_colour(__global const Material* m, __global const Texture* textures,
+                                      __global const ushort* texels, float2 uv) {
+#if HAS_TEXTURES
+  if (m->texture >= 0) return texture_lookup(textures, (__global const half*)texels, m->texture, uv);
+#endif
+  (void)textures;
+  (void)texels;
+  (void)uv;
+  return m->diffuse.xyz;
+}
+
+/* m's BSDF at a surface point's uv, its colour and roughness texels
+ * applied: the one material -> BSDF set-up of the path tracer's vertices
+ * and the photon pass's bounces (the photon map must scatter as the paths
+ * it stands in for do). */
+inline Bsdf material_bsdf_at(__global const Material* m, __global const Texture* textures,
+                             __global const ushort* texels, float2 uv) {
+#if HAS_TEXTURES
+  const float2 texel_scale = material_texel_scale(m, textures, (__global const half*)texels, uv);
+#else
+  const float2 texel_scale = make_float2(1.0f, 1.0f);
+#endif
+  return bsdf_of_material(m, material_diffuse_colour(m, textures, texels, uv), texel_scale);
+}
+
 /* What scales m's emission at uv: its emission_texture's texel (glTF's
  * emissiveTexture, stored linear like base colour), 1 without one (or
  * without HAS_TEXTURES, where no material has one). */

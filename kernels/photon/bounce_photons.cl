@@ -36,14 +36,7 @@ inline bool bounce_photon(SCENE_SURFACE_PARAMS, const PhotonPassParams* params, 
   const float3 d = photon.dir.xyz;
   const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, photon.origin.xyz, d);
   __global const Material* mat = &materials[sp.material];
-  float3 diffuse_colour = mat->diffuse.xyz;
-#if HAS_TEXTURES
-  if (mat->texture >= 0) diffuse_colour = texture_lookup(textures, (__global const half*)texels, mat->texture, sp.uv);
-  const float2 texel_scale = material_texel_scale(mat, textures, (__global const half*)texels, sp.uv);
-#else
-  const float2 texel_scale = make_float2(1.0f, 1.0f);
-#endif
-  const Bsdf bsdf = bsdf_of_material(mat, diffuse_colour, texel_scale);
+  const Bsdf bsdf = material_bsdf_at(mat, textures, texels, sp.uv);
   if (!bsdf_casts_caustics(bsdf)) {
     if (photon.flags & PHOTON_AFTER_CASTER) {
       Photon p;
