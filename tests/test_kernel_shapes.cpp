@@ -103,6 +103,22 @@ TEST(KernelShapes, EveryCommittedSceneGivesTheSameBitsInBothShapes) {
   EXPECT_GE(compared, 10u);
 }
 
+// One scene with everything the paths shape runs (camera paths, shadow
+// rays, the photon map traced as paths, visible points and inline gathers,
+// adaptive waves): small enough for Oclgrind's checks in CI.
+TEST(KernelShapes, TheCausticsSceneGivesTheSameBitsInBothShapes) {
+  const std::string scene = test::source_dir() + "/scenes/caustics.json";
+  const ShapeRender wavefront = render_with(scene, KernelShape::Wavefront, CausticsMode::On);
+  const ShapeRender paths = render_with(scene, KernelShape::Paths, CausticsMode::On);
+  EXPECT_GT(paths.stats.photon_maps, 0u);
+  EXPECT_EQ(wavefront.stats.photon_rays, paths.stats.photon_rays);
+  EXPECT_EQ(wavefront.stats.shadow_rays, paths.stats.shadow_rays);
+  EXPECT_EQ(wavefront.spp, paths.spp);
+  ASSERT_EQ(wavefront.image.rgb.size(), paths.image.rgb.size());
+  EXPECT_EQ(0, std::memcmp(wavefront.image.rgb.data(), paths.image.rgb.data(),
+                           wavefront.image.rgb.size() * sizeof(float)));
+}
+
 // Phong's photon pass runs in the same two shapes (trace_photons.cl): the
 // same photon maps, so the same image, pass after pass.
 TEST(KernelShapes, PhongsPhotonPassGivesTheSameBitsInBothShapes) {
