@@ -36,8 +36,10 @@ ShapeRender render_with(const std::string& scene, KernelShape shape, CausticsMod
   o.scene_path = scene;
   o.mode = mode;
   o.device = test::device_spec();
-  o.width = int(test::sized(40, 12));
-  o.spp = int(test::sized(12, 3));
+  o.width = int(test::sized(40, 8));
+  o.spp = int(test::sized(12, 2));
+  // Oclgrind interprets every work-item: a few hundred photons a map there.
+  if (test::on_simulator()) o.photons = 256;
   o.seed = 7;
   o.caustics = caustics;
   o.kernel_shape = shape;
