@@ -119,6 +119,9 @@ class PathIntegrator final : public Integrator {
   // The shade stage's and trace_paths' arguments after the film (the
   // photon pass's, the numeric counters, the aux passes), in their order.
   void bind_vertex_tail(KernelArgs& args, Film& film);
+  // A wave's closest-hit and shadow rays from the counters at its end
+  // (both shapes keep them alike), into pass_rays_ and the stats.
+  void count_wave_rays(cl_uint closest_rays, cl_uint shadow_rays, size_t samples, RenderStats* stats);
 
  public:
   PathIntegrator(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
@@ -368,8 +371,12 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
     return remaining == 0 ? WaveLoop::kStop : remaining;
   };
   loop_->run(started, ~0u, enqueue, decide, stats);  // never overflows: a path pushes one record at most
-  const cl_uint closest_rays = loop_->last().extra(kWaveProgress, WAVE_CLOSEST_RAYS);
-  const cl_uint shadow_rays = loop_->last().extra(kShadowRays);
+  count_wave_rays(loop_->last().extra(kWaveProgress, WAVE_CLOSEST_RAYS), loop_->last().extra(kShadowRays), samples,
+                  stats);
+  return true;
+}
+
+void PathIntegrator::count_wave_rays(cl_uint closest_rays, cl_uint shadow_rays, size_t samples, RenderStats* stats) {
   // The wave's rays: the counters run over the render (modulo 2^32).
   const cl_uint closest = closest_rays - closest_rays_seen_, shadow = shadow_rays - shadow_rays_seen_;
   closest_rays_seen_ = closest_rays;
@@ -379,7 +386,6 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
     stats->secondary_rays += closest - std::min<uint64_t>(closest, samples);
     stats->shadow_rays += shadow;
   }
-  return true;
 }
 
 void PathIntegrator::bind_vertex_tail(KernelArgs& args, Film& film) {
@@ -415,20 +421,12 @@ bool PathIntegrator::trace_paths(Film& film, const PathParams& params, const Cam
   paths.finish();
   launcher_.launch(paths_, workers, stats);
   if (stats) stats->camera_rays += samples;
-  // The counters run over the render (modulo 2^32), as the wavefront's.
   cl_uint progress[WAVE_PROGRESS_VALUES], shadow_rays = 0;
   launcher_.runtime().queue().enqueueReadBuffer(loop_->extra(kWaveProgress), CL_FALSE, 0, sizeof progress, progress);
   launcher_.runtime().queue().enqueueReadBuffer(loop_->extra(kShadowRays), CL_TRUE, 0, sizeof shadow_rays,
                                                 &shadow_rays);
   if (stats) ++stats->blocking_transfers;
-  const cl_uint closest = progress[WAVE_CLOSEST_RAYS] - closest_rays_seen_, shadow = shadow_rays - shadow_rays_seen_;
-  closest_rays_seen_ = progress[WAVE_CLOSEST_RAYS];
-  shadow_rays_seen_ = shadow_rays;
-  pass_rays_ += uint64_t(closest) + shadow;
-  if (stats) {
-    stats->secondary_rays += closest - std::min<uint64_t>(closest, samples);
-    stats->shadow_rays += shadow;
-  }
+  count_wave_rays(progress[WAVE_CLOSEST_RAYS], shadow_rays, samples, stats);
   return true;
 }
 

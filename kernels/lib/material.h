@@ -68,17 +68,25 @@ inline float2 material_texel_scale(__global const Material* m, __global const Te
 }
 #endif
 
+/* Texture `index`'s texel at uv, or `otherwise` where there is none (-1,
+ * or a program without HAS_TEXTURES, where no material has one). */
+inline float3 material_texel_or(__global const Texture* textures, __global const ushort* texels, int index, float2 uv,
+                                float3 otherwise) {
+#if HAS_TEXTURES
+  if (index >= 0) return texture_lookup(textures, (__global const half*)texels, index, uv);
+#endif
+  (void)textures;
+  (void)texels;
+  (void)index;
+  (void)uv;
+  return otherwise;
+}
+
 /* m's diffuse colour at uv: its texture's texel (an image or checker
  * texture replaces the colour), else its own. */
 inline float3 material_diffuse_colour(__global const Material* m, __global const Texture* textures,
                                       __global const ushort* texels, float2 uv) {
-#if HAS_TEXTURES
-  if (m->texture >= 0) return texture_lookup(textures, (__global const half*)texels, m->texture, uv);
-#endif
-  (void)textures;
-  (void)texels;
-  (void)uv;
-  return m->diffuse.xyz;
+  return material_texel_or(textures, texels, m->texture, uv, m->diffuse.xyz);
 }
 
 /* m's BSDF at a surface point's uv, its colour and roughness texels
@@ -100,14 +108,7 @@ inline Bsdf material_bsdf_at(__global const Material* m, __global const Texture*
  * without HAS_TEXTURES, where no material has one). */
 inline float3 material_emission_texel(__global const Material* m, __global const Texture* textures,
                                       __global const ushort* texels, float2 uv) {
-#if HAS_TEXTURES
-  if (m->emission_texture >= 0) return texture_lookup(textures, (__global const half*)texels, m->emission_texture, uv);
-#endif
-  (void)m;
-  (void)textures;
-  (void)texels;
-  (void)uv;
-  return splat_float3(1.0f);
+  return material_texel_or(textures, texels, m->emission_texture, uv, splat_float3(1.0f));
 }
 
 /* A caster of caustics: a smooth enough conductor or dielectric (the photon
