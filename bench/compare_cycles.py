@@ -34,7 +34,8 @@ scaled by 2^(the camera's exposure)). Rows:
         Sample Count pass (the fraction of it each pixel took);
   * Mitsuba 3 rows are left out: the `mitsuba` package is not installed in
         this venv and Mitsuba has no CPU denoiser; bench/compare_mitsuba.py
-        compares the raw renders.
+        compares the raw renders of all three (its Cycles rows use this
+        script's converter and child: adaptive sampling and denoising off).
 
 Wall seconds: caustica's are the whole process (start, scene load, cached
 kernel build, render, write). Cycles': "wall s" is the bpy.ops.render.render
@@ -423,7 +424,8 @@ def cycles_child(job_path):
     info = {"wall_s": wall, "import_s": t_import, "build_s": t_build, "samples": samples,
             "sync_s": (started - t0) if started else None, "after_s": (t1 - last) if last else None,
             "channels": names,
-            "stats_tail": [s for _, s in stats[-4:]], "blender": bpy.app.version_string}
+            "stats_tail": [s for _, s in stats[-4:]], "blender": bpy.app.version_string,
+            "sampling_pattern": scene.cycles.sampling_pattern}
     if counts is not None:
         info["sample_count_pass"] = {"mean": float(counts.mean()), "max": float(counts.max()),
                                      "min": float(counts.min())}
@@ -1126,9 +1128,10 @@ def caustic_mask(args, scene, w, h, ref, folder):
 # ---------------------------------------------------------------- orientation check
 
 
-def check_orientation(args):
-    np = np_mod()
-    folder = tempfile.mkdtemp(prefix="caustica_cycles_orient_")
+def write_orientation_scene(folder):
+    """The orientation test scene, 64x64 (a small red sphere up and on the +x
+    side of a grey wall, lit by a white background), written to folder; its
+    path (bench/compare_mitsuba.py --check-orientation renders it too)."""
     scene = {"nbounces": 2, "rendermode": "pathtracer",
              "camera": {"type": "pinhole", "width": 64, "height": 64, "position": [0, 0, -5], "lookAt": [0, 0, 0],
                         "upVector": [0, 1, 0], "fov": 40},
@@ -1140,6 +1143,13 @@ def check_orientation(args):
     path = os.path.join(folder, "orientation.json")
     with open(path, "w") as f:
         json.dump(scene, f)
+    return path
+
+
+def check_orientation(args):
+    np = np_mod()
+    folder = tempfile.mkdtemp(prefix="caustica_cycles_orient_")
+    path = write_orientation_scene(folder)
     try:
         out = os.path.join(folder, "c.pfm")
         run_caustica(args, path, 64, 64, out, ["--no-adaptive"], spp=64)
@@ -1181,12 +1191,7 @@ def check_orientation(args):
 # ---------------------------------------------------------------- one scene
 
 
-def display_path(p):
-    a = os.path.abspath(p)
-    for base in (ROOT, os.path.dirname(ROOT)):
-        if a.startswith(base + os.sep):
-            return os.path.relpath(a, ROOT)
-    return p
+display_path = cm.display_path  # relative to the repository, also for ../shared/...
 
 
 def parse_scene_arg(s, args):

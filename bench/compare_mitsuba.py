@@ -1,26 +1,42 @@
 #!/usr/bin/env python3
-"""Equal-time comparison of caustica's path tracer with Mitsuba 3 (optional;
-not part of the tests or CI).
+"""Equal-time comparison of caustica's path tracer with Mitsuba 3 and
+Blender's Cycles (optional; not part of the tests or CI).
 
-For each scene, both renderers get the same number of threads and the same
-wall time at the same image size; each image's relMSE against a reference
-is reported (relMSE = mean over pixels and channels of
-(x - ref)^2 / (ref^2 + 0.01)) together with relMSE x seconds, which is
-constant for an unbiased renderer and so compares the two at exactly equal
-time even where the runs' times differ a little.
+For each scene, the three renderers get the same number of threads and the
+same wall time at the same image size; each image's relMSE against a
+reference is reported (relMSE = mean over pixels and channels of
+(x - ref)^2 / (ref^2 + 0.01)) together with samples/s (spp x pixels / wall
+seconds) and relMSE x seconds, which is constant for an unbiased renderer
+and so compares them at exactly equal time even where the runs' times
+differ a little.
 
     pip install mitsuba                 # 3.9.1 was used
     apt-get install libllvm19           # Mitsuba's fast llvm_ad_rgb variant
-    nice -n 19 bench/compare_mitsuba.py --seconds 10 --width 128 --height 128 \
+    /usr/bin/python3.11 -m venv bench/cycles/venv      # Cycles: bpy (Debian's Python 3.11)
+    bench/cycles/venv/bin/pip install bpy==5.0.1 OpenEXR
+    nice -n 19 bench/compare_mitsuba.py --seconds 10 --width 128 --height 128 \\
         --reference-spp 16384 --json out.json
 
-(--reference-spp 16384 keeps the references' own noise near a tenth of the
-10 s renders' error; the default 4096 is faster to make, once: references
-are cached.)
+The full table of issue 39 (Cornell box at 128^2 and 512^2, showcase_path,
+caustics and two path-traced community scenes, 10 s each):
 
-Without scene arguments it runs scenes/cornell_box.json, scenes/caustics.json
-and scenes/showcase_path.json. The Markdown (one table per scene and a
-summary line) goes to stdout; progress goes to stderr.
+    C=../shared/scenes-coursework/community
+    nice -n 19 bench/compare_mitsuba.py scenes/cornell_box.json@128x128 \\
+        scenes/cornell_box.json@512x512 scenes/showcase_path.json@128x128 \\
+        scenes/caustics.json@128x128 $C/Kierandon__cpp-raytracer__cornell_box.json@128x128 \\
+        $C/michaelzhang4__raytracer__pathtracer_scene.json@192x128 \\
+        --seconds 10 --reference-spp 16384 --cycles-reference-spp 8192 --json out.json
+
+(--reference-spp 16384 keeps the references' own noise near a tenth of the
+10 s renders' error at 128^2; the default 4096 is faster to make, once:
+references are cached. Cycles takes fewer samples in 10 s, so its own
+references need fewer.) A scene is SCENE.json or SCENE.json@WxH; without
+@WxH it is rendered at --width x --height. Without scene arguments it runs
+scenes/cornell_box.json, scenes/caustics.json and scenes/showcase_path.json.
+The Markdown (one table per scene, a summary line and a summary table with
+each renderer's relMSE x s and samples/s over caustica's) goes to stdout;
+progress goes to stderr. --no-cycles leaves Cycles out (so does a missing
+venv, and the output says so).
 
 Mitsuba: its fastest variant that runs here, llvm_ad_rgb, when a libLLVM >= 16
 is found (DRJIT_LIBLLVM_PATH, else /usr/lib/x86_64-linux-gnu/libLLVM.so.19.1
@@ -36,22 +52,57 @@ reports the spp that ran. Wall seconds are those of mi.render (JIT compilation i
 "JIT s" says how much, ~0 when Dr.Jit's disk cache had the kernel; every
 sampler but independent compiles a new kernel for a new spp); scene loading
 is not counted.
+Cycles (bpy 5.0.1 in bench/cycles/venv; this script runs with the python3
+that has Mitsuba, so Cycles runs in a child process of the venv's python):
+bench/compare_cycles.py's converter and child (describe, run_cycles: the
+conversion is that script's, see its docstring). Settings: CPU device,
+--threads threads, adaptive sampling off, denoising off, clamping off
+(direct and indirect), light threshold 0, blur_glossy (filter glossy) 0, box
+pixel filter of 1 px, default sampling pattern (tabulated Sobol), seed 1;
+emitters are meshes whose Emission shader is zeroed on back faces
+(emission sampling FRONT), of the same radiance as caustica's. One render
+with samples 2^24 and a time_limit: Cycles' limit counts the sampling
+alone, so it is --seconds less the scene sync and the writing after the
+last sample that a short probe measured, and the render runs again (at most
+twice) with the limit moved by the difference when its time was more than
+15% off. Its wall seconds are the bpy.ops.render.render call (sync, BVH
+build, sampling, writing the EXR); the child's start, bpy's import and
+building the Blender scene are not counted; spp is the largest "Sample N/M"
+its render stats reported (every pixel takes the same samples).
 caustica: `caustica render SCENE --mode path --time S --width W --height H
--v -o out.pfm --seed 1` with POCL_MAX_PTHREAD_COUNT = threads; its wall
-seconds are the whole process (start, scene load, cached kernel build).
+--exposure 0 -v -o out.pfm --seed 1` with POCL_MAX_PTHREAD_COUNT = threads,
+after an untimed render of up to 32 spp (so that the kernels it runs are
+built: PoCL builds a kernel again for another image size, which would count
+against --time); its wall seconds are the whole process (start, scene load,
+cached kernel build).
 
 Reference: --reference FILE.pfm (one scene), else a long Mitsuba render
 (independent sampler, --reference-spp, in chunks with distinct seeds) cached
 in bench/mitsuba/cache/ under the scene's name, a hash of its file and of
 this converter, the size and the spp (--reference-renderer caustica: a long
-caustica render instead). Its own noise is estimated from the difference of
-its two halves and printed: it adds about the same amount to every row's
-relMSE, so raise --reference-spp when the output warns about it.
-For a scene whose conversion is approximate, the main reference belongs to
-one renderer and the other's error would include the conversion's bias, so
-(--own-references auto, the default) both renderers also render long
-references and each row is measured against its own renderer's too; those
-columns then pick the best sampler and give the ratio.
+caustica render instead; cycles: Cycles'). Its own noise is estimated from
+the difference of its two halves and printed: it adds about the same amount
+to every row's relMSE, so raise --reference-spp when the output warns about
+it. For a scene whose conversion to Mitsuba or to Cycles is approximate, the
+main reference belongs to one renderer and the others' error would include
+the conversions' bias, so (--own-references auto, the default) every
+renderer also renders a long reference and each row is measured against its
+own renderer's too; those columns then pick the best sampler and give the
+ratios. Cycles' references are bench/compare_cycles.py's (adaptive off, no
+denoising, --cycles-reference-spp samples, default --reference-spp, in two
+halves of seeds 99 and 100), cached in bench/cycles/cache/ (a cached one of
+more samples is used).
+
+Orientation: caustica's camera puts right = up x forward (FORMAT.md), so +x
+is on the image's right for a camera along +z with up +y; Mitsuba's and
+Blender's cameras put it on the left, so both their images are mirrored
+left-right before every comparison. --check-orientation checks it: it
+renders bench/compare_cycles.py's asymmetric test scene (a red sphere up on
+the +x side of a grey wall) at 64x64 with all three (--orientation-spp
+uniform samples) and fails unless caustica draws the sphere at the top right
+and Mitsuba's and Cycles' images, mirrored as compared, put it within 1.5 px
+of caustica's and differ from caustica's by under a tenth of the relMSE of
+their unmirrored images.
 
 Conversion (caustica's meaning: scenes/FORMAT.md, host/scene/*.cpp,
 kernels/lib/material.h, bsdf.h):
@@ -80,6 +131,14 @@ kernels/lib/material.h, bsdf.h):
 Rough GGX models use Mitsuba's separable Smith masking where caustica's is
 height-correlated: a small difference, listed in the notes. The "mean / ref"
 column (image mean over the main reference's) hints at any bias.
+Cycles' conversion (bench/compare_cycles.py's docstring) is exact for
+Lambertian surfaces, smooth and rough glass and conductors (Metallic BSDF
+with F82 = Schlick's curve; GGX height-correlated like caustica's) and
+emitters; APPROXIMATE are caustica's plastic (its Ashikhmin-Shirley
+coupling becomes a Lambert lobe of the same directional albedo beside the
+exact GGX layer), glass spheres (256 x 128 UV-sphere meshes with exact
+normals: Cycles' point-cloud spheres refract wrongly) and cylinders (512
+sides), each listed in the scene's Cycles notes.
 """
 import argparse
 import cmath
@@ -96,9 +155,13 @@ import sys
 import tempfile
 import time
 
+# bench/compare_cycles.py imports this module as compare_mitsuba: run as a
+# script, this module is that one too (one Unsupported, one Converter).
+sys.modules.setdefault("compare_mitsuba", sys.modules[__name__])
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-CONVERTER_VERSION = "2"  # part of the reference cache key: bump when the conversion changes
+CONVERTER_VERSION = "3"  # part of the reference cache key: bump when the conversion changes
 DEFAULT_SCENES = ["scenes/cornell_box.json", "scenes/caustics.json", "scenes/showcase_path.json"]
 SAMPLERS = ["independent", "stratified", "multijitter", "ldsampler", "orthogonal"]
 GGX_ALPHA_MIN = 1e-3
@@ -883,13 +946,97 @@ class Mitsuba:
         return mirror_rows(flat, w, h), wall, jit, ran
 
 
+# ---------------------------------------------------------------- Cycles
+
+
+def compare_cycles_module():
+    """bench/compare_cycles.py, imported when first needed (it imports this
+    module; only the standard library at import time)."""
+    sys.path.insert(0, HERE)
+    import compare_cycles
+    return compare_cycles
+
+
+class Cycles:
+    """Blender's Cycles through bench/compare_cycles.py: its converter
+    (SceneDescription, on this module's scene parsing) and its child process
+    in the bpy venv, which builds the Blender scene and renders it (CPU,
+    adaptive sampling and denoising off: run_cycles). Images come back
+    mirrored into caustica's orientation."""
+
+    def __init__(self, args):
+        self.cc = compare_cycles_module()
+        self.python = self.cc.VENV_PYTHON
+        # what compare_cycles' functions read from their args (its own
+        # defaults for the mesh resolutions of cylinders and glass spheres)
+        self.args = argparse.Namespace(threads=args.threads, seed=1, caustica=args.caustica,
+                                       cylinder_segments=512, glass_sphere_segments=256, sphere_mesh=0,
+                                       cycles_reference_spp=args.cycles_reference_spp or args.reference_spp)
+        self.version = None
+
+    def describe(self, scene):
+        return self.cc.describe(scene, self.args)
+
+    def render(self, desc, w, h, folder, seconds=None, samples=None, seed=None, name="cycles"):
+        """(values in caustica's orientation, the child's info: wall_s (the
+        render call), samples, sync_s, after_s, cpu_s, ...)."""
+        info, raw, _ = self.cc.run_cycles(self.args, desc, w, h, folder, name, False, False, seconds=seconds,
+                                          samples=samples, seed=seed)
+        self.version = info.get("blender")
+        return raw.ravel().tolist(), info
+
+    def reference(self, scene, desc, w, h, folder):
+        """compare_cycles' cached Cycles reference (bench/cycles/cache/)."""
+        ref, info = self.cc.cycles_reference(self.args, scene, desc, w, h, folder, None)
+        return ref.ravel().tolist(), info
+
+
+def cycles_row(args, cy, desc, w, h, folder, stem):
+    """(values, row): Cycles' equal-time render. Its time_limit counts
+    sampling alone, so it is --seconds less the scene sync and the writing
+    after the last sample that a short probe measured; rendered again (at
+    most twice) with the limit moved by the difference when the wall time
+    is more than 15% off."""
+    S = args.seconds
+    probe_s = min(max(0.1 * S, 0.2), 2.0)
+    _, p = cy.render(desc, w, h, folder, seconds=probe_s, name="cycles_probe")
+    if p.get("sync_s") is not None and p.get("after_s") is not None:
+        overhead = p["sync_s"] + p["after_s"]
+    else:
+        overhead = max(p["wall_s"] - probe_s, 0.0)
+    limit = max(S - overhead, 0.1 * S)
+    log("%s: Cycles: probe %s samples in %.2f s (sync %.2f s, after the last sample %.2f s) -> time limit %.2f s"
+        % (stem, p.get("samples"), p["wall_s"], p.get("sync_s") or 0, p.get("after_s") or 0, limit))
+    attempts = []
+    while True:
+        values, info = cy.render(desc, w, h, folder, seconds=limit)
+        attempts.append({"time_limit_s": limit, "wall_s": info["wall_s"], "spp": info.get("samples")})
+        if abs(info["wall_s"] - S) <= 0.15 * S or len(attempts) == 3:
+            break
+        log("%s: Cycles: time limit %.2f s took %.2f s: again" % (stem, limit, info["wall_s"]))
+        limit = max(limit + S - info["wall_s"], 0.1 * S)
+    spp = info.get("samples")
+    row = {"renderer": "Cycles %s" % info.get("blender", ""), "sampler": info.get("sampling_pattern"),
+           "time_limit_s": limit, "spp": spp, "wall_s": info["wall_s"], "sync_s": info.get("sync_s"),
+           "after_s": info.get("after_s"), "cpu_s": info["cpu_s"], "process_s": info["process_s"],
+           "import_s": info.get("import_s"), "build_s": info.get("build_s"), "attempts": attempts,
+           "samples_per_s": w * h * spp / info["wall_s"] if spp else None,
+           "probe": {"time_limit_s": probe_s, "wall_s": p["wall_s"], "spp": p.get("samples"),
+                     "sync_s": p.get("sync_s"), "after_s": p.get("after_s")},
+           "settings": "CPU, %d threads, time_limit %.2f s, samples 2^24, adaptive sampling off, denoising off, "
+                       "clamping off, light threshold 0, blur_glossy 0, box filter 1 px, seed %d"
+                       % (args.threads, limit, cy.args.seed)}
+    log("%s: Cycles: %s spp in %.2f s" % (stem, spp, info["wall_s"]))
+    return values, row
+
+
 # ---------------------------------------------------------------- caustica
 
 
-def run_caustica(args, scene, out):
+def run_caustica(args, scene, w, h, out):
     env = dict(os.environ, POCL_MAX_PTHREAD_COUNT=str(args.threads))
     cmd = [args.caustica, "render", scene, "--mode", "path", "--time", "%g" % args.seconds, "--width",
-           str(args.width), "--height", str(args.height), "-v", "-o", out, "--seed", "1"]
+           str(w), "--height", str(h), "--exposure", "0", "-v", "-o", out, "--seed", "1"]
     t0 = time.perf_counter()
     r = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=args.seconds * 5 + 120)
     wall = time.perf_counter() - t0
@@ -910,10 +1057,19 @@ def run_caustica(args, scene, out):
     return res
 
 
-def run_bench(args, scene):
+def run_caustica_spp(args, scene, w, h, spp, seed, out, extra=()):
+    """The values of a caustica render of a fixed spp (references, checks)."""
+    env = dict(os.environ, POCL_MAX_PTHREAD_COUNT=str(args.threads))
+    subprocess.run([args.caustica, "render", scene, "--mode", "path", "--spp", str(spp), "--width", str(w),
+                    "--height", str(h), "--exposure", "0", "-q", "-o", out, "--seed", str(seed)] + list(extra),
+                   check=True, env=env)
+    return read_pfm(out)[2]
+
+
+def run_bench(args, scene, w, h):
     env = dict(os.environ, POCL_MAX_PTHREAD_COUNT=str(args.threads))
     cmd = [args.caustica, "bench", scene, "--mode", "path", "--spp", str(args.bench_spp), "--width",
-           str(args.width), "--height", str(args.height)]
+           str(w), "--height", str(h)]
     r = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=1800)
     res = {"command": " ".join(cmd), "lines": [], "json": None}
     if r.returncode != 0:
@@ -955,9 +1111,12 @@ def scene_hash(path):
     return h.hexdigest()[:8]
 
 
-def make_reference(args, ms, conv, scene, folder, renderer):
-    """(values, info): the cached long render of `renderer`, or a new one."""
-    w, h, spp = args.width, args.height, args.reference_spp
+def make_reference(args, ms, cy, conv, desc, scene, w, h, folder, renderer):
+    """(values, info): the cached long render of `renderer`, or a new one
+    (Cycles': bench/compare_cycles.py's, cached in bench/cycles/cache/)."""
+    if renderer == "cycles":
+        return cy.reference(scene, desc, w, h, folder)
+    spp = args.reference_spp
     stem = os.path.splitext(os.path.basename(scene))[0]
     cache = os.path.join(HERE, "mitsuba", "cache")
     os.makedirs(cache, exist_ok=True)
@@ -976,11 +1135,7 @@ def make_reference(args, ms, conv, scene, folder, renderer):
     if renderer == "caustica":
         n = max(1, spp // 2)
         for k in range(2):
-            out = os.path.join(folder, "ref%d.pfm" % k)
-            env = dict(os.environ, POCL_MAX_PTHREAD_COUNT=str(args.threads))
-            subprocess.run([args.caustica, "render", scene, "--mode", "path", "--spp", str(n), "--width", str(w),
-                            "--height", str(h), "-q", "-o", out, "--seed", str(1000 + k)], check=True, env=env)
-            half[k] = read_pfm(out)[2]
+            half[k] = run_caustica_spp(args, scene, w, h, n, 1000 + k, os.path.join(folder, "ref%d.pfm" % k))
             log("  reference %s: %d / %d spp (%.1f s)" % (stem, n * (k + 1), 2 * n, time.perf_counter() - t0))
         desc = "caustica, %d spp (2 x %d, seeds 1000 and 1001)" % (2 * n, n)
     else:
@@ -1017,8 +1172,12 @@ def make_reference(args, ms, conv, scene, folder, renderer):
 
 
 def display_path(p):
+    """Relative to the repository for files in it or beside it (../shared/...)."""
     a = os.path.abspath(p)
-    return os.path.relpath(a, ROOT) if a.startswith(ROOT + os.sep) else p
+    for base in (ROOT, os.path.dirname(ROOT)):
+        if a.startswith(base + os.sep):
+            return os.path.relpath(a, ROOT)
+    return p
 
 
 def errors(values, refs, main):
@@ -1030,9 +1189,25 @@ def errors(values, refs, main):
     return out
 
 
-def compare_scene(args, ms, scene):
+def score(row, values, refs, main, own, renderer):
+    """Adds a row's errors, and relMSE x s of its wall_s, against the main
+    reference and (own) against its renderer's own."""
+    row.update(errors(values, refs, main))
+    row["rel_mse_x_s"] = row["rel_mse"] * row["wall_s"]
+    row["own_rel_mse"] = row.get("rel_mse_vs_" + renderer, row["rel_mse"]) if own else None
+    row["own_rel_mse_x_s"] = row["own_rel_mse"] * row["wall_s"] if own else None
+
+
+def ratios(c, other, key):
+    """caustica's relMSE x s (key) and samples/s over another row's."""
+    return {"rel_mse_x_s": c[key] / other[key], "metric": key,
+            "samples_per_s": (c["samples_per_s"] / other["samples_per_s"]
+                              if c.get("samples_per_s") and other.get("samples_per_s") else None)}
+
+
+def compare_scene(args, ms, cy, scene, w, h):
     stem = os.path.splitext(os.path.basename(scene))[0]
-    res = {"scene": display_path(scene), "name": stem, "status": "ok"}
+    res = {"scene": display_path(scene), "name": stem, "width": w, "height": h, "status": "ok"}
     folder = tempfile.mkdtemp(prefix="caustica_mitsuba_")
     try:
         try:
@@ -1043,10 +1218,19 @@ def compare_scene(args, ms, scene):
             return res
         res["approximate"] = conv.approximate
         res["notes"] = conv.notes
-        w, h, S = args.width, args.height, args.seconds
+        desc = None
+        if cy:
+            try:
+                desc = cy.describe(scene)
+                res["cycles_approximate"], res["cycles_notes"] = desc["approximate"], desc["notes"]
+            except (Unsupported, KeyError, OSError) as e:
+                res["cycles_skipped"] = "cannot convert: %s" % e
+                log("%s: Cycles left out (%s)" % (stem, res["cycles_skipped"]))
+        S = args.seconds
 
         # References: "main" for every row; with --own-references (default:
-        # for approximate scenes) each renderer's also against its own.
+        # where either conversion is approximate) each renderer's also
+        # against its own.
         refs, infos = {}, {}
         if args.reference:
             rw, rh, refs["given"] = read_pfm(args.reference)
@@ -1056,11 +1240,18 @@ def compare_scene(args, ms, scene):
             main = "given"
         else:
             main = args.reference_renderer
-        own = args.own_references == "always" or (args.own_references == "auto" and conv.approximate)
-        for renderer in ([main] if main != "given" else []) + (["mitsuba", "caustica"] if own else []):
+        if main == "cycles" and desc is None:
+            res.update(status="skipped", reason="the main reference is Cycles', and Cycles is left out")
+            return res
+        approximate = conv.approximate or bool(desc and desc["approximate"])
+        own = args.own_references == "always" or (args.own_references == "auto" and approximate)
+        renderers = ["mitsuba", "caustica"] + (["cycles"] if desc else [])
+        for renderer in ([main] if main != "given" else []) + (renderers if own else []):
             if renderer not in refs:
-                refs[renderer], infos[renderer] = make_reference(args, ms, conv, scene, folder, renderer)
+                refs[renderer], infos[renderer] = make_reference(args, ms, cy, conv, desc, scene, w, h, folder,
+                                                                 renderer)
         res["reference"] = dict(infos[main], role="main")
+        res["main_reference"] = main
         res["references"] = infos
         res["own_references"] = own
 
@@ -1104,10 +1295,7 @@ def compare_scene(args, ms, scene):
             row = {"sampler": sampler, "requested_spp": target, "spp": ran, "wall_s": wall, "jit_s": jit,
                    "samples_per_s": w * h * ran / wall, "attempts": attempts,
                    "probe": {"spp": pran, "wall_s": pt, "jit_s": pjit, "spp_per_s": pran / max(pt - pjit, 1e-3)}}
-            row.update(errors(values, refs, main))
-            row["rel_mse_x_s"] = row["rel_mse"] * wall
-            row["own_rel_mse"] = row.get("rel_mse_vs_mitsuba", row["rel_mse"]) if own else None
-            row["own_rel_mse_x_s"] = row["own_rel_mse"] * wall if own else None
+            score(row, values, refs, main, own, "mitsuba")
             rows.append(row)
             log("%s: Mitsuba %s: %d spp in %.2f s, relMSE %.3e" % (stem, sampler, ran, wall, row["rel_mse"]))
         res["mitsuba"] = rows
@@ -1115,18 +1303,25 @@ def compare_scene(args, ms, scene):
         best = min(rows, key=lambda r: r[key]) if rows else None
         res["best_sampler"] = best["sampler"] if best else None
 
-        # caustica
+        # Cycles
+        cyc = None
+        if desc:
+            values, cyc = cycles_row(args, cy, desc, w, h, folder, stem)
+            score(cyc, values, refs, main, own, "cycles")
+            log("%s: Cycles: relMSE %.3e" % (stem, cyc["rel_mse"]))
+            res["cycles"] = cyc
+
+        # caustica: first an untimed render of up to 32 spp (adaptive from
+        # 16) and --seconds, so that every kernel the timed one runs is
+        # built (PoCL builds a kernel again for another image size)
         out = os.path.join(folder, "caustica.pfm")
-        c = run_caustica(args, scene, out)
-        values = read_pfm(out)[2]
-        c.update(errors(values, refs, main))
-        c["rel_mse_x_s"] = c["rel_mse"] * c["wall_s"]
-        c["own_rel_mse"] = c.get("rel_mse_vs_caustica", c["rel_mse"]) if own else None
-        c["own_rel_mse_x_s"] = c["own_rel_mse"] * c["wall_s"] if own else None
+        run_caustica_spp(args, scene, w, h, 32, 1, out, ["--time", "%g" % S])
+        c = run_caustica(args, scene, w, h, out)
+        score(c, read_pfm(out)[2], refs, main, own, "caustica")
         log("%s: caustica: %s spp in %.2f s, relMSE %.3e" % (stem, c.get("spp", "?"), c["wall_s"], c["rel_mse"]))
         if not args.no_bench:
             log("%s: caustica bench --spp %d" % (stem, args.bench_spp))
-            res["bench"] = run_bench(args, scene)
+            res["bench"] = run_bench(args, scene, w, h)
         if "spp" in c:
             c["samples_per_s"] = w * h * c["spp"] / c["wall_s"]
             c["samples_per_s_source"] = "render -v (spp) / wall time"
@@ -1135,10 +1330,9 @@ def compare_scene(args, ms, scene):
             c["samples_per_s_source"] = "caustica bench"
         res["caustica"] = c
         if best:
-            res["ratios"] = {"rel_mse_x_s": c[key] / best[key], "metric": key,
-                             "samples_per_s": (c["samples_per_s"] / best["samples_per_s"]
-                                               if c.get("samples_per_s") else None),
-                             "against": best["sampler"]}
+            res["ratios"] = dict(ratios(c, best, key), against=best["sampler"])
+        if cyc:
+            res["cycles_ratios"] = ratios(c, cyc, key)
         return res
     finally:
         shutil.rmtree(folder, ignore_errors=True)
@@ -1154,11 +1348,11 @@ def describe_reference(ref):
                               ", its own relMSE ~%.1e" % own if own is not None else "")
 
 
-def markdown(args, results, mi_version, variant, variant_note):
+def markdown(args, results, mi_version, variant, variant_note, cycles_note):
     out = []
-    W, H = args.width, args.height
     mname = "Mitsuba %s %s" % (mi_version, variant)
     for r in results:
+        W, H = r["width"], r["height"]
         out.append("### %s (%dx%d, %g s, %d threads)" % (r["name"], W, H, args.seconds, args.threads))
         out.append("")
         if r["status"] != "ok":
@@ -1166,28 +1360,33 @@ def markdown(args, results, mi_version, variant, variant_note):
             out.append("")
             continue
         own = r["own_references"]
-        if r["approximate"]:
-            out.append("Conversion: **approximate**: " + "; ".join(r["notes"]) + ".")
-        else:
-            out.append("Conversion: " + "; ".join(r["notes"]) + ".")
+        out.append("Conversion%s: %s%s." % (" to Mitsuba" if "cycles_notes" in r else "",
+                                            "**approximate**: " if r["approximate"] else "", "; ".join(r["notes"])))
+        if "cycles_notes" in r:
+            out.append("")
+            out.append("Conversion to Cycles (bench/compare_cycles.py): %s%s." % (
+                "**approximate**: " if r["cycles_approximate"] else "", "; ".join(r["cycles_notes"])))
+        elif r.get("cycles_skipped"):
+            out.append("")
+            out.append("Cycles left out: %s." % r["cycles_skipped"])
         out.append("")
         if own:
-            out.append("References: Mitsuba %s; caustica %s. \"relMSE\" is against the %s one; \"own ref\" "
-                       "against the row's renderer's own, which keeps the conversion's bias out of the "
-                       "comparison." % (describe_reference(r["references"]["mitsuba"]),
-                                        describe_reference(r["references"]["caustica"]),
-                                        "given" if "given" in r["references"] else
-                                        r["reference"]["renderer"].split()[0]))
+            names = [n for n in ("mitsuba", "caustica", "cycles") if n in r["references"]]
+            out.append("References: %s. \"relMSE\" is against the %s one; \"own ref\" against the row's renderer's "
+                       "own, which keeps the conversion's bias out of the comparison." % (
+                           "; ".join("%s %s" % (n, describe_reference(r["references"][n])) for n in names),
+                           "given" if "given" in r["references"] else r["reference"]["renderer"].split()[0]))
             if "given" in r["references"]:
                 out.append("Given reference: " + describe_reference(r["references"]["given"]) + ".")
         else:
             out.append("Reference: " + describe_reference(r["reference"]) + ".")
+        by_renderer = {"mitsuba": r["mitsuba"], "cycles": [r["cycles"]] if r.get("cycles") else [],
+                       "caustica": [r["caustica"]]}
         for name, ref in r["references"].items():
             e = ref.get("own_rel_mse")
-            col = "own_rel_mse" if own and name in ("mitsuba", "caustica") else "rel_mse"
-            vals = [x[col] for x in r["mitsuba"] if x.get(col) is not None]
-            if r["caustica"].get(col) is not None:
-                vals.append(r["caustica"][col])
+            vals = [x["rel_mse"] for xs in by_renderer.values() for x in xs] if name == r["main_reference"] else []
+            if own:
+                vals += [x["own_rel_mse"] for x in by_renderer.get(name, [])]
             if e is not None and vals and e > 0.2 * min(vals):
                 out.append("Warning: the %s reference's own error is %.0f%% of the smallest relMSE measured "
                            "against it; raise --reference-spp." % (name, 100 * e / min(vals)))
@@ -1199,7 +1398,6 @@ def markdown(args, results, mi_version, variant, variant_note):
             rule += "---:|---:|"
         out.append(head)
         out.append(rule)
-        key = "own_rel_mse_x_s" if own else "rel_mse_x_s"
 
         def cells(x, best):
             c = ["%.3e" % x["rel_mse"], "%.3e" % x["rel_mse_x_s"], "%.3f" % x["mean_over_ref"]]
@@ -1210,24 +1408,39 @@ def markdown(args, results, mi_version, variant, variant_note):
                 c[i] = "**%s**" % c[i]
             return " | ".join(c)
 
+        def num(x, key, f):
+            return f % x[key] if x.get(key) else "-"
+
         for m in r["mitsuba"]:
             best = m["sampler"] == r["best_sampler"]
             out.append("| %s | %s | %.2f | %.2f | %d | %.3g | %s |" % (
                 mname, "**%s** (best)" % m["sampler"] if best else m["sampler"], m["wall_s"], m["jit_s"],
                 m["spp"], m["samples_per_s"], cells(m, best)))
+        y = r.get("cycles")
+        if y:
+            out.append("| %s (CPU) | %s | %.2f | - | %s | %s | %s |" % (
+                y["renderer"], (y["sampler"] or "default").lower().replace("_", " "), y["wall_s"],
+                num(y, "spp", "%d"), num(y, "samples_per_s", "%.3g"), cells(y, False)))
         c = r["caustica"]
         out.append("| caustica (PoCL CPU) | sobol | %.2f | - | %s | %s | %s |" % (
-            c["wall_s"], "%g" % c["spp"] if "spp" in c else "-",
-            "%.3g" % c["samples_per_s"] if c.get("samples_per_s") else "-", cells(c, False)))
+            c["wall_s"], num(c, "spp", "%g"), num(c, "samples_per_s", "%.3g"), cells(c, False)))
         out.append("")
-        if r.get("ratios"):
-            q = r["ratios"]
-            out.append("caustica / best Mitsuba sampler (%s): relMSE x s%s **%.3g**, samples/s %s%s." % (
-                q["against"], " (own references)" if own else "", q["rel_mse_x_s"],
-                "%.3g" % q["samples_per_s"] if q["samples_per_s"] else "-",
-                "" if c.get("samples_per_s_source", "").startswith("render") else
-                " (caustica's samples/s from `caustica bench`)"))
+        if y:
+            out.append("Cycles: %s; wall s is the render call: %.2f s scene sync + %.2f s sampling + %.2f s after "
+                       "the last sample (writing the EXR); not counted: the child process's start and bpy "
+                       "import (%.2f s) and building the Blender scene (%.2f s)." % (
+                           y["settings"], y["sync_s"] or 0, y["wall_s"] - (y["sync_s"] or 0) - (y["after_s"] or 0),
+                           y["after_s"] or 0, y.get("import_s") or 0, y.get("build_s") or 0))
             out.append("")
+        for q, against in ((r.get("ratios"), "best Mitsuba sampler (%s)" % r["best_sampler"]),
+                           (r.get("cycles_ratios"), "Cycles")):
+            if q:
+                out.append("caustica / %s: relMSE x s%s **%.3g**, samples/s %s%s." % (
+                    against, " (own references)" if own else "", q["rel_mse_x_s"],
+                    "%.3g" % q["samples_per_s"] if q["samples_per_s"] else "-",
+                    "" if c.get("samples_per_s_source", "").startswith("render") else
+                    " (caustica's samples/s from `caustica bench`)"))
+        out.append("")
         b = r.get("bench")
         if b:
             out.append("`caustica bench %s --mode path --spp %d --width %d --height %d` (%d threads):" % (
@@ -1237,22 +1450,91 @@ def markdown(args, results, mi_version, variant, variant_note):
             out.extend(b["lines"] or [b.get("error", "(no render lines in its output)")])
             out.append("```")
             out.append("")
-    done = [r for r in results if r["status"] == "ok" and r.get("ratios")]
-    parts = ["%s %.3g (vs %s%s; samples/s %s)" % (
-        r["name"], r["ratios"]["rel_mse_x_s"], r["ratios"]["against"],
-        ", approximate scene, own references" if r["own_references"] and r["approximate"] else
-        ", own references" if r["own_references"] else ", approximate scene" if r["approximate"] else "",
-        "%.3g" % r["ratios"]["samples_per_s"] if r["ratios"]["samples_per_s"] else "-") for r in done]
-    gm = ""
-    if done:
-        g = math.exp(sum(math.log(r["ratios"]["rel_mse_x_s"]) for r in done) / len(done))
-        gm = "; geometric mean %.3g" % g
+    done = [r for r in results if r["status"] == "ok"]
     skipped = ["%s skipped" % r["name"] for r in results if r["status"] != "ok"]
-    summary = ("**Summary** (%dx%d, %g s, %d threads; %s, %s): caustica's relMSE x s over the best Mitsuba "
-               "sampler's (below 1: caustica better): %s%s." % (W, H, args.seconds, args.threads, mname, variant_note,
-                                                                ", ".join(parts + skipped) or "none", gm))
+    parts = []
+    for label, q in (("the best Mitsuba sampler's", "ratios"), ("Cycles'", "cycles_ratios")):
+        have = [r for r in done if r.get(q)]
+        if not have:
+            continue
+        g = math.exp(sum(math.log(r[q]["rel_mse_x_s"]) for r in have) / len(have))
+        parts.append("over %s: %s; geometric mean %.3g" % (label, ", ".join(
+            "%s %dx%d %.3g%s" % (r["name"], r["width"], r["height"], r[q]["rel_mse_x_s"],
+                                 " (own references)" if r["own_references"] else "") for r in have), g))
+    summary = ("**Summary** (%g s, %d threads; %s, %s; %s): caustica's relMSE x s (below 1: caustica better) %s%s."
+               % (args.seconds, args.threads, mname, variant_note, cycles_note, "; ".join(parts) or "none",
+                  "; " + ", ".join(skipped) if skipped else ""))
     out.append(summary)
+    out.append("")
+    out.append("| scene, size | renderer | spp | samples/s | relMSE | relMSE x s | **relMSE x s / caustica's** | "
+               "samples/s / caustica's |")
+    out.append("|---|---|---:|---:|---:|---:|---:|---:|")
+    for r in done:
+        own = r["own_references"]
+        c = r["caustica"]
+        best = next((m for m in r["mitsuba"] if m["sampler"] == r["best_sampler"]), None)
+        rows = [("caustica", c)] + ([("Mitsuba, %s" % best["sampler"], best)] if best else []) + \
+            ([(r["cycles"]["renderer"], r["cycles"])] if r.get("cycles") else [])
+        err, ex = ("own_rel_mse", "own_rel_mse_x_s") if own else ("rel_mse", "rel_mse_x_s")
+        for k, (name, x) in enumerate(rows):
+            scene = "%s %dx%d%s" % (r["name"], r["width"], r["height"], " (own references)" if own else "") \
+                if k == 0 else ""
+            out.append("| %s | %s | %s | %s | %.3e | %.3e | **%.3g** | %s |" % (
+                scene, name, "%g" % x["spp"] if x.get("spp") else "-",
+                "%.3g" % x["samples_per_s"] if x.get("samples_per_s") else "-", x[err], x[ex], x[ex] / c[ex],
+                "%.3g" % (x["samples_per_s"] / c["samples_per_s"]) if x.get("samples_per_s") and
+                c.get("samples_per_s") else "-"))
+    out.append("")
+    out.append("relMSE x s / caustica's above 1: caustica reaches a lower error in the same time. With own "
+               "references, each renderer's error is against its own long render.")
     return "\n".join(out), summary
+
+
+# ---------------------------------------------------------------- orientation
+
+
+def red_centroid(values, w):
+    """(x, y) mean of the red pixels (R > 2.5 G and R > 0.05), or None."""
+    xs, ys = [], []
+    for i in range(len(values) // 3):
+        if values[3 * i] > 2.5 * values[3 * i + 1] and values[3 * i] > 0.05:
+            xs.append(i % w)
+            ys.append(i // w)
+    return (mean(xs), mean(ys)) if xs else None
+
+
+def check_orientation(args, ms, cy):
+    """Renders bench/compare_cycles.py's asymmetric test scene (a red sphere
+    up on the +x side of a grey wall, camera along +z with up +y) at 64x64,
+    --orientation-spp uniform samples each, and compares Mitsuba's and
+    Cycles' images with caustica's as this script compares them (mirrored)
+    and unmirrored."""
+    n, spp = 64, args.orientation_spp
+    folder = tempfile.mkdtemp(prefix="caustica_orientation_")
+    try:
+        path = compare_cycles_module().write_orientation_scene(folder)
+        ci = run_caustica_spp(args, path, n, n, spp, 1, os.path.join(folder, "c.pfm"), ["--no-adaptive"])
+        images = {"mitsuba": ms.render(Converter(ms.mi, path, folder).convert(), n, n, "independent", spp, 1,
+                                       folder)[0]}
+        if cy:
+            images["cycles"] = cy.render(cy.describe(path), n, n, folder, samples=spp)[0]
+        c = red_centroid(ci, n)
+        res = {"size": n, "spp": spp, "caustica_red_centroid": c,
+               "expected": "caustica draws world +x on the image's right (FORMAT.md): the sphere right and up"}
+        ok = c is not None and c[0] > n / 2 and c[1] < n / 2
+        for name, img in images.items():
+            d = {"rel_mse_as_compared": rel_mse(img, ci), "rel_mse_unmirrored": rel_mse(mirror_rows(img, n, n), ci),
+                 "mean_over_caustica": mean(img) / mean(ci), "red_centroid_as_compared": red_centroid(img, n)}
+            b = d["red_centroid_as_compared"]
+            d["centroid_distance_px"] = math.hypot(b[0] - c[0], b[1] - c[1]) if b and c else None
+            d["ok"] = bool(d["centroid_distance_px"] is not None and d["centroid_distance_px"] < 1.5
+                           and d["rel_mse_as_compared"] < 0.1 * d["rel_mse_unmirrored"])
+            ok = ok and d["ok"]
+            res[name] = d
+        res["ok"] = bool(ok)
+        return res
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 # ---------------------------------------------------------------- main
@@ -1260,19 +1542,26 @@ def markdown(args, results, mi_version, variant, variant_note):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("scenes", nargs="*", help="caustica scenes (default: %s)" % " ".join(DEFAULT_SCENES))
+    ap.add_argument("scenes", nargs="*", help="caustica scenes, SCENE.json[@WxH] (default: %s)" % " ".join(
+        DEFAULT_SCENES))
     ap.add_argument("--seconds", type=float, default=10.0, help="wall time of each render (default 10)")
-    ap.add_argument("--threads", type=int, default=2, help="threads of both renderers (default 2)")
-    ap.add_argument("--width", type=int, default=128)
-    ap.add_argument("--height", type=int, default=128)
+    ap.add_argument("--threads", type=int, default=2, help="threads of every renderer (default 2)")
+    ap.add_argument("--width", type=int, default=128, help="width of scenes given without @WxH (default 128)")
+    ap.add_argument("--height", type=int, default=128, help="height of scenes given without @WxH (default 128)")
     ap.add_argument("--reference", help="reference image (.pfm, linear, width x height) for the one scene given")
     ap.add_argument("--reference-spp", type=int, default=4096, help="spp of the made reference (default 4096)")
-    ap.add_argument("--reference-renderer", choices=["mitsuba", "caustica"], default="mitsuba",
+    ap.add_argument("--cycles-reference-spp", type=int,
+                    help="samples of Cycles' own references (default: --reference-spp)")
+    ap.add_argument("--reference-renderer", choices=["mitsuba", "caustica", "cycles"], default="mitsuba",
                     help="who renders the main reference when --reference is not given (default mitsuba)")
     ap.add_argument("--own-references", choices=["auto", "always", "never"], default="auto",
                     help="also measure each renderer against its own long render (auto: for approximate scenes)")
     ap.add_argument("--samplers", default=",".join(SAMPLERS), help="Mitsuba samplers (default: all five)")
     ap.add_argument("--variant", default="", help="Mitsuba variant (default: llvm_ad_rgb if it runs, else scalar_rgb)")
+    ap.add_argument("--no-cycles", action="store_true", help="leave out Cycles")
+    ap.add_argument("--check-orientation", action="store_true",
+                    help="only check the mirror image: an asymmetric scene through all three renderers")
+    ap.add_argument("--orientation-spp", type=int, default=1024, help="spp of --check-orientation's renders")
     ap.add_argument("--bench-spp", type=int, default=64, help="spp of the caustica bench run (default 64)")
     ap.add_argument("--no-bench", action="store_true", help="leave out caustica bench")
     ap.add_argument("--json", help="write every number to this file")
@@ -1282,23 +1571,42 @@ def main():
     for s in args.samplers:
         if s not in SAMPLERS:
             sys.exit("unknown sampler %r (one of %s)" % (s, ", ".join(SAMPLERS)))
-    scenes = args.scenes or [os.path.join(ROOT, s) for s in DEFAULT_SCENES]
+    cc = compare_cycles_module()
+    scenes = [cc.parse_scene_arg(s, args) for s in args.scenes or DEFAULT_SCENES]
     if args.reference and len(scenes) != 1:
         sys.exit("--reference needs exactly one scene")
 
+    cy, cycles_note = None, "Cycles left out (--no-cycles)"
+    if not args.no_cycles:
+        if os.path.isfile(cc.VENV_PYTHON):
+            cy = Cycles(args)
+            cycles_note = "Cycles through %s" % display_path(cc.VENV_PYTHON)
+        else:
+            cycles_note = "Cycles left out: no bpy venv at %s (see bench/compare_cycles.py)" % display_path(
+                cc.VENV_PYTHON)
+            log(cycles_note)
+    if args.reference_renderer == "cycles" and not cy:
+        sys.exit("--reference-renderer cycles: " + cycles_note)
     variant, lib, note = pick_variant(args.variant)
     log("Mitsuba variant %s (%s)" % (variant, note))
     ms = Mitsuba(variant, args.threads)
     mi_version = ms.mi.__version__
+    if args.check_orientation:
+        res = check_orientation(args, ms, cy)
+        print(json.dumps(res, indent=1))
+        sys.exit(0 if res["ok"] else 1)
     results = []
-    for scene in scenes:
-        results.append(compare_scene(args, ms, scene))
-    text, summary = markdown(args, results, mi_version, variant, note)
+    for scene, w, h in scenes:
+        results.append(compare_scene(args, ms, cy, scene, w, h))
+    if cy and cy.version:
+        cycles_note = "Cycles %s (bpy) through %s" % (cy.version, display_path(cc.VENV_PYTHON))
+    text, summary = markdown(args, results, mi_version, variant, note, cycles_note)
     print(text)
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"settings": {k: v for k, v in vars(args).items()}, "mitsuba": {
                 "version": mi_version, "variant": variant, "variant_note": note, "libllvm": lib},
+                "cycles": {"version": cy.version if cy else None, "note": cycles_note},
                 "scenes": results, "summary": summary, "markdown": text}, f, indent=1)
 
 
