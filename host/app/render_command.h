@@ -2,7 +2,9 @@
 // image written at the end (and while rendering with --write-every), the
 // error against run time (--report, --reference, --plot, --target-error;
 // host/app/error_monitor.h), and its state saved and resumed (--checkpoint,
-// --resume; host/render/render_state.h).
+// --resume; host/render/render_state.h). Its stages: render_options.cpp,
+// render_command.cpp and render_outputs.cpp (render_stages.h says which
+// does what).
 #pragma once
 
 #include <CLI/CLI.hpp>
