@@ -58,8 +58,8 @@ PhotonMap trace_photons(Session& s, uint32_t count, size_t local = 64) {
   settings.photons_per_pass = count;
   StageLauncher launcher(*s.runtime, local);
   const LightTable table = build_light_table(s.scene);
-  const cl::Buffer lights = upload_buffer(s.runtime->context(), table.lights);
-  PhotonPass pass(launcher, *s.device_scene, s.program.program, lights, uint32_t(table.lights.size()), settings);
+  const DeviceLights lights(s.runtime->context(), table);
+  PhotonPass pass(launcher, *s.device_scene, s.program.program, lights, settings);
   pass.trace(nullptr);
   PhotonMap map;
   map.emitted = pass.stats().emitted;

@@ -51,8 +51,9 @@ KernelArgs& DeviceScene::bind_scene(KernelArgs& args) const {
   return bind_surfaces(bind(args, {"bvh_nodes", "tri_blocks", "prim_refs"}));
 }
 
-KernelArgs& DeviceScene::bind_light_data(KernelArgs& args) const {
-  return bind(args, {"triangle_shading", "textures", "texels", "environment"});
+KernelArgs& DeviceScene::bind_scene_buffers(KernelArgs& args, const DeviceLights& lights) const {
+  return lights.bind(bind_scene(args));
 }
+
 
 }  // namespace caustica

@@ -1,8 +1,9 @@
 // The scene on the device: geometry, the wide BVH, shading data (triangle
 // vertex data, materials, textures), uploaded once and shared by every
 // integrator, every pass and the benchmark. Lights are not here: each
-// integrator uploads the lights in the form it samples (Whitted's point
-// lights are stand-ins derived from the scene's lights, host/render/lights.h).
+// integrator uploads the lights in the form it samples (DeviceLights for the
+// path tracer and the photon pass; Whitted's point lights are stand-ins
+// derived from the scene's lights, host/render/lights.h).
 // Data the feature set leaves out is not uploaded (a one-element dummy:
 // OpenCL forbids zero-sized buffers).
 #pragma once
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "host/accel/bvh_wide.h"
+#include "host/render/device_lights.h"
 #include "host/render/kernel_args.h"
 #include "host/scene/features.h"
 #include "host/scene/scene.h"
@@ -32,10 +34,9 @@ class DeviceScene {
   // Both: the BVH's own buffers, then bind_surfaces (trace_paths.cl traces
   // and shades in one kernel).
   KernelArgs& bind_scene(KernelArgs& args) const;
-  // What the lights' emission reads beyond the light table (emit_photons):
-  // triangle_shading, textures and texels (emission textures,
-  // lib/lights.h: light_emission_texel) and the environment map, in order.
-  KernelArgs& bind_light_data(KernelArgs& args) const;
+  // SCENE_BUFFERS_PARAMS (kernels/lib/scene_buffers.h): bind_scene, then
+  // the light table's buffers.
+  KernelArgs& bind_scene_buffers(KernelArgs& args, const DeviceLights& lights) const;
 
   const Scene& scene() const { return scene_; }
   const SceneFeatures& features() const { return features_; }

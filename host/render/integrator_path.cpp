@@ -93,7 +93,8 @@ class PathIntegrator final : public Integrator {
   size_t light_count_ = 0;
   uint32_t environment_light_ = LIGHT_NONE;  // its index in the light table (PathParams)
   size_t slots_ = 0;  // paths in flight
-  cl::Buffer lights_, light_of_sphere_, light_of_cylinder_, light_of_triangle_, hits_;
+  DeviceLights lights_;
+  cl::Buffer hits_;
   DeviceQueue rays_[2], shadow_;
   // The bounce loop and its counters (host/render/wave_loop.h): extra
   // counter 0 counts the shadow rays traced, 1 is the wave's progress.
@@ -118,7 +119,11 @@ class PathIntegrator final : public Integrator {
                    RenderStats* stats);
   // The shade stage's and trace_paths' arguments after the film (the
   // photon pass's, the numeric counters, the aux passes), in their order.
-  void bind_vertex_tail(KernelArgs& args, Film& film);
+  // PATH_STAGE_PARAMS (kernels/integrator/path_stage_data.h), which both
+  // shapes' kernels take, and the wave's sampling (camera, progress,
+  // allocation, the pixels' ray counts): bound here for both.
+  void bind_path_stage_data(KernelArgs& args, Film& film, const PathParams& params);
+  void bind_wave_sampling(KernelArgs& args, Film& film, const CameraGPU& camera);
   // A wave's closest-hit and shadow rays from the counters at its end
   // (both shapes keep them alike), into pass_rays_ and the stats.
   void count_wave_rays(cl_uint closest_rays, cl_uint shadow_rays, size_t samples, RenderStats* stats);
@@ -264,11 +269,8 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
       shadow_stage_(program, "intersect_shadow") {
   auto& ctx = launcher.runtime().context();
   const LightTable table = build_light_table(scene.scene());
-  light_count_ = table.lights.size();
-  lights_ = upload_buffer(ctx, table.lights);
-  light_of_sphere_ = upload_buffer(ctx, table.light_of_sphere);
-  light_of_cylinder_ = upload_buffer(ctx, table.light_of_cylinder);
-  light_of_triangle_ = upload_buffer(ctx, table.light_of_triangle);
+  lights_ = DeviceLights(ctx, table);
+  light_count_ = lights_.count();
   // A wave covers the whole image; settings.chunk_pixels bounds the slots.
   chunk_pixels_ = size_t(settings.width) * size_t(settings.height);
   slots_ = std::max<size_t>(1, std::min({settings.chunk_pixels, kPathSlots, chunk_pixels_ * Film::kMostWavePasses}));
@@ -286,7 +288,7 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
   if (settings.caustics) {
     // As phong's: the program declares the photon map's parameters.
     if (light_count_ == 0) throw Error("path: the photon pass needs a light that emits photons");
-    photons_ = std::make_unique<PhotonPass>(launcher, scene, program, lights_, uint32_t(light_count_), settings);
+    photons_ = std::make_unique<PhotonPass>(launcher, scene, program, lights_, settings);
   }
 }
 
@@ -335,23 +337,13 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
     launcher_.launch(intersect_, bound, stats);
 
     KernelArgs shade(shade_);
-    scene_.bind_surfaces(shade)
-        .arg("lights", lights_)
-        .arg("light_of_sphere", light_of_sphere_)
-        .arg("light_of_cylinder", light_of_cylinder_)
-        .arg("light_of_triangle", light_of_triangle_)
-        .arg("params", params)
-        .queue("in", current, loop_->traced_count(j))
-        .arg("hits", hits_);
-    film.bind(shade)
+    bind_path_stage_data(shade, film, params);
+    shade.queue("in", current, loop_->traced_count(j))
+        .arg("hits", hits_)
         .queue("next", next, loop_->pushed_count(j))
         .arg("cleared_count", loop_->cleared_count(j))
-        .queue("shadow", shadow_, loop_->traced_count(j))
-        .arg("camera", camera)
-        .arg("wave_progress", loop_->extra(kWaveProgress));
-    film.bind_pixel_rays(film.bind_wave_allocation(shade))
-        .arg("count_pixel_rays", cl_uint(settings_.adaptive && settings_.adaptive_options.weigh_cost ? 1 : 0));
-    bind_vertex_tail(shade, film);
+        .queue("shadow", shadow_, loop_->traced_count(j));
+    bind_wave_sampling(shade, film, camera);
     shade.finish();
     launcher_.launch(shade_, bound, stats);
 
@@ -388,12 +380,20 @@ void PathIntegrator::count_wave_rays(cl_uint closest_rays, cl_uint shadow_rays, 
   }
 }
 
-void PathIntegrator::bind_vertex_tail(KernelArgs& args, Film& film) {
+void PathIntegrator::bind_path_stage_data(KernelArgs& args, Film& film, const PathParams& params) {
+  scene_.bind_scene_buffers(args, lights_).arg("params", params);
+  film.bind(args);
   if (photons_)
     photons_->bind_photon_map(
         photons_->bind_visible_points(args).arg("record_visible_points", cl_uint(photon_pass_now_ ? 1 : 0)));
   if (numerics_()) args.arg("numerics", numerics_);
   if (settings_.aux_passes) film.bind_aux(args);
+}
+
+void PathIntegrator::bind_wave_sampling(KernelArgs& args, Film& film, const CameraGPU& camera) {
+  args.arg("camera", camera).arg("wave_progress", loop_->extra(kWaveProgress));
+  film.bind_pixel_rays(film.bind_wave_allocation(args))
+      .arg("count_pixel_rays", cl_uint(settings_.adaptive && settings_.adaptive_options.weigh_cost ? 1 : 0));
 }
 
 bool PathIntegrator::trace_paths(Film& film, const PathParams& params, const CameraGPU& camera, size_t samples,
@@ -405,19 +405,9 @@ bool PathIntegrator::trace_paths(Film& film, const PathParams& params, const Cam
   launcher_.runtime().fill(loop_->extra(kWaveProgress), cl_uint(0), WAVE_SAMPLES_STARTED * sizeof(cl_uint),
                            sizeof(cl_uint));
   KernelArgs paths(paths_);
-  scene_.bind_scene(paths)
-      .arg("lights", lights_)
-      .arg("light_of_sphere", light_of_sphere_)
-      .arg("light_of_cylinder", light_of_cylinder_)
-      .arg("light_of_triangle", light_of_triangle_)
-      .arg("params", params);
-  film.bind(paths)
-      .arg("camera", camera)
-      .arg("wave_progress", loop_->extra(kWaveProgress))
-      .arg("traced", loop_->extra(kShadowRays));
-  film.bind_pixel_rays(film.bind_wave_allocation(paths))
-      .arg("count_pixel_rays", cl_uint(settings_.adaptive && settings_.adaptive_options.weigh_cost ? 1 : 0));
-  bind_vertex_tail(paths, film);
+  bind_path_stage_data(paths, film, params);
+  paths.arg("traced", loop_->extra(kShadowRays));
+  bind_wave_sampling(paths, film, camera);
   paths.finish();
   launcher_.launch(paths_, workers, stats);
   if (stats) stats->camera_rays += samples;

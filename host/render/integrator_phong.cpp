@@ -72,7 +72,7 @@ class PhongIntegrator final : public Integrator {
   std::unique_ptr<WaveLoop> loop_;
   cl_uint closest_rays_seen_ = 0, shadow_rays_seen_ = 0;  // the counters after the latest chunk
   StageKernel generate_, intersect_, shade_, shadow_stage_;
-  cl::Buffer photon_lights_;
+  DeviceLights photon_lights_;
   std::unique_ptr<PhotonPass> photons_;  // --caustics on only
 };
 
@@ -113,9 +113,9 @@ PhongIntegrator::PhongIntegrator(StageLauncher& launcher, const DeviceScene& sce
     // first for a scene without emitters).
     const std::vector<Light> photon_lights = phong_photon_lights(scene.scene());
     if (photon_lights.empty()) throw Error("phong: the photon pass needs a light that emits photons");
-    photon_lights_ = upload_buffer(ctx, photon_lights);
-    photons_ = std::make_unique<PhotonPass>(launcher, scene, program, photon_lights_, uint32_t(photon_lights.size()),
-                                            settings, PhotonGather::SharedRadius);
+    photon_lights_ = DeviceLights(ctx, photon_lights);
+    photons_ = std::make_unique<PhotonPass>(launcher, scene, program, photon_lights_, settings,
+                                            PhotonGather::SharedRadius);
   }
 }
 

@@ -103,13 +103,13 @@ uint32_t default_photons_per_pass(int width, int height) {
 }
 
 PhotonPass::PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program,
-                       const cl::Buffer& lights, uint32_t light_count, const RenderSettings& settings,
+                       const DeviceLights& lights, const RenderSettings& settings,
                        PhotonGather gather)
     : gather_mode_(gather),
       launcher_(launcher),
       scene_(scene),
       lights_(lights),
-      light_count_(light_count),
+      light_count_(uint32_t(lights.count())),
       photons_per_pass_(settings.photons_per_pass > 0 ? settings.photons_per_pass
                                                       : default_photons_per_pass(settings.width, settings.height)),
       max_depth_(uint32_t(std::max(0, scene.scene().nbounces))),
@@ -336,8 +336,7 @@ PhotonPassParams PhotonPass::params(uint32_t map_index) const {
 
 void PhotonPass::trace_wavefront(const PhotonPassParams& p, RenderStats* stats) {
   KernelArgs emit(emit_);
-  emit.arg("lights", lights_);
-  scene_.bind_light_data(emit)
+  scene_.bind_scene_buffers(emit, lights_)
       .arg("params", p)
       .arg("casters", casters_)
       .arg("caster_count", caster_count_)
@@ -356,7 +355,7 @@ void PhotonPass::trace_wavefront(const PhotonPassParams& p, RenderStats* stats) 
     scene_.bind_geometry(intersect).ray_view("rays", current, loop_->traced_count(j)).arg("hits", hits_).finish();
     launcher_.launch(intersect_, bound, stats);
     KernelArgs bounce(bounce_);
-    scene_.bind_surfaces(bounce)
+    scene_.bind_scene_buffers(bounce, lights_)
         .arg("params", p)
         .queue("in", current, loop_->traced_count(j))
         .arg("hits", hits_)
@@ -388,8 +387,7 @@ void PhotonPass::trace_paths(const PhotonPassParams& p, RenderStats* stats) {
   launcher_.runtime().fill(stored_, cl_uint(0), 0, size_t(photons_per_pass_) * sizeof(cl_uint));
   launcher_.runtime().fill(progress_, cl_uint(0), 0, sizeof(cl_uint));
   KernelArgs trace(trace_);
-  scene_.bind_scene(trace)
-      .arg("lights", lights_)
+  scene_.bind_scene_buffers(trace, lights_)
       .arg("params", p)
       .arg("casters", casters_)
       .arg("caster_count", caster_count_)

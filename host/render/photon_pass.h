@@ -27,6 +27,7 @@
 
 #include "host/image/image.h"
 #include "host/render/film.h"
+#include "host/render/device_lights.h"
 #include "host/render/kernel_args.h"
 #include "host/render/photon_grid.h"
 #include "host/render/pixel_share.h"
@@ -82,11 +83,11 @@ enum class PhotonGather { PerPixel, SharedRadius };
 
 class PhotonPass final : public SeparateEstimate {
  public:
-  // `lights`: a Light table (light_count > 0): the path tracer's, or
+  // `lights`: a light table (at least one light): the path tracer's, or
   // phong's delta lights and environment (phong_photon_lights,
   // host/lights/light_table.h).
-  PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program, const cl::Buffer& lights,
-             uint32_t light_count, const RenderSettings& settings, PhotonGather gather = PhotonGather::PerPixel);
+  PhotonPass(StageLauncher& launcher, const DeviceScene& scene, const cl::Program& program, const DeviceLights& lights,
+             const RenderSettings& settings, PhotonGather gather = PhotonGather::PerPixel);
   ~PhotonPass() override;
 
   void clear();  // a new render: radii back to the initial one, no photons
@@ -205,7 +206,7 @@ class PhotonPass final : public SeparateEstimate {
   PhotonGather gather_mode_;
   StageLauncher& launcher_;
   const DeviceScene& scene_;
-  const cl::Buffer& lights_;
+  const DeviceLights& lights_;
   uint32_t light_count_, photons_per_pass_, max_depth_, seed_, caster_count_ = 0;
   size_t pixel_count_;
   PixelShare* share_ = nullptr;  // shared by pixels among processes; nullptr: one process

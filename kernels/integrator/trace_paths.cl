@@ -15,40 +15,38 @@
  * launch. No barriers: work-items run apart, as many as the device has
  * threads for (a CPU runs a work-group's items one after another). */
 
-__kernel void trace_paths(__global const BvhNode8* restrict bvh_nodes,
-                          __global const TriangleBlock4* restrict tri_blocks, __global const uint* restrict prim_refs,
-                          SCENE_SURFACE_PARAMS, __global const Light* restrict lights,
-                          __global const uint* restrict light_of_sphere,
-                          __global const uint* restrict light_of_cylinder,
-                          __global const uint* restrict light_of_triangle, PathParams params, FILM_PARAMS,
-                          CameraGPU camera, volatile __global uint* restrict wave_progress,
-                          volatile __global uint* restrict traced, WAVE_ALLOCATION_PARAMS,
-                          volatile __global ulong* restrict pixel_rays,
-                          uint count_pixel_rays PATH_CAUSTIC_PARAMS PATH_NUMERICS_PARAMS PATH_AUX_PARAMS) {
+#include "integrator/shade_path_vertex.h"
+#include "lib/bvh_traverse.h"
+#include "lib/camera_sample.h"
+
+__kernel void trace_paths(PATH_STAGE_PARAMS, volatile __global uint* restrict traced, CameraGPU camera,
+                          volatile __global uint* restrict wave_progress, WAVE_ALLOCATION_PARAMS,
+                          volatile __global ulong* restrict pixel_rays, uint count_pixel_rays) {
+  PATH_STAGE_DATA(data);
   uint closest_rays = 0u, shadow_rays = 0u;
   for (;;) {
     const uint sample = atomic_inc(&wave_progress[WAVE_SAMPLES_STARTED]);
     if (sample >= params.wave_samples) break;
-    PathRecord ray = camera_sample_path(&camera, &params, sample, WAVE_ALLOCATION_ARGS);
+    PathRecord ray = camera_sample_path(&camera, &data.params, sample, WAVE_ALLOCATION_ARGS);
     for (;;) {
-      const Hit hit = trace_closest(SCENE_GEOMETRY_ARGS, ray.origin.xyz, ray.dir.xyz, 0.0f, RAY_T_FAR);
+      const Hit hit = trace_closest(SCENE_GEOMETRY_OF(&data.scene), ray.origin.xyz, ray.dir.xyz, 0.0f, RAY_T_FAR);
       ++closest_rays;
       ShadowRecord shadow;
       PathRecord child;
       bool aux_open;
-      const bool goes_on = shade_path_vertex(PATH_VERTEX_ARGS, ray, hit, &shadow, &child, &aux_open);
+      const bool goes_on = shade_path_vertex(&data, ray, hit, &shadow, &child, &aux_open);
 #if HAS_AUX_PASSES
       /* its path ended before a rough surface: none, once */
       if (!goes_on && aux_open)
-        film_add_aux_surface(FILM_ARGS, film_aux_offset, ray.pixel, splat_float3(0.0f), splat_float3(0.0f));
+        film_add_aux_surface(FILM_OF(&data), data.film_aux_offset, ray.pixel, splat_float3(0.0f), splat_float3(0.0f));
 #else
       (void)aux_open;
 #endif
       const bool has_shadow = shadow.pixel != SHADOW_SLOT_EMPTY;
       if (has_shadow) {
         ++shadow_rays;
-        if (!trace_any(SCENE_GEOMETRY_ARGS, shadow.origin.xyz, shadow.dir.xyz, 0.0f, shadow.tmax))
-          film_add(FILM_ARGS, shadow.pixel, shadow.contribution.xyz);
+        if (!trace_any(SCENE_GEOMETRY_OF(&data.scene), shadow.origin.xyz, shadow.dir.xyz, 0.0f, shadow.tmax))
+          film_add(FILM_OF(&data), shadow.pixel, shadow.contribution.xyz);
       }
       /* its pixel's cost: the ray that found this vertex, and its shadow ray */
       if (count_pixel_rays) atom_add(&pixel_rays[ray.pixel], has_shadow ? 2ul : 1ul);

@@ -102,7 +102,11 @@ inline float2 triangle_uv(__global const TriangleShading* triangle_shading, uint
 CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const Cylinder* cylinders,
                         __global const Triangle* triangles, __global const TriangleShading* triangle_shading, Hit hit,
                         float3 o, float3 d) {
-  (void)triangle_shading; /* read only with HAS_TRIANGLE_SHADING */
+  /* each read only with its feature flag (HAS_SPHERES, ...) */
+  (void)spheres;
+  (void)cylinders;
+  (void)triangles;
+  (void)triangle_shading;
   SurfacePoint sp;
   sp.position = o + hit.t * d;
   sp.normal = make_float3(0.0f, 0.0f, 1.0f);
@@ -111,6 +115,8 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
   sp.p_error = splat_float3(0.0f);
   uint type = prim_ref_type(hit.prim);
   uint index = prim_ref_index(hit.prim);
+  (void)type;
+  (void)index;
 #if HAS_SPHERES
   if (type == PRIM_SPHERE) {
     float4 s = spheres[index].center_radius;

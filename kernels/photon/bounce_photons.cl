@@ -18,6 +18,7 @@
 #include "lib/material.h"
 #include "lib/queue.h"
 #include "lib/rng.h"
+#include "lib/scene_buffers.h"
 #include "lib/surface.h"
 #include "lib/texture.h"
 
@@ -29,14 +30,14 @@ inline float phong_scale(PhotonRecord photon, float length) {
 /* Photon `photon` at `hit`: stored (candidates and stored, at its index)
  * or scattered; true with its continuation in *child_out. The wavefront
  * stage below and the paths shape (trace_photons.cl) call it. */
-inline bool bounce_photon(SCENE_SURFACE_PARAMS, const PhotonPassParams* params, const PhotonRecord photon,
+inline bool bounce_photon(const SceneBuffers* s, const PhotonPassParams* params, const PhotonRecord photon,
                           const Hit hit, __global Photon* restrict candidates, __global uint* restrict stored,
                           PhotonRecord* child_out) {
   if (hit.prim == PRIM_NONE) return false;
   const float3 d = photon.dir.xyz;
-  const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, photon.origin.xyz, d);
-  __global const Material* mat = &materials[sp.material];
-  const Bsdf bsdf = material_bsdf_at(mat, textures, texels, sp.uv);
+  const SurfacePoint sp = surface_at(s->spheres, s->cylinders, s->triangles, s->triangle_shading, hit, photon.origin.xyz, d);
+  __global const Material* mat = &s->materials[sp.material];
+  const Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv);
   if (!bsdf_casts_caustics(bsdf)) {
     if (photon.flags & PHOTON_AFTER_CASTER) {
       Photon p;
@@ -78,7 +79,7 @@ inline bool bounce_photon(SCENE_SURFACE_PARAMS, const PhotonPassParams* params, 
   return true;
 }
 
-__kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PHOTON_QUEUE_PARAMS(in),
+__kernel void bounce_photons(SCENE_BUFFERS_PARAMS, PhotonPassParams params, PHOTON_QUEUE_PARAMS(in),
                              __global const Hit* restrict hits, PHOTON_QUEUE_PARAMS(next), uint ray_capacity,
                              volatile __global uint* restrict cleared_count, volatile __global uint* restrict rays_traced,
                              __global Photon* restrict candidates, __global uint* restrict stored) {
@@ -89,8 +90,8 @@ __kernel void bounce_photons(SCENE_SURFACE_PARAMS, PhotonPassParams params, PHOT
     atomic_add(rays_traced, count);
   }
   if (i >= count) return;
+  const SceneBuffers scene = SCENE_BUFFERS_FROM_PARAMS;
   PhotonRecord child;
-  if (bounce_photon(SCENE_SURFACE_ARGS, &params, photon_load(PHOTON_QUEUE_ARGS(in), i), hits[i], candidates, stored,
-                    &child))
+  if (bounce_photon(&scene, &params, photon_load(PHOTON_QUEUE_ARGS(in), i), hits[i], candidates, stored, &child))
     photon_push(PHOTON_QUEUE_ARGS(next), ray_capacity, child);
 }

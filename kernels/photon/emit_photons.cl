@@ -43,6 +43,7 @@
 #include "lib/lights.h"
 #include "lib/queue.h"
 #include "lib/rng.h"
+#include "lib/scene_buffers.h"
 #include "lib/surface.h"
 
 /* Light emission sample dimensions of a photon path: 0 pick, 1-2 point,
@@ -118,13 +119,11 @@ inline float3 sample_toward_casters(__global const float4* restrict casters, uin
 
 /* Photon i's first ray from its light (the paths shape, trace_photons.cl,
  * calls this too). */
-inline PhotonRecord emit_photon(__global const Light* restrict lights,
-                                __global const TriangleShading* restrict triangle_shading,
-                                __global const Texture* restrict textures, __global const ushort* restrict texels,
-                                __global const float* restrict environment, const PhotonPassParams* params,
+inline PhotonRecord emit_photon(const SceneBuffers* s, const PhotonPassParams* params,
                                 __global const float4* restrict casters, uint caster_count, uint i) {
-  const uint li = pick_light(lights, params->light_count, photon_random(i, *params, 0u));
-  __global const Light* l = &lights[li];
+  __global const float* environment = s->environment;
+  const uint li = pick_light(s->lights, params->light_count, photon_random(i, *params, 0u));
+  __global const Light* l = &s->lights[li];
   const float2 u_point = (float2)(photon_random(i, *params, 1u), photon_random(i, *params, 2u));
   const float2 u_dir = (float2)(photon_random(i, *params, 3u), photon_random(i, *params, 4u));
   float3 p_error, n; /* the point's error bound, as sample_light's (spawn_ray_origin), and its normal */
@@ -148,7 +147,7 @@ inline PhotonRecord emit_photon(__global const Light* restrict lights,
   } else {
     flux = light_emit(l, environment, point, p_error, n, u_dir, photon_random(i, *params, 5u), &origin, &dir);
   }
-  flux *= light_emission_texel(l, triangle_shading, textures, texels, u_point); /* the texel at the point */
+  flux *= light_emission_texel(l, s->triangle_shading, s->textures, s->texels, u_point); /* the texel at the point */
   PhotonRecord photon;
   photon.origin = (float4)(origin, 0.0f);
   photon.dir = (float4)(dir, 0.0f);
@@ -160,10 +159,7 @@ inline PhotonRecord emit_photon(__global const Light* restrict lights,
   return photon;
 }
 
-__kernel void emit_photons(__global const Light* restrict lights,
-                           __global const TriangleShading* restrict triangle_shading,
-                           __global const Texture* restrict textures, __global const ushort* restrict texels,
-                           __global const float* restrict environment, PhotonPassParams params,
+__kernel void emit_photons(SCENE_BUFFERS_PARAMS, PhotonPassParams params,
                            __global const float4* restrict casters, uint caster_count, PHOTON_QUEUE_PARAMS(out),
                            __global uint* restrict next_count) {
   /* This process's photons [first_photon, photon_end) (all of them in one
@@ -175,6 +171,6 @@ __kernel void emit_photons(__global const Light* restrict lights,
     *next_count = 0u;
   }
   if (i >= params.photon_end) return;
-  photon_store(PHOTON_QUEUE_ARGS(out), slot,
-               emit_photon(lights, triangle_shading, textures, texels, environment, &params, casters, caster_count, i));
+  const SceneBuffers scene = SCENE_BUFFERS_FROM_PARAMS;
+  photon_store(PHOTON_QUEUE_ARGS(out), slot, emit_photon(&scene, &params, casters, caster_count, i));
 }

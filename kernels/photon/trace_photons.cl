@@ -15,24 +15,21 @@
 
 #include "lib/bvh_traverse.h"
 
-__kernel void trace_photons(__global const BvhNode8* restrict bvh_nodes,
-                            __global const TriangleBlock4* restrict tri_blocks,
-                            __global const uint* restrict prim_refs, SCENE_SURFACE_PARAMS,
-                            __global const Light* restrict lights, PhotonPassParams params,
+__kernel void trace_photons(SCENE_BUFFERS_PARAMS, PhotonPassParams params,
                             __global const float4* restrict casters, uint caster_count,
                             __global Photon* restrict candidates, __global uint* restrict stored,
                             volatile __global uint* restrict progress) {
+  const SceneBuffers scene = SCENE_BUFFERS_FROM_PARAMS;
   uint rays = 0u;
   for (;;) {
     const uint i = params.first_photon + atomic_inc(&progress[0]);
     if (i >= params.photon_end) break;
-    PhotonRecord photon =
-        emit_photon(lights, triangle_shading, textures, texels, environment, &params, casters, caster_count, i);
+    PhotonRecord photon = emit_photon(&scene, &params, casters, caster_count, i);
     for (;;) {
-      const Hit hit = trace_closest(SCENE_GEOMETRY_ARGS, photon.origin.xyz, photon.dir.xyz, 0.0f, RAY_T_FAR);
+      const Hit hit = trace_closest(SCENE_GEOMETRY_OF(&scene), photon.origin.xyz, photon.dir.xyz, 0.0f, RAY_T_FAR);
       ++rays;
       PhotonRecord child;
-      if (!bounce_photon(SCENE_SURFACE_ARGS, &params, photon, hit, candidates, stored, &child)) break;
+      if (!bounce_photon(&scene, &params, photon, hit, candidates, stored, &child)) break;
       photon = child;
     }
   }

@@ -39,7 +39,7 @@ void emit_photons(const Light& light, const float* data, int n, uint32_t seed, V
 inline std::vector<cs_float4> emit_photons_on_device(Session& s, const LightTable& table, uint32_t n,
                                                      const char* field) {
   StageLauncher launcher(*s.runtime, 64);
-  const cl::Buffer lights = upload_buffer(s.runtime->context(), table.lights);
+  const DeviceLights lights(s.runtime->context(), table);
   DeviceQueue out(s.runtime->context(), photon_record_layout(), n);
   StageKernel emit(s.program.program, "emit_photons");
   PhotonPassParams p{};
@@ -47,8 +47,7 @@ inline std::vector<cs_float4> emit_photons_on_device(Session& s, const LightTabl
   p.light_count = cl_uint(table.lights.size());
   const cl::Buffer no_casters(s.runtime->context(), CL_MEM_READ_ONLY, sizeof(cs_float4));
   KernelArgs args(emit);
-  args.arg("lights", lights);
-  s.device_scene->bind_light_data(args)
+  s.device_scene->bind_scene_buffers(args, lights)
       .arg("params", p)
       .arg("casters", no_casters)
       .arg("caster_count", cl_uint(0))

@@ -56,10 +56,10 @@ inline bool light_faces(__global const Light* l, float3 wi, float3 n_l) {
   return (l->flags & LIGHT_TWO_SIDED) != 0u || dot(wi, n_l) < 0.0f;
 }
 
-/* Next-event estimation toward point q (normal n_l, error bound p_error)
- * drawn uniformly by area on an area light. */
-inline bool sample_area_light_point(__global const Light* l, float3 p, float3 q, float3 p_error, float3 n_l,
-                                    LightSample* s) {
+/* A sample toward point q of an area light (normal n_l, error bound
+ * p_error): all but its density; false when q does not shine toward p. */
+inline bool aim_at_light_point(__global const Light* l, float3 p, float3 q, float3 p_error, float3 n_l,
+                               LightSample* s) {
   s->p_error = p_error;
   const float3 d = q - p;
   const float d2 = dot(d, d);
@@ -70,8 +70,25 @@ inline bool sample_area_light_point(__global const Light* l, float3 p, float3 q,
   if (!light_faces(l, s->wi, n_l)) return false;
   s->normal = n_l;
   s->radiance = l->emitted.xyz;
+  return true;
+}
+
+/* Next-event estimation toward point q drawn uniformly by area on an area
+ * light. */
+inline bool sample_area_light_point(__global const Light* l, float3 p, float3 q, float3 p_error, float3 n_l,
+                                    LightSample* s) {
+  if (!aim_at_light_point(l, p, q, p_error, n_l, s)) return false;
   s->pdf = area_to_solid_angle(p, q, s->wi, l->emitted.w, n_l);
   /* An infinite density (the light edge-on, cos_l near 0) carries nothing. */
+  return s->pdf > 0.0f && s->pdf < INFINITY;
+}
+
+/* Next-event estimation toward point q of a planar light drawn with the
+ * given solid-angle density (lib/spherical_sampling.h). */
+inline bool sample_planar_light_point(__global const Light* l, float3 p, float3 q, float3 p_error, float3 n_l,
+                                      float pdf, LightSample* s) {
+  if (!aim_at_light_point(l, p, q, p_error, n_l, s)) return false;
+  s->pdf = pdf;
   return s->pdf > 0.0f && s->pdf < INFINITY;
 }
 
@@ -152,8 +169,8 @@ inline float3 area_light_emitted_toward(__global const Light* l, float3 point, f
 
 /* The functions every area light type writes alike, from its
  * <type>_light_emission_point: next-event estimation toward a point drawn
- * uniformly by area (sphere lights sample their cone instead and define
- * their own), its radiance as phong's intensity, and the photon emission
+ * uniformly by area (lights that sample the solid angle they subtend
+ * define their own), its radiance as phong's intensity, and the photon emission
  * of emit_area_light / area_light_emitted_toward. */
 #define AREA_LIGHT_SAMPLE_BY_AREA(type)                                                                  \
   inline bool type##_light_sample(__global const Light* l, float3 p, float2 u, LightSample* s) {      \

@@ -7,7 +7,11 @@
  * at a point is emitted.xyz times the texture's texel there, and
  * as_uint(p0.w) is the triangle's index (Triangle, TriangleShading: its
  * texture coordinates), as_uint(p1.w) the texture's; otherwise p0.w, p1.w
- * are 0. p2.w is unused (0). Functions as in lights/light_common.h; the
+ * are 0. p2.w is unused (0). Next-event estimation samples the solid angle
+ * the triangle subtends (a spherical triangle) where that is large, by area
+ * elsewhere and for a textured light (whose texel is looked up from the
+ * sample u, below); photons leave uniformly by area. Functions as in
+ * lights/light_common.h; the
  * texel is triangle_light_texel's (lights.h: light_emission_texel), by
  * which callers scale the radiance and photon flux they get: the density
  * stays uniform by area, so the estimators only gain a factor. */
@@ -15,6 +19,7 @@
 #define CAUSTICA_LIB_LIGHTS_TRIANGLE_LIGHT_H
 
 #include "lib/lights/light_common.h"
+#include "lib/spherical_sampling.h"
 /* The texel's lookup, below (unconditional: an include inside #if would be
  * inlined again where a stage includes these files itself). */
 #include "lib/surface.h"
@@ -29,19 +34,49 @@ inline float3 triangle_light_normal(__global const Light* l) {
  * (triangle_light_texel) both come from here. */
 inline float2 triangle_light_barycentrics(float2 u) { return sample_triangle_barycentrics(u); }
 
-inline float3 triangle_light_emission_point(__global const Light* l, float2 u, float3* p_error, float3* n) {
-  const float2 bc = triangle_light_barycentrics(u);
+/* The point of barycentrics bc, its error bound and the normal. */
+inline float3 triangle_light_point_at(__global const Light* l, float2 bc, float3* p_error, float3* n) {
   const float3 q = l->p0.xyz + bc.x * (l->p1.xyz - l->p0.xyz) + bc.y * (l->p2.xyz - l->p0.xyz);
   *p_error = error_gamma(8.0f) * (fabs(l->p0.xyz) + fabs(l->p1.xyz - l->p0.xyz) + fabs(l->p2.xyz - l->p0.xyz));
   *n = triangle_light_normal(l); /* a plane's normal: the same everywhere */
   return q;
 }
 
+inline float3 triangle_light_emission_point(__global const Light* l, float2 u, float3* p_error, float3* n) {
+  return triangle_light_point_at(l, triangle_light_barycentrics(u), p_error, n);
+}
+
+/* Whether p samples the light by solid angle (then *t is its set-up): the
+ * one decision both the sampler and the density read. */
+inline bool triangle_light_by_solid_angle(__global const Light* l, float3 p, SphericalTriangle* t) {
+  if (l->flags & LIGHT_EMISSION_TEXTURE) return false; /* its texel is keyed by the area sample */
+  const float3 centroid = (l->p0.xyz + l->p1.xyz + l->p2.xyz) * (1.0f / 3.0f);
+  if (!(planar_light_solid_angle_estimate(p, centroid, triangle_light_normal(l), l->emitted.w) >=
+        LIGHT_SPHERICAL_MIN_SOLID_ANGLE))
+    return false;
+  return spherical_triangle_setup(p, l->p0.xyz, l->p1.xyz, l->p2.xyz, t) &&
+         t->solid_angle < LIGHT_SPHERICAL_MAX_SOLID_ANGLE;
+}
+
+inline bool triangle_light_sample(__global const Light* l, float3 p, float2 u, LightSample* s) {
+  SphericalTriangle t;
+  float3 p_error, n_l;
+  if (!triangle_light_by_solid_angle(l, p, &t)) {
+    const float3 q = triangle_light_emission_point(l, u, &p_error, &n_l);
+    return sample_area_light_point(l, p, q, p_error, n_l, s);
+  }
+  const float3 w = spherical_triangle_sample(&t, u);
+  const float2 bc = triangle_barycentrics_along(p, w, l->p0.xyz, l->p1.xyz, l->p2.xyz);
+  const float3 q = triangle_light_point_at(l, bc, &p_error, &n_l);
+  return sample_planar_light_point(l, p, q, p_error, n_l, 1.0f / t.solid_angle, s);
+}
+
 inline float triangle_light_pdf(__global const Light* l, float3 p, float3 q, float3 wi) {
+  SphericalTriangle t;
+  if (triangle_light_by_solid_angle(l, p, &t)) return 1.0f / t.solid_angle;
   return area_to_solid_angle(p, q, wi, l->emitted.w, triangle_light_normal(l));
 }
 
-AREA_LIGHT_SAMPLE_BY_AREA(triangle)
 AREA_LIGHT_EMISSION(triangle)
 
 #if HAS_TEXTURES
