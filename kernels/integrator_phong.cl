@@ -11,6 +11,9 @@
 #include "integrator/shade_surface_phong.cl"
 #include "integrator/intersect_shadow.cl"
 #include "film/accumulate_film_pass.cl"
+/* The scene as the photon stages read it: included here, outside the #if,
+ * so that the stages' own includes find it inlined once already. */
+#include "lib/scene_buffers.h"
 /* The photon pass's stages, only in programs that run it. */
 #if HAS_CAUSTICS
 #include "photon/emit_photons.cl"

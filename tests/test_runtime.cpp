@@ -116,11 +116,15 @@ TEST(ProgramBuild, IncludesInsideIfAreDecidedByThePreprocessor) {
     const std::string expanded = expand_kernel_source(program, text);
     std::istringstream in(expanded);
     std::set<std::string> guards;
+    std::string repeated;
     int copies = 0;
     for (std::string line; std::getline(in, line);)
-      if (line.rfind("#ifndef CS_INCLUDED_", 0) == 0) ++copies, guards.insert(line);
+      if (line.rfind("#ifndef CS_INCLUDED_", 0) == 0) {
+        ++copies;
+        if (!guards.insert(line).second) repeated += " " + line.substr(20);
+      }
     EXPECT_GT(copies, 10) << program;
-    EXPECT_EQ(copies, int(guards.size())) << program << ": a file inlined more than once";
+    EXPECT_EQ(copies, int(guards.size())) << program << ": a file inlined more than once:" << repeated;
   }
   // The build log still points at the root file's own line.
   const std::string msg = error_of([&] { test::build_test_kernel("runtime_broken_if.cl", ""); });
