@@ -15,6 +15,7 @@
 
 #include "host/bench/host_trace.h"
 #include "host/error.h"
+#include "host/parallel.h"
 
 namespace caustica {
 namespace {

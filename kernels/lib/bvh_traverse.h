@@ -9,6 +9,15 @@
  * triangles of a leaf. Children are visited nearest first from a stack kept
  * sorted by entry distance, entries beyond the closest hit are dropped when
  * popped, and a node with a single child hit descends without the stack.
+ * trace_any uses no distances: it takes a node's highest hit lane and pushes
+ * the others so that they pop from the highest lane down. For shadow rays
+ * that finds an occluder after fewer leaves than lowest lane first or
+ * nearest first, and after fewer nodes than lowest lane first, in every
+ * bench scene and in both directions along the same segments (occluded
+ * shadow rays, nodes and leaves a ray, lowest lane -> highest lane: bunny
+ * 9.65 -> 7.54 and 5.18 -> 2.95, Sponza 9.51 -> 7.99 and 2.12 -> 1.64,
+ * Conference 5.54 -> 4.54 and 2.64 -> 1.99; docs/performance.md), for one
+ * clz instead of one tzcnt. Unoccluded rays visit the same nodes in any order.
  *
  * Rules: finite arithmetic only (programs may use -cl-fast-relaxed-math):
  * reciprocal directions are clamped to +-BVH_INV_DIR_MAX; empty slots are
@@ -81,6 +90,7 @@ CS_DEVICE Lanes bvh8_lanes_hit(int8 hit) {
 CS_DEVICE uint bvh8_lane(Lanes lanes) { return (uint)__builtin_ctz(lanes); }
 CS_DEVICE uint bvh8_last_lane(Lanes lanes) { return 31u - clz(lanes); }
 CS_DEVICE Lanes bvh8_lanes_of_mask(uint mask) { return mask; }
+CS_DEVICE Lanes bvh8_without_lane(Lanes lanes, uint lane) { return lanes ^ (1u << lane); }
 #else
 /* Elsewhere: a compare mask narrowed to bytes and read as one ulong, which
  * PoCL compiles to far less than an OR-reduction (bit 8 * lane). */
@@ -95,6 +105,7 @@ CS_DEVICE Lanes bvh8_lanes_of_mask(uint mask) {
     if (mask & (1u << i)) lanes |= 1UL << (8 * i);
   return lanes;
 }
+CS_DEVICE Lanes bvh8_without_lane(Lanes lanes, uint lane) { return lanes ^ (1UL << (8u * lane)); }
 #endif
 
 #ifdef CAUSTICA_CPU_PREFETCH
@@ -413,10 +424,13 @@ CS_DEVICE bool trace_any(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, 
       Lanes m = bvh8_test(node, &ray, tmax, &entry) & lanes;
       lanes = BVH8_LANES;
       if (m != 0) {
-        /* Any order finds an occluder; no sorting. */
+        /* Any order finds an occluder; no sorting. Highest lane first, the
+         * rest pushed lowest first so that they pop from the highest down
+         * (see the top of this file). */
         if ((m & (m - 1)) == 0 || sp + (int)popcount(m) + (int)node->height <= BVH_STACK_SIZE + 1) {
-          item = node->child[bvh8_lane(m)];
-          for (m &= m - 1; m != 0; m &= m - 1) {
+          const uint last = bvh8_last_lane(m);
+          item = node->child[last];
+          for (m = bvh8_without_lane(m, last); m != 0; m &= m - 1) {
             uint child = node->child[bvh8_lane(m)];
             bvh8_prefetch_item(bvh_nodes, tri_blocks, child);
             stack_item[sp++] = child;
