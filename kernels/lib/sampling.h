@@ -23,6 +23,55 @@ inline float sin_cos_quarter_turn(float a, float* cos_a) {
   return ((-1.9515295891e-4f * z + 8.3321608736e-3f) * z - 1.6666654611e-1f) * z * a + a;
 }
 
+/* sin and cos of 0 <= a <= pi, by the quarter-turn polynomials after
+ * folding onto [0, pi/4] (PoCL's sincos spends more on its general
+ * argument reduction than on the polynomials). */
+inline float sin_cos_half_turn(float a, float* cos_a) {
+  const bool upper = a > M_PI_2_F; /* sin(a) = sin(pi - a), cos(a) = -cos(pi - a) */
+  const float h = upper ? M_PI_F - a : a;
+  float s, c;
+  if (h > M_PI_4_F) { /* sin(h) = cos(pi/2 - h) */
+    c = sin_cos_quarter_turn(M_PI_2_F - h, &s);
+  } else {
+    s = sin_cos_quarter_turn(h, &c);
+  }
+  *cos_a = upper ? -c : c;
+  return s;
+}
+
+/* The same for 0 <= a <= 2 pi. */
+inline float sin_cos_full_turn(float a, float* cos_a) {
+  if (!(a > M_PI_F)) return sin_cos_half_turn(fmax(a, 0.0f), cos_a);
+  float c;
+  const float s = sin_cos_half_turn(fmin(a - M_PI_F, M_PI_F), &c); /* sin(a) = -sin(a - pi) */
+  *cos_a = -c;
+  return -s;
+}
+
+/* atan2(y, x) for y >= 0 (a result in [0, pi]), by Cephes' atanf
+ * polynomial (within about 2 ulp) after its reduction onto
+ * |t| <= tan(pi/8): PoCL's atan2 cost as much as the rest of a light
+ * sample. */
+inline float atan2_upper(float y, float x) {
+  const float ax = fabs(x);
+  if (!(ax > 0.0f || y > 0.0f)) return 0.0f;
+  float t, base;
+  if (y > 2.414213562373095f * ax) { /* beyond tan(3 pi/8): pi/2 - atan(ax / y) */
+    t = -ax / y;
+    base = M_PI_2_F;
+  } else if (y > 0.4142135623730950f * ax) { /* beyond tan(pi/8): pi/4 + atan((y - ax) / (y + ax)) */
+    t = (y - ax) / (y + ax);
+    base = M_PI_4_F;
+  } else {
+    t = y / ax;
+    base = 0.0f;
+  }
+  const float z = t * t;
+  const float r =
+      base + (((8.05374449538e-2f * z - 1.38776856032e-1f) * z + 1.99777106478e-1f) * z - 3.33329491539e-1f) * z * t + t;
+  return x < 0.0f ? M_PI_F - r : r;
+}
+
 inline float2 sample_concentric_disk(float2 u) {
   const float2 o = 2.0f * u - 1.0f;
   if (o.x == 0.0f && o.y == 0.0f) return make_float2(0.0f, 0.0f);

@@ -32,6 +32,10 @@
 #include <string>
 #include <vector>
 
+// The solid-angle samplers from 0.01 sr on (the built-in switch is 0.1 sr,
+// chosen for speed), so that the small and oblique lights below test them
+// as well.
+#define LIGHT_SPHERICAL_MIN_SOLID_ANGLE 1e-2f
 #include "lib/lights.h"
 #include "lib/rng.h"
 #include "tests/support/chi_square.h"

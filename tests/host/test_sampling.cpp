@@ -510,6 +510,30 @@ TEST(Ggx, FiniteAtGrazingAnglesAndTinyAlpha) {
 
 // --------------------------------------------------------------- the frame
 
+// The polynomial sine, cosine and atan2 the light samplers use instead of
+// PoCL's (lib/sampling.h), against double precision over their ranges.
+TEST(Sampling, PolynomialTrigonometryIsWithinAFewUlp) {
+  double worst_sin = 0.0, worst_atan = 0.0;
+  for (int i = 0; i <= 200000; ++i) {
+    const float a = float(2.0 * kPi * i / 200000.0);
+    float c;
+    const float s = sin_cos_full_turn(a, &c);
+    worst_sin = std::max({worst_sin, std::abs(s - std::sin(double(a))), std::abs(c - std::cos(double(a)))});
+  }
+  for (int i = 0; i <= 2000; ++i)
+    for (int j = -1000; j <= 1000; ++j) {
+      const float y = float(i) * 1e-3f, x = float(j) * 1.3e-3f;
+      if (y == 0.0f && x == 0.0f) continue;
+      worst_atan = std::max(worst_atan, std::abs(atan2_upper(y, x) - std::atan2(double(y), double(x))));
+    }
+  EXPECT_LT(worst_sin, 6e-7) << "sin_cos_full_turn";
+  EXPECT_LT(worst_atan, 6e-7) << "atan2_upper";  // a few ulp of pi
+  EXPECT_EQ(atan2_upper(0.0f, 0.0f), 0.0f);
+  EXPECT_NEAR(atan2_upper(0.0f, -1.0f), kPi, 3e-7);
+  EXPECT_NEAR(atan2_upper(1e-30f, 1.0f), 1e-30f, 1e-36f);
+  EXPECT_NEAR(atan2_upper(1e30f, 1.0f), kPi / 2, 3e-7);
+}
+
 TEST(Sampling, FrameFromNormalIsOrthonormalAndRightHanded) {
   std::mt19937 rng(3);
   std::normal_distribution<double> gauss;
