@@ -59,13 +59,15 @@ inline float power_heuristic(float a, float b) {
   return 1.0f / (1.0f + r * r);
 }
 
-/* The weight of emission a BSDF-sampled path found, against sampling the
- * light it found with density light_pdf; 1 after a delta lobe. */
-inline float emission_mis_weight(const PathStageData* d, const PathRecord* ray, float light_pdf) {
+/* The weight of the emission of `light` a path found at its point q,
+ * against sampling that light (light_pdf); 1 after a delta lobe. */
+inline float emission_mis_weight(const PathStageData* d, const PathRecord* ray, __global const Light* light,
+                                 float3 q) {
   if (ray->flags & PATH_SPECULAR) return 1.0f;
   if (d->params.strategy == PATH_STRATEGY_NEE) return 0.0f;
-  if (d->params.strategy == PATH_STRATEGY_MIS) return power_heuristic(ray->bsdf_pdf, light_pdf);
-  return 1.0f;
+  if (d->params.strategy != PATH_STRATEGY_MIS) return 1.0f;
+  return power_heuristic(ray->bsdf_pdf, light_pdf(light, d->scene.environment, light->select_probability,
+                                                  ray->origin.xyz, q, ray->dir.xyz));
 }
 
 /* Light -> caster+ -> receiver: the photon map's when the pass has one. */
@@ -87,11 +89,7 @@ inline void path_miss(const PathStageData* d, const PathRecord* ray) {
   if (d->params.environment_light != LIGHT_NONE) {
     __global const Light* sky = &d->scene.lights[d->params.environment_light];
     if (path_is_photon_maps(d, ray)) return;
-    const float pdf = (ray->flags & PATH_SPECULAR) || d->params.strategy != PATH_STRATEGY_MIS
-                          ? 0.0f
-                          : light_pdf(sky, d->scene.environment, sky->select_probability, ray->origin.xyz,
-                                      ray->origin.xyz, dir);
-    const float weight = emission_mis_weight(d, ray, pdf);
+    const float weight = emission_mis_weight(d, ray, sky, ray->origin.xyz);
     if (weight > 0.0f)
       film_add(FILM_OF(d), ray->pixel, ray->throughput.xyz * environment_radiance(d->scene.environment, dir) * weight);
     return;
@@ -115,11 +113,7 @@ inline void surface_emission(const PathStageData* d, const PathRecord* ray, uint
     /* every light in the table emits photons: its caustics are the map's */
     if (path_is_photon_maps(d, ray)) return;
     __global const Light* light = &d->scene.lights[light_index];
-    const float pdf = (ray->flags & PATH_SPECULAR) || d->params.strategy != PATH_STRATEGY_MIS
-                          ? 0.0f
-                          : light_pdf(light, d->scene.environment, light->select_probability, ray->origin.xyz,
-                                      sp->position, dir);
-    const float weight = emission_mis_weight(d, ray, pdf);
+    const float weight = emission_mis_weight(d, ray, light, sp->position);
     if (weight > 0.0f)
       film_add(FILM_OF(d), ray->pixel,
                ray->throughput.xyz * light->emitted.xyz *

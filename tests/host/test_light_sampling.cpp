@@ -226,8 +226,8 @@ Estimate irradiance_estimate(const Planar& l, const dvec3& p, const dvec3& n, bo
 bool by_solid_angle(const Planar& l, const dvec3& p) {
   SphericalRectangle r;
   SphericalTriangle t;
-  return l.rectangle ? rect_light_by_solid_angle(&l.light, f3(p), &r)
-                     : triangle_light_by_solid_angle(&l.light, f3(p), &t);
+  return l.rectangle ? rect_light_by_solid_angle(&l.light, f3(p), rect_light_normal(&l.light), &r)
+                     : triangle_light_by_solid_angle(&l.light, f3(p), triangle_light_normal(&l.light), &t);
 }
 
 struct Case {

@@ -34,25 +34,24 @@ inline float3 triangle_light_normal(__global const Light* l) {
  * (triangle_light_texel) both come from here. */
 inline float2 triangle_light_barycentrics(float2 u) { return sample_triangle_barycentrics(u); }
 
-/* The point of barycentrics bc, its error bound and the normal. */
-inline float3 triangle_light_point_at(__global const Light* l, float2 bc, float3* p_error, float3* n) {
-  const float3 q = l->p0.xyz + bc.x * (l->p1.xyz - l->p0.xyz) + bc.y * (l->p2.xyz - l->p0.xyz);
+/* The point of barycentrics bc and its error bound. */
+inline float3 triangle_light_point_at(__global const Light* l, float2 bc, float3* p_error) {
   *p_error = error_gamma(8.0f) * (fabs(l->p0.xyz) + fabs(l->p1.xyz - l->p0.xyz) + fabs(l->p2.xyz - l->p0.xyz));
-  *n = triangle_light_normal(l); /* a plane's normal: the same everywhere */
-  return q;
+  return l->p0.xyz + bc.x * (l->p1.xyz - l->p0.xyz) + bc.y * (l->p2.xyz - l->p0.xyz);
 }
 
 inline float3 triangle_light_emission_point(__global const Light* l, float2 u, float3* p_error, float3* n) {
-  return triangle_light_point_at(l, triangle_light_barycentrics(u), p_error, n);
+  *n = triangle_light_normal(l); /* a plane's normal: the same everywhere */
+  return triangle_light_point_at(l, triangle_light_barycentrics(u), p_error);
 }
 
 /* Whether p samples the light by solid angle (then *t is its set-up): the
- * one decision both the sampler and the density read. */
-inline bool triangle_light_by_solid_angle(__global const Light* l, float3 p, SphericalTriangle* t) {
+ * one decision both the sampler and the density read; n_l is the light's
+ * normal (triangle_light_normal), which both have at hand. */
+inline bool triangle_light_by_solid_angle(__global const Light* l, float3 p, float3 n_l, SphericalTriangle* t) {
   if (l->flags & LIGHT_EMISSION_TEXTURE) return false; /* its texel is keyed by the area sample */
   const float3 centroid = (l->p0.xyz + l->p1.xyz + l->p2.xyz) * (1.0f / 3.0f);
-  if (!(planar_light_solid_angle_estimate(p, centroid, triangle_light_normal(l), l->emitted.w) >=
-        LIGHT_SPHERICAL_MIN_SOLID_ANGLE))
+  if (!(planar_light_solid_angle_estimate(p, centroid, n_l, l->emitted.w) >= LIGHT_SPHERICAL_MIN_SOLID_ANGLE))
     return false;
   return spherical_triangle_setup(p, l->p0.xyz, l->p1.xyz, l->p2.xyz, t) &&
          t->solid_angle < LIGHT_SPHERICAL_MAX_SOLID_ANGLE;
@@ -60,21 +59,23 @@ inline bool triangle_light_by_solid_angle(__global const Light* l, float3 p, Sph
 
 inline bool triangle_light_sample(__global const Light* l, float3 p, float2 u, LightSample* s) {
   SphericalTriangle t;
-  float3 p_error, n_l;
-  if (!triangle_light_by_solid_angle(l, p, &t)) {
-    const float3 q = triangle_light_emission_point(l, u, &p_error, &n_l);
+  const float3 n_l = triangle_light_normal(l);
+  float3 p_error;
+  if (!triangle_light_by_solid_angle(l, p, n_l, &t)) {
+    const float3 q = triangle_light_point_at(l, triangle_light_barycentrics(u), &p_error);
     return sample_area_light_point(l, p, q, p_error, n_l, s);
   }
   const float3 w = spherical_triangle_sample(&t, u);
-  const float2 bc = triangle_barycentrics_along(p, w, l->p0.xyz, l->p1.xyz, l->p2.xyz);
-  const float3 q = triangle_light_point_at(l, bc, &p_error, &n_l);
+  const float3 q = triangle_light_point_at(l, triangle_barycentrics_along(p, w, l->p0.xyz, l->p1.xyz, l->p2.xyz),
+                                           &p_error);
   return sample_planar_light_point(l, p, q, p_error, n_l, 1.0f / t.solid_angle, s);
 }
 
 inline float triangle_light_pdf(__global const Light* l, float3 p, float3 q, float3 wi) {
   SphericalTriangle t;
-  if (triangle_light_by_solid_angle(l, p, &t)) return 1.0f / t.solid_angle;
-  return area_to_solid_angle(p, q, wi, l->emitted.w, triangle_light_normal(l));
+  const float3 n_l = triangle_light_normal(l);
+  if (triangle_light_by_solid_angle(l, p, n_l, &t)) return 1.0f / t.solid_angle;
+  return area_to_solid_angle(p, q, wi, l->emitted.w, n_l);
 }
 
 AREA_LIGHT_EMISSION(triangle)
