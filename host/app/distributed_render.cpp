@@ -4,10 +4,12 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <tuple>
 
 #include "host/error.h"
+#include "host/render/adaptive_sampling.h"
 #include "host/render/render_state.h"
 #include "host/render/state_merge.h"
 
@@ -82,7 +84,7 @@ FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine, bool by_pixels) 
   if (!by_pixels) ranks.sum_to_root(mine.spp);
   ranks.sum_to_root(mine.pixel_rays);
   ranks.sum_to_root(mine.counters);
-  if (ranks.rank() != 0) return mine;
+  if (ranks.rank() != 0 || by_pixels) return mine;  // by pixels: rank 0's counts, halves and passes are the image's
   mine.held = held;
   mine.passes = held.count();
   mine.per_pixel = false;
@@ -108,75 +110,133 @@ void maybe_die_for_test(const RankGroup& ranks, int done) {
 
 DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderStats* stats,
                                      const ProgressCallback& progress, ErrorMonitor* monitor,
-                                     const RenderState* resume, const DistributedCheckpoint& checkpoint) {
+                                     const RenderState* resume, const DistributedOutputs& outputs) {
   const auto t0 = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   const RenderSettings& settings = session.settings;
   Renderer& renderer = *session.renderer;
   const int rank = ranks.rank(), size = ranks.size();
   DistributedResult out;
-  // The photon pass keeps per-pixel statistics that are not sums of
-  // passes: the ranks then share the render by pixels (every rank traces
-  // every pass over its window of pixels, and its share of each photon
-  // map, gathered to all), not by passes.
-  const bool by_pixels = size > 1 && renderer.integrator().share_pixels(&ranks);
-  out.by_pixels = by_pixels;
+  // Path mode shares every wave among the ranks (pass_driver.h's
+  // WaveShare: adaptive sampling and the photon pass keep one process's
+  // schedule); binary and phong, one pass each, split passes in rounds.
+  const bool by_waves = size > 1 && renderer.integrator().share_pixels(&ranks);
+  out.by_waves = by_waves;
   if (rank == 0)
     out.summed = std::make_unique<Renderer>(*session.runtime, *session.device_scene, session.mode,
                                             session.program.program, settings);
   // Sums every rank's film into rank 0's `summed` renderer.
   // `for_state`: the summed renderer's state will be written (a
-  // checkpoint), so by pixels the ranks send every per-pixel value, not
-  // only what the image and its error estimate read.
+  // checkpoint), so by waves the ranks send every per-pixel value of the
+  // photon pass, not only what the image and its error estimate read.
   auto reduce = [&](bool for_state) {
     using Clock = std::chrono::steady_clock;
     auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
     const auto r0 = Clock::now();
     FilmState mine = renderer.film().state();
-    // Shared by pixels: each rank's window of the per-pixel statistics.
-    const std::string slice = by_pixels ? renderer.integrator().pixel_slice(for_state) : std::string();
+    // By waves: each rank's window of the photon pass's per-pixel statistics.
+    const std::string slice = by_waves ? renderer.integrator().pixel_slice(for_state) : std::string();
     out.read_seconds += since(r0);
-    // The ranks' rounds end apart: the wait is the imbalance, not MPI's cost.
+    // The ranks' waves end apart: the wait is the imbalance, not MPI's cost.
     const auto waited = Clock::now();
     ranks.barrier();
     out.wait_seconds += since(waited);
     const auto r1 = Clock::now();
     RenderState state;
-    state.film = reduce_film_to_root(ranks, std::move(mine), by_pixels);
-    const std::vector<std::string> slices = by_pixels ? ranks.gather_bytes_to_root(slice) : std::vector<std::string>{};
+    state.film = reduce_film_to_root(ranks, std::move(mine), by_waves);
+    const std::vector<std::string> slices = by_waves ? ranks.gather_bytes_to_root(slice) : std::vector<std::string>{};
     out.mpi_seconds += since(r1);
     const auto r2 = Clock::now();
     if (rank == 0) {
-      // By pixels: rank 0's own statistics and schedule (the same on every
+      // By waves: rank 0's own statistics and schedule (the same on every
       // rank) with every window's pixels: the whole image's, as one
-      // process's. By passes the integrator keeps nothing a later pass
-      // needs (path mode without the photon pass: nothing at all), or the
-      // render is phong's one pass, which rank 0 traced.
-      if (by_pixels) renderer.integrator().put_pixel_slices(slices);
+      // process's; and its adaptive sampler's state, every rank's. By
+      // passes the integrator keeps nothing a later pass needs (phong's
+      // one pass, which rank 0 traced).
+      if (by_waves) renderer.integrator().put_pixel_slices(slices);
       state.integrator = renderer.integrator().state();
+      state.adaptive = renderer.adaptive_state();
+      out.summed->begin(&state);
     }
-    if (rank == 0) out.summed->begin(&state);
     out.restore_seconds += since(r2);
     ++out.reductions;
     out.reduction_seconds += since(r0);
   };
   const int end = settings.passes;  // INT_MAX: open (a time limit or a target error ends it)
   const double limit = settings.time_limit_s;
-  // Rank 0 decides after each round (a time limit, or its error monitor);
-  // with --spp alone the ranks talk once, at the end.
-  const bool checkpoints = rank == 0 && checkpoint.write != nullptr;
-  const bool decided = ranks.broadcast(rank == 0 && (limit > 0.0 || monitor || checkpoints) ? 1 : 0) != 0;
-  const int most_block = std::max(1, renderer.integrator().wave_passes(renderer.film()));
+  // Rank 0 decides after each wave or round (a time limit, its error
+  // monitor, outputs due); with --spp alone the ranks talk at the end (and
+  // by waves where the adaptive sampler refreshes its weights).
+  const bool checkpoints = rank == 0 && outputs.checkpoint != nullptr;
+  const bool writes = rank == 0 && outputs.write != nullptr;
+  const bool decided = ranks.broadcast(rank == 0 && (limit > 0.0 || monitor || checkpoints || writes) ? 1 : 0) != 0;
   const double tolerance = limit > 0.0 ? time_limit_tolerance(limit) : 0.0;
   if (resume && !resume->film.held.is_prefix())
     throw Error("a state of " + resume->film.held.describe() + " resumes in one process only (ranks go on from "
                 "passes [0, N))");
+  double last_checkpoint = 0.0, last_write = 0.0;
+  // After a wave or round (every rank): rank 0 decides whether to measure
+  // or write now (every rank sums its film for it), measures and writes;
+  // false: its error monitor says stop.
+  auto measure_and_write = [&](int done) {
+    const double now = seconds();
+    const bool measure = rank == 0 && monitor && monitor->wants_measurement(done);
+    const bool save = checkpoints && now - last_checkpoint >= outputs.checkpoint_every_s;
+    const bool write = writes && now - last_write >= outputs.write_every_s;
+    const int sum_now = ranks.broadcast(save ? 2 : measure || write ? 1 : 0);
+    if (sum_now) reduce(sum_now == 2);
+    if (save) {
+      last_checkpoint = seconds();
+      outputs.checkpoint(*out.summed);
+    }
+    if (write) {
+      last_write = seconds();
+      outputs.write(*out.summed, now);
+    }
+    if (!measure) return true;
+    // The other ranks wait for this decision: its time is theirs too.
+    const double measure_start = seconds();
+    const bool go = monitor->on_pass(out.summed->film(), now);
+    out.measure_seconds += seconds() - measure_start;
+    return go;
+  };
+  if (by_waves) {
+    // Every rank runs one process's waves over its part of each (the
+    // driver's WaveShare), rank 0 deciding for all after each.
+    WaveShare share;
+    share.group = &ranks;
+    share.decides = decided;
+    if (settings.adaptive)
+      share.weights = [&](const Film&) {
+        // The sampler's weights from the summed film, computed on rank 0
+        // and sent to every rank: O(log passes) times a render.
+        const auto w0 = std::chrono::steady_clock::now();
+        reduce(false);
+        std::vector<double> weights;
+        std::string bytes;
+        if (rank == 0) {
+          weights = AdaptiveSampler::weights_of(out.summed->film(), settings.adaptive_options);
+          bytes.assign(reinterpret_cast<const char*>(weights.data()), weights.size() * sizeof(double));
+        }
+        const std::string all = ranks.gather_bytes_to_all(bytes);
+        if (all.size() != renderer.film().pixel_count() * sizeof(double))
+          throw Error("adaptive sampling: " + std::to_string(all.size()) + " bytes of weights from rank 0 for " +
+                      std::to_string(renderer.film().pixel_count()) + " pixels");
+        weights.resize(renderer.film().pixel_count());
+        std::memcpy(weights.data(), all.data(), all.size());
+        ++out.weight_refreshes;
+        out.weight_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+        return weights;
+      };
+    renderer.share_waves(std::move(share));  // (begin() hands it to the driver)
+  }
   // The ranks go on from the resumed passes [0, N): rank 0 holds them.
-  // Shared by pixels, every rank resumes the whole state (its schedule,
-  // photon map and its window's statistics) but rank 0 alone the film's
-  // sums: the others' start at zero.
+  // By waves, every rank resumes the whole state (the film's counts, the
+  // adaptive sampler's weights, the photon pass's schedule, map and its
+  // window's statistics) but rank 0 alone the film's sums: the others'
+  // start at zero.
   const int resumed = ranks.broadcast(rank == 0 && resume ? resume->film.held.end() : 0);
-  if (by_pixels && rank != 0 && resumed > 0) {
+  if (by_waves && rank != 0 && resumed > 0) {
     // Rank 0 read the state; the others get its bytes.
     RenderState others = decode_render_state(ranks.gather_bytes_to_all(std::string()), "rank 0's resumed state");
     std::fill(others.film.accumulated.begin(), others.film.accumulated.end(), 0u);
@@ -185,82 +245,78 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
     renderer.begin(&others);
     renderer.integrator().zero_shared_sums();
   } else {
-    if (by_pixels && resumed > 0) ranks.gather_bytes_to_all(encode_render_state(*resume));
+    if (by_waves && resumed > 0) ranks.gather_bytes_to_all(encode_render_state(*resume));
     renderer.begin(rank == 0 ? resume : nullptr);
   }
-  double last_checkpoint = 0.0;
-  // Rank 0's progress as the whole group's: its passes since the start
-  // (a resumed state's are its own) times the ranks.
-  ProgressCallback shown;
-  if (progress)
-    shown = [&](const PassProgress& p) {
-      PassProgress q = p;
-      q.pass = by_pixels ? p.pass : int(std::min<int64_t>(int64_t(end) - 1, resumed + int64_t(p.pass - resumed) * size));
-      q.passes = end;
-      q.first_pass = resumed;
-      progress(q);
-    };
-  double round_s = 0.0;
-  // Rounds end where rank 0 decides next: its error monitor's next
-  // measurement (a round must not run far past a target error).
-  int decide_at = end;
-  for (int done = resumed; done < end;) {
-    const double start = seconds();
-    // By pixels every rank traces the round's passes, over its window.
-    const int split = by_pixels ? 1 : size;
-    const int until_decision = int(std::max<int64_t>(1, (int64_t(decide_at) - done + split - 1) / split));
-    // By pixels every rank holds the same passes and photon schedule, so
-    // the integrator's wave (a map's pass alone, then up to the next map)
-    // is the same on all.
-    const int most = by_pixels ? std::max(1, renderer.integrator().wave_passes(renderer.film())) : most_block;
-    const int block = std::clamp(std::min(done / split, until_decision), 1, most);
-    const int64_t first = int64_t(done) + (by_pixels ? 0 : int64_t(rank) * block);
-    const int64_t last = std::min<int64_t>(end, first + block);
-    if (first < last) {
-      StopConditions stop;
-      stop.first_pass = int(first);
-      stop.passes = int(last);
-      if (by_pixels) std::tie(stop.first_pixel, stop.pixel_end) = share_of(renderer.film().pixel_count(), rank, size);
-      renderer.run(stop, stats, rank == 0 ? shown : ProgressCallback{});
+  if (by_waves) {
+    StopConditions stop;
+    stop.passes = end;
+    stop.seconds = limit;
+    ProgressCallback shown;
+    if (progress)
+      shown = [&](const PassProgress& p) {
+        PassProgress q = p;
+        q.first_pass = resumed;
+        progress(q);
+      };
+    renderer.run(stop, stats, rank == 0 ? shown : ProgressCallback{}, [&](const Film& film, double) {
+      maybe_die_for_test(ranks, film.passes());
+      return !decided || measure_and_write(film.passes());
+    });
+  } else {
+    // Rank 0's progress as the whole group's: its passes since the start
+    // (a resumed state's are its own) times the ranks.
+    ProgressCallback shown;
+    if (progress)
+      shown = [&](const PassProgress& p) {
+        PassProgress q = p;
+        q.pass = int(std::min<int64_t>(int64_t(end) - 1, resumed + int64_t(p.pass - resumed) * size));
+        q.passes = end;
+        q.first_pass = resumed;
+        progress(q);
+      };
+    const int most_block = std::max(1, renderer.integrator().wave_passes(renderer.film()));
+    double round_s = 0.0;
+    // Rounds end where rank 0 decides next: its error monitor's next
+    // measurement (a round must not run far past a target error).
+    int decide_at = end;
+    for (int done = resumed; done < end;) {
+      const double start = seconds();
+      const int until_decision = int(std::max<int64_t>(1, (int64_t(decide_at) - done + size - 1) / size));
+      const int block = std::clamp(std::min(done / size, until_decision), 1, most_block);
+      const int64_t first = int64_t(done) + int64_t(rank) * block;
+      const int64_t last = std::min<int64_t>(end, first + block);
+      if (first < last) {
+        StopConditions stop;
+        stop.first_pass = int(first);
+        stop.passes = int(last);
+        renderer.run(stop, stats, rank == 0 ? shown : ProgressCallback{});
+      }
+      done = int(std::min<int64_t>(end, int64_t(done) + int64_t(size) * block));
+      maybe_die_for_test(ranks, done);
+      if (!decided) continue;
+      round_s = seconds() - start;
+      int go = measure_and_write(done) ? 1 : 0;
+      if (rank == 0) {
+        const double now = seconds();
+        if (limit > 0.0 && (now >= limit || now + round_s > limit + 0.75 * tolerance)) go = 0;
+      }
+      // 0: stop; else where to decide next.
+      const int next = rank == 0 && go ? (monitor ? std::max(done + 1, monitor->next_measurement()) : end) : 0;
+      decide_at = ranks.broadcast(next);
+      if (decide_at == 0) break;
     }
-    done = int(std::min<int64_t>(end, int64_t(done) + int64_t(split) * block));
-    maybe_die_for_test(ranks, done);
-    if (!decided) continue;
-    round_s = seconds() - start;
-    // Rank 0 decides: measure or checkpoint now (every rank sums its
-    // film), then go on?
-    const bool measure = rank == 0 && monitor && monitor->wants_measurement(done);
-    const bool save = checkpoints && seconds() - last_checkpoint >= checkpoint.every_s;
-    const int sum_now = ranks.broadcast(save ? 2 : measure ? 1 : 0);
-    if (sum_now) reduce(sum_now == 2);
-    if (save) {
-      last_checkpoint = seconds();
-      checkpoint.write(*out.summed);
-    }
-    int go = 1;
-    if (rank == 0) {
-      const double now = seconds();
-      // The other ranks wait for this decision: its time is theirs too.
-      const double measure_start = seconds();
-      if (measure && !monitor->on_pass(out.summed->film(), now)) go = 0;
-      out.measure_seconds += seconds() - measure_start;
-      if (limit > 0.0 && (now >= limit || now + round_s > limit + 0.75 * tolerance)) go = 0;
-    }
-    // 0: stop; else where to decide next.
-    const int next = rank == 0 && go ? (monitor ? std::max(done + 1, monitor->next_measurement()) : end) : 0;
-    decide_at = ranks.broadcast(next);
-    if (decide_at == 0) break;
   }
   // The final state may be written (render_command.cpp's --checkpoint).
   reduce(ranks.broadcast(checkpoints ? 1 : 0) != 0);
   out.seconds = seconds();
   out.photon_traffic = renderer.integrator().shared_photon_traffic();
   if (rank == 0) out.image = out.summed->finish(stats);
-  // By pixels, rank 0's own photon counters are the render's (the maps
+  // By waves, rank 0's own photon counters are the render's (the maps
   // were gathered whole, the gather counters summed over the ranks; its
   // photon rays and seconds are its own share); the summed renderer's,
   // restored from a state, counted nothing.
-  if (rank == 0 && by_pixels) renderer.integrator().collect(stats);
+  if (rank == 0 && by_waves) renderer.integrator().collect(stats);
   return out;
 }
 

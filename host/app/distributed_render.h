@@ -1,30 +1,30 @@
-// `mpirun -np N caustica render ...` (issue 23): the passes split across
-// ranks, the films summed on rank 0.
+// `mpirun -np N caustica render ...` (issues 23 and 40): the work split
+// across ranks, the films summed on rank 0.
 //
-// Rules. Passes are traced in rounds: round j covers global passes
-// [g, g + N b) and rank r traces [g + r b, g + (r + 1) b) (b grows with the
-// passes done, as a single render's waves do, up to the integrator's wave
-// size), so every rank works to the end and, after any whole round, the
-// ranks together hold passes [0, g). Each rank's passes keep their absolute
-// indices (pass_set.h), so its samples are those a one-rank render takes;
-// the films are summed on rank 0 as 128-bit integers (state_merge.h's
-// rules for the half buffer), so the image is bit-identical to a one-rank
-// render of the same passes. With --spp the ranks talk once, at the end.
-// With --time, --target-error, --report, --reference or --checkpoint
-// rank 0 decides
-// after each round whether to go on and broadcasts it (the time limit's
-// prediction uses the latest round's duration), and the error estimate is
-// taken from the ranks' summed film (reduced when the error monitor
-// measures: after 1, 2, 4, ... passes and where the target is projected);
-// rank 0 alone reads a resumed state and writes checkpoints, of the
-// summed film (passes [0, g) after a whole round: a state like any).
-// Path mode's photon pass (--caustics on) is shared by pixels instead:
-// every rank traces every pass over its window of pixels and its slice of
-// each photon map, the maps gathered whole to every rank, each pixel's SPPM
-// statistics updated by the rank that owns it and gathered to rank 0 at
-// each reduction (pixel_share.h; docs/distributed.md). Adaptive sampling
-// and the photon pass's `auto` are refused before this is called
-// (render_command.cpp says why). Progress comes from rank 0 only.
+// Rules. Path mode shares every wave (host/render/pass_driver.h's
+// WaveShare): every rank runs one process's pass driver with the same stop
+// conditions, so it plans the waves one process would (adaptive sampling,
+// the photon pass's schedule and `auto`'s decisions included), and traces
+// its part of each: an even wave's pixels by equal windows, an uneven
+// wave's by equal shares of its samples. A rank's film counts every
+// pixel's samples (so sample indices and half-buffer restarts are one
+// process's) but sums only what it traced; the films summed as 128-bit
+// integers are one process's film, bit for bit. Rank 0 decides what one
+// process decides from its clock (a wave cut to a time limit, whether to
+// go on: broadcast after every wave when there is anything to decide), and
+// computes the adaptive sampler's weights from the summed film when the
+// sampler refreshes them (O(log passes) reductions), which it sends to
+// every rank. With the photon pass each rank traces its slice of each
+// photon map, the maps gathered whole to every rank, and each pixel's SPPM
+// statistics live with the rank whose window holds it (a photon map's pass
+// is an even wave; pixel_share.h; docs/distributed.md).
+// Binary and phong (one pass each) split passes in rounds instead: round j
+// covers global passes [g, g + N b) and rank r traces [g + r b, g + (r + 1)
+// b), its passes keeping their absolute indices (pass_set.h).
+// Rank 0 alone reads a resumed state (by waves it sends it to every rank,
+// whose sums start at zero), measures the error of the summed film, and
+// writes checkpoints and progressive images of it. Progress comes from rank
+// 0 only.
 #pragma once
 
 #include <functional>
@@ -50,33 +50,41 @@ struct DistributedResult {
   // for its decision meanwhile). The film reads include waiting for the
   // device to finish the round's queued work.
   double measure_seconds = 0.0;
-  // Shared by pixels (the photon pass): what gathering the photon maps cost
-  // rank 0 (pixel_share.h).
-  bool by_pixels = false;
+  // By waves: the adaptive sampler's weight refreshes (each a reduction,
+  // counted above too) and their time on rank 0 (reduction, weights and
+  // their broadcast); what gathering the photon maps cost rank 0
+  // (pixel_share.h).
+  bool by_waves = false;
+  int weight_refreshes = 0;
+  double weight_seconds = 0.0;
   SharedPhotonTraffic photon_traffic;
 };
 
-// Rank 0's checkpoints: `write` gets the summed film's renderer every
-// `every_s` seconds (after a round; the ranks' films are summed for it).
-struct DistributedCheckpoint {
-  double every_s = 0.0;
-  std::function<void(const Renderer&)> write;  // empty: none
+// Rank 0's outputs while rendering, each of the summed film (the ranks'
+// films are summed for it, after a wave or round): `checkpoint` every
+// `checkpoint_every_s` seconds, `write` (--write-every: the images) every
+// `write_every_s` seconds, given the render's seconds.
+struct DistributedOutputs {
+  double checkpoint_every_s = 0.0;
+  std::function<void(const Renderer&)> checkpoint;  // empty: none
+  double write_every_s = 0.0;
+  std::function<void(const Renderer&, double seconds)> write;  // empty: none
 };
 
-// `monitor`, `progress`, `resume` and `checkpoint` are rank 0's (nullptr /
+// `monitor`, `progress`, `resume` and `outputs` are rank 0's (nullptr /
 // empty elsewhere). A resumed state (passes [0, N) only) is rank 0's film
 // at the start; the rounds go on from N.
 DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderStats* stats,
                                      const ProgressCallback& progress, ErrorMonitor* monitor,
                                      const RenderState* resume = nullptr,
-                                     const DistributedCheckpoint& checkpoint = {});
+                                     const DistributedOutputs& outputs = {});
 
 // Every rank's film, summed on rank 0 (the union of their passes; on
 // other ranks the returned state is their own, unchanged in meaning).
 // Collective.
-// `by_pixels`: the ranks shared the render by pixels, each holding the same
-// passes of its own pixels (and zeros elsewhere): the pass sets must be
-// equal, and rank 0's per-pixel counts are the image's.
+// `by_pixels`: the ranks shared every wave (each holding the same passes,
+// counting every pixel's samples, summing its own): the pass sets must be
+// equal, and rank 0's per-pixel counts and half starts are the image's.
 FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine, bool by_pixels = false);
 
 }  // namespace caustica

@@ -25,8 +25,6 @@ class RankGroup : public PixelShare {
   virtual int local_rank() const = 0;  // among the ranks on this machine (picks a device)
   // Returns once every rank has called it.
   virtual void barrier() = 0;
-  // Rank 0's `value`, on every rank.
-  virtual int broadcast(int value) = 0;
   // On rank 0 the sum over ranks; elsewhere unchanged. `sums128` holds
   // 128-bit integers as two words each, low first.
   virtual void sum128_to_root(std::vector<uint64_t>& sums128) = 0;

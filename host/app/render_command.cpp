@@ -90,13 +90,10 @@ std::unique_ptr<Denoiser> make_denoiser(const RenderArgs& a, const DeviceInfo& d
   return denoiser;
 }
 
-// Passes split across ranks or by --passes: no pass holds what adaptive
-// sampling and the photon pass need of the whole film.
-void check_pass_split(const RenderArgs& a, const Session& session, bool distributed) {
-  // Path mode only: binary and phong have no adaptive sampling.
-  if (distributed && session.settings.adaptive)
-    throw Error(ranks_text(a) + ": adaptive sampling plans each wave from the error of the whole film, which no "
-                "rank holds: add --no-adaptive (docs/distributed.md)");
+// A range of passes rendered alone (--passes) holds none of what adaptive
+// sampling and the photon pass need of the whole film. (Ranks share every
+// wave instead, distributed_render.h: nothing to refuse there.)
+void check_pass_split(const RenderArgs& a, const Session& session) {
   if (a.passes.empty()) return;
   if (session.mode != RenderMode::Path)
     throw Error("--passes " + a.passes + ": only path mode takes several passes (binary and phong take one)");
@@ -186,7 +183,7 @@ RenderPlan plan_render(RenderArgs& a) {
     if (ec) throw Error("--aov-dir " + a.aov_dir + ": cannot create it: " + ec.message());
   }
   if (a.denoise) plan.denoiser = make_denoiser(a, session.runtime->device_info());
-  check_pass_split(a, session, plan.distributed);
+  check_pass_split(a, session);
   plan.identity = state_identity(a, session, plan.resume.has_value());
   if (plan.resume) check_resumed_state(a, session, *plan.resume, plan.identity);
   plan.resumed_passes = plan.resume ? plan.resume->film.passes : 0;
@@ -246,13 +243,19 @@ std::optional<RenderResult> render_on_ranks(const RenderArgs& a, RenderPlan& pla
   const bool root = ranks.rank() == 0;
   // Rounds wait for the monitor's decisions only when it has something to decide.
   const bool monitored = !a.report.empty() || !a.reference.empty() || a.target_error > 0.0;
-  std::function<void(const Renderer&)> checkpoint;
-  if (!a.checkpoint.empty()) checkpoint = [&outputs](const Renderer& renderer) { outputs.write_checkpoint(renderer); };
+  DistributedOutputs due;
+  if (!a.checkpoint.empty()) {
+    due.checkpoint_every_s = a.checkpoint_every_s.value_or(kDefaultCheckpointSeconds);
+    due.checkpoint = [&outputs](const Renderer& renderer) { outputs.write_checkpoint(renderer); };
+  }
+  if (a.write_every_s > 0.0) {
+    due.write_every_s = a.write_every_s;
+    due.write = [&outputs](const Renderer& summed, double) { outputs.write_images(summed.film().mean(), summed.film()); };
+  }
   DistributedResult summed = render_distributed(
       *plan.session, ranks, &stats,
       root ? ProgressCallback([&](const PassProgress& p) { progress.update(p); }) : ProgressCallback{},
-      root && monitored ? &monitor : nullptr, plan.resume ? &*plan.resume : nullptr,
-      DistributedCheckpoint{a.checkpoint_every_s.value_or(kDefaultCheckpointSeconds), checkpoint});
+      root && monitored ? &monitor : nullptr, plan.resume ? &*plan.resume : nullptr, due);
   if (!root) return std::nullopt;
   RenderResult result;
   result.image = std::move(summed.image);
@@ -267,9 +270,14 @@ std::optional<RenderResult> render_on_ranks(const RenderArgs& a, RenderPlan& pla
                  ranks.size(), result.shown->film().held().describe().c_str(), summed.reductions,
                  summed.reduction_seconds, summed.read_seconds, summed.wait_seconds, summed.mpi_seconds,
                  summed.restore_seconds, summed.measure_seconds);
-  if (a.verbose && summed.by_pixels)
+  if (a.verbose && summed.by_waves && summed.weight_refreshes > 0)
     std::fprintf(stderr,
-                 "[caustica] %d ranks shared the photon pass by pixels: %u photon maps gathered to every rank, "
+                 "[caustica] %d ranks: the adaptive sampler's weights refreshed %d times from the summed film, %.3f s "
+                 "(reductions, weights on rank 0, sent to every rank)\n",
+                 ranks.size(), summed.weight_refreshes, summed.weight_seconds);
+  if (a.verbose && summed.by_waves && stats.photon_maps > 0)
+    std::fprintf(stderr,
+                 "[caustica] %d ranks shared the photon pass: %u photon maps gathered to every rank, "
                  "%.0f bytes a map; rank 0 waited %.4f s a map for the slowest rank and gathered in %.4f s a map\n",
                  ranks.size(), stats.photon_maps, double(summed.photon_traffic.bytes) / std::max(1u, stats.photon_maps),
                  summed.photon_traffic.wait_seconds / std::max(1u, stats.photon_maps),

@@ -42,8 +42,6 @@ void check_distributed_options(RenderArgs& a) {
     if (given) throw Error(ranks + ": " + option + " " + why + " (docs/distributed.md)");
   };
   refuse(!a.passes.empty(), "--passes", "is for one process: the ranks split the passes themselves");
-  refuse(a.write_every_s > 0.0, "--write-every", "is not supported yet (it would sum the films at every write)");
-  refuse(!a.spp_map.empty(), "--spp-map", "draws adaptive sampling's counts: ranks sample uniformly");
   // --device A,B,...: rank with local rank L takes entry L mod count.
   const std::string& spec = a.session.device;
   if (spec.find(',') != std::string::npos) {

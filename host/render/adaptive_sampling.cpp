@@ -252,16 +252,20 @@ std::vector<uint32_t> AdaptiveSampler::plan(const Film& film, int pass_count) {
   // The weights change slowly: read the film (its mean and half, with the
   // photon map's image) again only once its samples grew by a quarter.
   if (needs_weights(film.passes())) {
-    AdaptiveInputs in;
-    in.width = film.width();
-    in.height = film.height();
-    in.spp = film.pixel_spp();
-    in.pixel_error = pixel_rel_mse(film.mean(), film.half_mean(), in.spp, film.half_counts());
-    if (options_.weigh_cost) in.rays = film.pixel_rays();
-    weight_ = neyman_weights(in, options_);
+    weight_ = weights_of(film, options_);
     weights_passes_ = film.passes();
   }
   return place(film.pixel_spp(), pass_count);
+}
+
+std::vector<double> AdaptiveSampler::weights_of(const Film& film, const AdaptiveOptions& options) {
+  AdaptiveInputs in;
+  in.width = film.width();
+  in.height = film.height();
+  in.spp = film.pixel_spp();
+  in.pixel_error = pixel_rel_mse(film.mean(), film.half_mean(), in.spp, film.half_counts());
+  if (options.weigh_cost) in.rays = film.pixel_rays();
+  return neyman_weights(in, options);
 }
 
 std::vector<uint32_t> AdaptiveSampler::place(const std::vector<uint32_t>& spp, int pass_count) const {

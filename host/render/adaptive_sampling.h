@@ -106,6 +106,10 @@ class AdaptiveSampler {
  public:
   explicit AdaptiveSampler(const AdaptiveOptions& options) : options_(options) {}
   std::vector<uint32_t> plan(const Film& film, int pass_count);
+  // The weights plan() takes from a film when it refreshes them (a render
+  // shared among processes computes them once, from the summed film, and
+  // hands them to every process's sampler with restore()).
+  static std::vector<double> weights_of(const Film& film, const AdaptiveOptions& options);
   // Whether plan() reads the film's estimate again at this many passes
   // (its weights change slowly: again once the samples grew by a quarter).
   bool needs_weights(int film_passes) const {

@@ -156,7 +156,8 @@ void Film::restore(const FilmState& s) {
   if (s.per_pixel) allocate_per_pixel_buffers();
 }
 
-void Film::plan_wave(int pass_count, std::vector<uint32_t> samples, int first_pass) {
+void Film::plan_wave(int pass_count, std::vector<uint32_t> samples, int first_pass,
+                     std::pair<size_t, size_t> traced) {
   if (pass_count < 1 || pass_count > kMostWavePasses)
     throw Error("film: a wave of " + std::to_string(pass_count) + " passes (1 to " + std::to_string(kMostWavePasses) +
                 ")");
@@ -191,8 +192,10 @@ void Film::plan_wave(int pass_count, std::vector<uint32_t> samples, int first_pa
   std::vector<uint32_t> entry_pixel, entry_offset;
   entry_pixel.reserve(pixels);
   entry_offset.reserve(pixels + 1);
+  traced.second = std::min(traced.second, pixels);
+  traced.first = std::min(traced.first, traced.second);
   uint32_t offset = 0;
-  for (size_t p = 0; p < pixels; ++p) {
+  for (size_t p = traced.first; p < traced.second; ++p) {
     if (samples[p] == 0) continue;
     entry_pixel.push_back(uint32_t(p));
     entry_offset.push_back(offset);
@@ -200,6 +203,8 @@ void Film::plan_wave(int pass_count, std::vector<uint32_t> samples, int first_pa
   }
   entry_offset.push_back(offset);
   wave_entries_ = uint32_t(entry_pixel.size());
+  traced_ = traced;
+  traced_samples_ = offset;
   auto& q = runtime_.queue();
   q.enqueueWriteBuffer(pixel_spp_, CL_TRUE, 0, pixels * sizeof(cl_uint), spp_.data());
   q.enqueueWriteBuffer(wave_spp_buffer_, CL_TRUE, 0, pixels * sizeof(cl_uint), samples.data());

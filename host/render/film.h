@@ -24,7 +24,9 @@
 #include <CL/opencl.hpp>
 
 #include <cstdint>
+#include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "host/image/image.h"
@@ -152,12 +154,21 @@ class Film {
   // waves are added in increasing pass order, an even one may not cross a
   // power of two (most_passes_from), and an uneven one (or any once the
   // film is uneven) must continue [0, passes()).
-  void plan_wave(int pass_count, std::vector<uint32_t> samples = {}, int first_pass = -1);
+  // `traced`: the pixels [begin, end) whose samples this process traces (a
+  // wave shared among processes, wave_share.h): the lists for the stages
+  // hold those pixels only, while the counts (and so the sample indices and
+  // the half buffer's restarts) are the whole wave's.
+  void plan_wave(int pass_count, std::vector<uint32_t> samples = {}, int first_pass = -1,
+                 std::pair<size_t, size_t> traced = {0, SIZE_MAX});
   // WAVE_ALLOCATION_PARAMS: the planned wave's pixels (those with samples,
   // in pixel order), their first wave sample (an exclusive prefix sum, one
   // more entry than pixels) and every pixel's samples before the wave.
   KernelArgs& bind_wave_allocation(KernelArgs& args) const;
   uint32_t wave_entries() const { return per_pixel_ ? wave_entries_ : 0u; }  // 0: every pixel alike
+  // An uneven wave's listed pixels [begin, end) (plan_wave's `traced`) and
+  // their samples: what the stages trace of it.
+  std::pair<size_t, size_t> wave_traced_pixels() const { return traced_; }
+  uint64_t wave_traced_samples() const { return traced_samples_; }
   // "pixel_rays": each pixel's count of rays traced for its samples
   // (shade_surface_path adds, per path vertex, the closest-hit ray that
   // found it and its shadow ray, when adaptive sampling weighs them), what
@@ -244,6 +255,8 @@ class Film {
   std::vector<uint32_t> wave_spp_;          // the planned wave's (empty: pass_count each)
   int planned_passes_ = 0;                   // the planned wave's pass count (0: none planned)
   uint32_t wave_entries_ = 0;
+  std::pair<size_t, size_t> traced_{0, 0};  // an uneven wave's listed pixels
+  uint64_t traced_samples_ = 0;             // and their samples
   cl::Buffer pixel_spp_, wave_spp_buffer_, entry_pixel_, entry_offset_;
   cl::Buffer pass_, accumulated_, counters_, pixel_rays_;
   std::unique_ptr<StageKernel> accumulate_, read_sums_;

@@ -188,12 +188,11 @@ class Integrator {
     if (!bytes.empty()) throw Error(what + ": integrator state for a " + name_ + " render that keeps none");
   }
 
-  // A render shared by pixels among processes (host/render/pixel_share.h):
-  // true when this integrator keeps per-pixel state beyond the film (path
-  // mode's photon pass) and so from now on traces its share of each photon
-  // map and updates its window's statistics only (the driver then traces
-  // that window: StopConditions); false: nothing to share by pixels, the
-  // processes split passes instead.
+  // A render whose waves are shared among processes (pass_driver.h's
+  // WaveShare; host/render/pixel_share.h): true when this integrator takes
+  // part (path mode: every wave's samples split, and with the photon pass
+  // its share of each photon map and its window's statistics only); false:
+  // the processes split passes instead (binary and phong's one pass).
   virtual bool share_pixels(PixelShare* /*share*/) { return false; }
   // Shared by pixels, between waves: this process's per-pixel state of its
   // window as bytes (`for_state`: all of it; else what the image and its

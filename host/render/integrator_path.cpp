@@ -226,9 +226,8 @@ class PathIntegrator final : public Integrator {
   // `auto` decides from the whole image's counts and film, which every
   // process gathers at its three decisions (decide_photon_pass).
   bool share_pixels(PixelShare* share) override {
-    if (!photons_) return false;
     share_ = share && share->size() > 1 ? share : nullptr;
-    photons_->share(share);
+    if (photons_) photons_->share(share);
     return true;
   }
   void zero_shared_sums() override {
@@ -295,7 +294,15 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
 bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_count, int passes,
                                  RenderStats* stats) {
   const Scene& scene = scene_.scene();
-  const size_t samples = pixel_count * size_t(passes);
+  // An uneven film lists the wave's pixels (those this process traces:
+  // pass_driver.h's WaveShare) with their samples; otherwise every pixel
+  // of the chunk takes `passes`.
+  const bool listed = !film.uniform();
+  if (listed && (first_pixel != film.wave_traced_pixels().first ||
+                 first_pixel + pixel_count != film.wave_traced_pixels().second))
+    throw Error("path: an adaptive wave is traced over the pixels it lists, in one chunk");
+  const size_t samples = listed ? size_t(film.wave_traced_samples()) : pixel_count * size_t(passes);
+  if (samples == 0) return true;
   PathParams params{};
   params.background = to_float4(scene.background);
   params.light_count = cl_uint(light_count_);
@@ -308,12 +315,8 @@ bool PathIntegrator::trace_chunk(Film& film, size_t first_pixel, size_t pixel_co
   params.sampler = settings_.sampler;
   params.wave_pixels = cl_uint(pixel_count);
   params.wave_samples = cl_uint(samples);
-  // An uneven wave (adaptive sampling) covers the whole image: the film
-  // lists its pixels.
   params.wave_entries = film.wave_entries();
   params.environment_light = environment_light_;
-  if (params.wave_entries > 0 && (first_pixel != 0 || pixel_count != film.pixel_count()))
-    throw Error("path: an adaptive wave must cover the whole image");
   const CameraGPU camera = chunk_camera(first_pixel, pixel_count);
   if (settings_.kernel_shape == KernelShape::Paths) return trace_paths(film, params, camera, samples, stats);
 

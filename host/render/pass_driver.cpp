@@ -57,15 +57,30 @@ std::optional<std::vector<uint32_t>> PassDriver::take_plan_ahead(PlanAhead& ahea
   return samples;
 }
 
+std::vector<uint32_t> PassDriver::plan_uneven(int wave) {
+  if (share_.weights && adaptive_->needs_weights(film_.passes()))
+    adaptive_->restore({share_.weights(film_), film_.passes()});
+  return adaptive_->plan(film_, wave);
+}
+
+std::pair<size_t, size_t> PassDriver::traced_pixels(const std::vector<uint32_t>& samples) const {
+  const size_t pixels = film_.pixel_count();
+  if (!share_.group) return {0, pixels};
+  const int rank = share_.group->rank(), size = share_.group->size();
+  return samples.empty() ? share_of(pixels, rank, size) : samples_share_of(samples, rank, size);
+}
+
 void PassDriver::run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress,
                      const PassDoneCallback& pass_done) {
   const size_t pixels = film_.pixel_count();
   const size_t chunk = std::max<size_t>(1, integrator_.chunk_pixels());
-  const size_t pixel_end = std::min(pixels, stop.pixel_end), first_pixel = std::min(stop.first_pixel, pixel_end);
   const auto t0 = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   const bool timed = stop.seconds > 0.0;
   const double tolerance = timed ? time_limit_tolerance(stop.seconds) : 0.0;
+  // Shared among processes, rank 0's clock decides for all (WaveShare).
+  PixelShare* const group = share_.group;
+  const bool agreed = group && share_.decides;
   std::map<int, double> latest_pass_s;  // seconds a pass, by kind (of the latest wave of that kind)
   double longest_pass_s = 0.0;
   // The waves depend on the absolute pass index only (without a time
@@ -85,21 +100,25 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
       const auto known = latest_pass_s.find(kind);
       const double predicted = known != latest_pass_s.end() ? known->second : longest_pass_s;
       const double room = stop.seconds + 0.75 * tolerance - start;
-      if (predicted > room) break;
-      if (predicted > 0.0) wave = std::max(1, std::min(wave, int(room / predicted)));
+      if (predicted > room) wave = 0;
+      else if (predicted > 0.0) wave = std::max(1, std::min(wave, int(room / predicted)));
     }
+    if (agreed && timed) wave = group->broadcast(wave);
+    if (wave == 0) break;
     const bool uneven = adaptive_ && film_.has_half_buffer() &&
                         film_.passes() >= int(adaptive_->options().min_spp) && integrator_.wave_may_be_uneven(film_);
     std::optional<std::vector<uint32_t>> placed = take_plan_ahead(ahead, pass, wave, uneven);
-    if (uneven)
-      film_.plan_wave(wave, placed ? std::move(*placed) : adaptive_->plan(film_, wave), pass);
-    else
-      film_.plan_wave(wave, {}, pass);
+    std::vector<uint32_t> samples = !uneven ? std::vector<uint32_t>{} : placed ? std::move(*placed) : plan_uneven(wave);
+    // This process's pixels of the wave: their samples are listed for the
+    // stages once the film is uneven; before, its chunks cover them.
+    const auto [first_pixel, pixel_end] = traced_pixels(samples);
+    film_.plan_wave(wave, std::move(samples), pass, {first_pixel, pixel_end});
     if (uneven) start_plan_ahead(ahead, stop, pass, wave);
     integrator_.begin_pass(film_, stats);
     bool abandoned = false;
     for (size_t first = first_pixel; first < pixel_end; first += chunk) {
-      if (timed && pass > first_pass && first > first_pixel && seconds() > stop.seconds + 0.9 * tolerance) {
+      // (shared, the processes could not agree on a wave abandoned mid-way)
+      if (timed && !group && pass > first_pass && first > first_pixel && seconds() > stop.seconds + 0.9 * tolerance) {
         abandoned = true;
         break;
       }
@@ -119,8 +138,10 @@ void PassDriver::run(const StopConditions& stop, RenderStats* stats, const Progr
     const double took = (seconds() - start) / wave;
     latest_pass_s[kind] = took;
     longest_pass_s = std::max(longest_pass_s, took);
-    if (pass_done && !pass_done(film_, seconds())) break;
-    if (timed && seconds() >= stop.seconds) break;
+    int go = !pass_done || pass_done(film_, seconds());
+    if (timed && seconds() >= stop.seconds) go = 0;
+    if (agreed) go = group->broadcast(go);
+    if (!go) break;
   }
 }
 

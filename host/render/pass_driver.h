@@ -43,6 +43,7 @@
 #include "host/render/adaptive_sampling.h"
 #include "host/render/film.h"
 #include "host/render/integrator.h"
+#include "host/render/pixel_share.h"
 
 namespace caustica {
 
@@ -69,9 +70,29 @@ struct StopConditions {
   int passes = 1;
   int first_pass = 0;
   double seconds = 0.0;  // wall-time limit (above; at least one pass runs); 0: none
-  // The pixels traced: [first_pixel, pixel_end) of the image (a render
-  // shared by pixels among processes: pixel_share.h); all by default.
-  size_t first_pixel = 0, pixel_end = SIZE_MAX;
+};
+
+// A render shared among processes (mpirun's ranks, issue 40;
+// docs/distributed.md). Every process runs the driver with the same stop
+// conditions, so it plans the waves one process would, and traces its part
+// of each: an even wave's pixels share_of (every pass of them; a photon
+// map's pass is such a wave, so each pixel's visible point and statistics
+// stay with one process), an uneven wave's pixels samples_share_of (equal
+// shares of its samples). Each film sums only what its process traced but
+// counts every pixel's samples, so the films summed are one process's
+// film, bit for bit. What one process decides from its clock (a wave cut
+// to a time limit, whether to go on) rank 0 decides for all (broadcast),
+// and the adaptive sampler's weights come from the whole film.
+struct WaveShare {
+  PixelShare* group = nullptr;
+  // Called on every process where the sampler refreshes its weights (the
+  // same waves on all): a collective that returns the whole film's weights
+  // (AdaptiveSampler::weights_of of the summed film) on every process.
+  std::function<std::vector<double>(const Film&)> weights;
+  // Rank 0 decides after every wave (a time limit, an error monitor,
+  // outputs due): its pass-done answer and its clock are broadcast. False:
+  // the processes never talk between waves but for the weights.
+  bool decides = false;
 };
 
 // How far past a time limit T a render may end: max(0.5 s, 5% of T).
@@ -90,6 +111,9 @@ class PassDriver {
   // part of a render's (host/render/render_state.h).
   AdaptiveSampler* adaptive() { return adaptive_ ? &*adaptive_ : nullptr; }
   const AdaptiveSampler* adaptive() const { return adaptive_ ? &*adaptive_ : nullptr; }
+  // Shares every wave among processes (WaveShare above); pass_done is then
+  // called on every process after every wave.
+  void share_waves(WaveShare share) { share_ = std::move(share); }
   // Adds passes to the film (it is not cleared here) until it holds
   // stop.passes: a film restored from a state goes on from its passes, with
   // the waves an uninterrupted render would have traced from there.
@@ -105,11 +129,17 @@ class PassDriver {
   };
   void start_plan_ahead(PlanAhead& ahead, const StopConditions& stop, int pass, int wave);
   std::optional<std::vector<uint32_t>> take_plan_ahead(PlanAhead& ahead, int pass, int wave, bool uneven);
+  // An uneven wave's counts: AdaptiveSampler::plan, its weights from the
+  // whole film when shared.
+  std::vector<uint32_t> plan_uneven(int wave);
+  // The pixels this process traces of the planned wave (all of them alone).
+  std::pair<size_t, size_t> traced_pixels(const std::vector<uint32_t>& samples) const;
 
   Integrator& integrator_;
   Film& film_;
   StageLauncher& launcher_;
   std::optional<AdaptiveSampler> adaptive_;
+  WaveShare share_;
 };
 
 }  // namespace caustica

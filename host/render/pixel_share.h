@@ -31,6 +31,8 @@ class PixelShare {
   virtual std::vector<std::string> gather_bytes_to_root(const std::string& mine) = 0;
   // Each value's sum over the processes, on every process (integers: exact).
   virtual void sum_to_all(std::vector<uint64_t>& values) = 0;
+  // Rank 0's `value`, on every process (a decision its clock takes for all).
+  virtual int broadcast(int value) = 0;
 };
 
 // What sharing the photon maps cost a process, over a render: the bytes
@@ -48,6 +50,29 @@ inline std::pair<size_t, size_t> share_of(size_t count, int rank, int size) {
   if (size <= 1) return {0, count};
   const auto at = [&](int r) { return size_t((unsigned __int128)count * unsigned(r) / unsigned(size)); };
   return {at(rank), at(rank + 1)};
+}
+
+// [begin, end) of the pixels of an uneven wave (`samples` a pixel) that
+// process `rank` of `size` traces: contiguous, in rank order, cut at the
+// pixel boundaries nearest equal shares of the samples (process r's share
+// begins at the first pixel whose samples before it reach r / size of the
+// whole), so the processes' work differs by about one pixel's samples
+// however unevenly the samples lie in the image.
+inline std::pair<size_t, size_t> samples_share_of(const std::vector<uint32_t>& samples, int rank, int size) {
+  if (size <= 1) return {0, samples.size()};
+  uint64_t total = 0;
+  for (uint32_t k : samples) total += k;
+  // (the wave's samples fit 32 bits: Film::plan_wave; times the ranks, 64)
+  const auto cut = [&](int r) {
+    if (r <= 0) return size_t(0);
+    if (r >= size) return samples.size();
+    const uint64_t share = total * uint64_t(r);  // compared as before * size >= share
+    uint64_t before = 0;
+    size_t p = 0;
+    while (p < samples.size() && before * uint64_t(size) < share) before += samples[p++];
+    return p;
+  };
+  return {cut(rank), cut(rank + 1)};
 }
 
 }  // namespace caustica

@@ -62,11 +62,15 @@ void Renderer::check_state(const RenderState& state) const {
                 (mode_ == RenderMode::Path ? " (--spp)" : " (phong and binary take one pass)"));
 }
 
+std::optional<AdaptiveSamplerState> Renderer::adaptive_state() const {
+  if (!settings_.adaptive) return std::nullopt;
+  return driver_ && driver_->adaptive() ? driver_->adaptive()->state() : AdaptiveSamplerState{};
+}
+
 RenderState Renderer::state() const {
   RenderState s;
   s.film = film_->state();
-  if (settings_.adaptive)
-    s.adaptive = driver_ && driver_->adaptive() ? driver_->adaptive()->state() : AdaptiveSamplerState{};
+  s.adaptive = adaptive_state();
   s.integrator = integrator_->state();
   return s;
 }
@@ -101,6 +105,7 @@ void Renderer::begin(const RenderState* resume) {
     if (resume) check_state(*resume);
     driver_ = std::make_unique<PassDriver>(*integrator_, *film_, launcher_);
     if (settings_.adaptive) driver_->set_adaptive(settings_.adaptive_options);
+    driver_->share_waves(share_);
     if (resume) {
       film_->restore(resume->film);
       if (resume->adaptive) driver_->adaptive()->restore(*resume->adaptive);

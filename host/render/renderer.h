@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 
 #include "host/render/device_scene.h"
 #include "host/render/film.h"
@@ -30,6 +31,11 @@ class Renderer {
   // `resume`), run adds passes (PassDriver::run: absolute pass indices,
   // the film is not cleared), finish reads the mean and collects stats.
   void begin(const RenderState* resume = nullptr);
+  // From the next begin() on, every wave is shared among processes
+  // (pass_driver.h's WaveShare).
+  void share_waves(WaveShare share) { share_ = std::move(share); }
+  // The adaptive sampler's state now (none without adaptive sampling).
+  std::optional<AdaptiveSamplerState> adaptive_state() const;
   void run(const StopConditions& stop, RenderStats* stats, const ProgressCallback& progress = {},
            const PassDoneCallback& pass_done = {});
   ImageF finish(RenderStats* stats);
@@ -56,6 +62,7 @@ class Renderer {
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<Film> film_;
   std::unique_ptr<PassDriver> driver_;  // the latest render's
+  WaveShare share_;
 
   // Runs f, turning OpenCL errors into caustica::Error naming the device.
   template <typename F>
