@@ -1,14 +1,17 @@
-// `mpirun -np N caustica render` (issue 23; host/app/distributed_render.h,
-// host/mpi/mpi_ranks.h): 2 and 3 ranks give the same bits as one process
-// at the same spp; a time limit and a target error decided by rank 0 end
-// on a whole number of rounds, whose passes [0, N) a one-process render of
-// N spp reproduces bit for bit; rank 0's checkpoints are one process's
-// states and resume after a rank died; a rank that dies ends the job with
-// a clear message instead of a hang; the photon pass, shared by pixels,
-// gives one process's bits, checkpoints and resumes; what ranks cannot do
-// is refused. Skipped
-// where caustica was built without MPI. Small images, few spp: a second
-// or two each (mpirun's start included), under a timeout.
+// `mpirun -np N caustica render` (issues 23 and 40;
+// host/app/distributed_render.h, host/render/pass_driver.h's WaveShare,
+// host/mpi/mpi_ranks.h), with the defaults (adaptive sampling, and the
+// photon pass where asked for or `auto` finds caustics): 2, 3 and 4 ranks
+// give the same bits as one process at the same spp; a time limit and a
+// target error decided by rank 0 stop every rank after the same wave, whose
+// passes [0, N) a one-process render of N spp reproduces bit for bit; rank
+// 0's checkpoints are one process's states, and states resume on any rank
+// count (after a rank died too); --write-every and the spp channel come
+// from the summed film; a rank that dies ends the job with a clear message
+// instead of a hang; the photon pass gives one process's bits, decisions,
+// checkpoints and resumes; what ranks cannot do is refused. Skipped where
+// caustica was built without MPI. Small images, few spp: a second or two
+// each (mpirun's start included), under a timeout.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -73,10 +76,11 @@ test::CliResult run_mpi(int ranks, const std::string& args, const std::string& e
 
 using test::slurp;
 
-// The cornell box, 32 pixels wide, uniform, no photon pass.
+// The cornell box, 32 pixels wide, no photon pass, adaptive sampling (the
+// default: uneven waves from 16 spp on).
 std::string render_args(const std::string& rest) {
   return "render '" + test::source_dir() + "/scenes/cornell_box.json' --mode path --width 32 --caustics off "
-         "--no-adaptive --device '" + test::device_spec() + "' " + rest;
+         "--device '" + test::device_spec() + "' " + rest;
 }
 
 // "wrote X (32x32, N spp)": N.
@@ -89,33 +93,59 @@ int spp_written(const std::string& output) {
 TEST(MpiRender, TwoAndThreeRanksGiveTheBitsOfOneProcess) {
   SKIP_WITHOUT_MPI();
   const std::string dir = test::temp_dir();
-  // 37 passes: rounds of uneven size, and a last round some ranks sit out.
+  // 37 passes: even waves of 1, 1, 2, 4 and 8 passes, then adaptive ones
+  // (their pixels split by samples), the last cut to 5 passes.
   const test::CliResult one = test::run_cli(render_args("--spp 37 -q -o '" + dir + "/one.pfm'"));
   ASSERT_EQ(one.status, 0) << one.output;
   const std::string bits = slurp(dir + "/one.pfm");
   ASSERT_FALSE(bits.empty());
   // 3 ranks twice: the sums' low words through MPI's own 64-bit sum (they
   // fit), and through the 128-bit op (CAUSTICA_TEST_REDUCE128).
-  for (int ranks : {2, 3, -3}) {
+  for (int ranks : {2, 3, 4, -3}) {
     const std::string out = dir + "/ranks" + std::to_string(ranks) + ".pfm";
     const test::CliResult r = run_mpi(std::abs(ranks), render_args("--spp 37 -v -o '" + out + "'"),
                                       ranks < 0 ? "CAUSTICA_TEST_REDUCE128=1" : "");
     ranks = std::abs(ranks);
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(Contains(r.output, {std::to_string(ranks) + " ranks: passes [0, 37) summed on rank 0"})) << r.output;
-    // Rank 0 alone speaks: one "wrote" line.
+    // Rank 0 alone speaks: one "wrote" line. The weights come from the
+    // summed film where one process refreshes them (a quarter's growth
+    // since the last): before the waves at 16 and 32 passes.
     EXPECT_EQ(r.output.find("wrote"), r.output.rfind("wrote")) << r.output;
+    EXPECT_TRUE(Contains(r.output, {std::to_string(ranks) + " ranks: the adaptive sampler's weights refreshed 2 times"}))
+        << r.output;
     EXPECT_TRUE(slurp(out) == bits) << ranks << " ranks differ from one process";
   }
+  // --no-adaptive: every wave even, split by pixels.
+  ASSERT_EQ(test::run_cli(render_args("--no-adaptive --spp 21 -q -o '" + dir + "/uniform1.pfm'")).status, 0);
+  const test::CliResult r = run_mpi(3, render_args("--no-adaptive --spp 21 -q -o '" + dir + "/uniform3.pfm'"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(slurp(dir + "/uniform3.pfm") == slurp(dir + "/uniform1.pfm")) << "--no-adaptive on 3 ranks";
+  EXPECT_FALSE(slurp(dir + "/uniform1.pfm") == slurp(dir + "/one.pfm")) << "adaptive sampling changed nothing";
+}
+
+// --write-every under ranks: rank 0 writes the summed film while the ranks
+// render (a reduction each time), and at the end the whole render's bits.
+TEST(MpiRender, WriteEveryWritesTheSummedFilmOnRankZero) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  ASSERT_EQ(test::run_cli(render_args("--spp 24 -q -o '" + dir + "/one.pfm'")).status, 0);
+  const test::CliResult r = run_mpi(2, render_args("--spp 24 --write-every 0.001 -v -o '" + dir + "/two.pfm'"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  // A write after every wave (1, 2, 4, 8, 16 and 24 passes: 6 reductions),
+  // the weights at 16 passes and the end: 8 reductions (3 without writes).
+  EXPECT_TRUE(Contains(r.output, {"2 ranks: passes [0, 24) summed on rank 0 in 8 reductions"})) << r.output;
+  EXPECT_TRUE(slurp(dir + "/two.pfm") == slurp(dir + "/one.pfm")) << "2 ranks' last write differs from one process";
 }
 
 // The aux passes (an .exr's albedo, normal, depth and variance layers) are
-// summed across ranks like the colour: the same file bytes.
+// summed across ranks like the colour, and its 'spp' channel is adaptive
+// sampling's counts (--spp-map's): the same file bytes.
 TEST(MpiRender, AuxPassesOfTwoRanksAreThoseOfOneProcess) {
   SKIP_WITHOUT_MPI();
   const std::string dir = test::temp_dir();
-  ASSERT_EQ(test::run_cli(render_args("--spp 9 -q -o '" + dir + "/one.exr'")).status, 0);
-  const test::CliResult r = run_mpi(2, render_args("--spp 9 -q -o '" + dir + "/two.exr'"));
+  ASSERT_EQ(test::run_cli(render_args("--spp 24 -q -o '" + dir + "/one.exr'")).status, 0);
+  const test::CliResult r = run_mpi(2, render_args("--spp 24 -q -o '" + dir + "/two.exr'"));
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(slurp(dir + "/two.exr") == slurp(dir + "/one.exr")) << "2 ranks' EXR layers differ from one process";
 }
@@ -210,6 +240,21 @@ TEST(MpiRender, CheckpointsOfRanksAreOneProcesssStatesAndResumeAfterARankDied) {
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(slurp(dir + "/resumed.pfm") == slurp(dir + "/whole.pfm")) << ranks << " ranks resumed differ";
   }
+  // Past adaptive sampling's start (its weights and uneven counts in the
+  // state), at the end of a wave of the 40-spp render (16 to 32 passes):
+  // written by 3 ranks and resumed by one, written by one and resumed by 2.
+  r = run_mpi(3, render_args("--spp 32 -q --checkpoint '" + dir + "/three.cst' -o '" + dir + "/c.pfm'"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  ASSERT_EQ(test::run_cli(render_args("--spp 32 -q --checkpoint '" + dir + "/single.cst' -o '" + dir + "/d.pfm'")).status,
+            0);
+  EXPECT_TRUE(slurp(dir + "/three.cst") == slurp(dir + "/single.cst")) << "3 ranks' adaptive state differs";
+  const test::CliResult resumed1 =
+      test::run_cli(render_args("--spp 40 -q --resume '" + dir + "/three.cst' -o '" + dir + "/from3.pfm'"));
+  ASSERT_EQ(resumed1.status, 0) << resumed1.output;
+  EXPECT_TRUE(slurp(dir + "/from3.pfm") == slurp(dir + "/whole.pfm")) << "3 ranks' state resumed by one differs";
+  r = run_mpi(2, render_args("--spp 40 -q --resume '" + dir + "/single.cst' -o '" + dir + "/from1.pfm'"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(slurp(dir + "/from1.pfm") == slurp(dir + "/whole.pfm")) << "one process's state resumed by 2 differs";
 }
 
 // The windows of pixels and slices of photons (pixel_share.h): contiguous,
@@ -232,10 +277,10 @@ TEST(MpiRender, SharesCoverEveryItemOnceInRankOrder) {
 }
 
 // scenes/caustics.json (a glass sphere's caustic on the floor), 64x48
-// unless `size` says otherwise, uniform.
+// unless `size` says otherwise, adaptive sampling (the default).
 std::string caustics_args(const std::string& rest, const std::string& size = "--width 64 --height 48") {
-  return "render '" + test::source_dir() + "/scenes/caustics.json' --mode path " + size +
-         " --no-adaptive --device '" + test::device_spec() + "' " + rest;
+  return "render '" + test::source_dir() + "/scenes/caustics.json' --mode path " + size + " --device '" +
+         test::device_spec() + "' " + rest;
 }
 
 // The photon pass under ranks is shared by pixels (docs/distributed.md):
@@ -255,7 +300,7 @@ TEST(MpiRender, PhotonPassSharedByPixelsGivesTheBitsOfOneProcess) {
     const std::string out = dir + "/ranks" + std::to_string(ranks) + ".pfm";
     const test::CliResult r = run_mpi(ranks, caustics_args("--caustics on --spp 5 -v -o '" + out + "'"));
     ASSERT_EQ(r.status, 0) << r.output;
-    EXPECT_TRUE(Contains(r.output, {std::to_string(ranks) + " ranks shared the photon pass by pixels: 5 photon maps"}))
+    EXPECT_TRUE(Contains(r.output, {std::to_string(ranks) + " ranks shared the photon pass: 5 photon maps"}))
         << r.output;
     EXPECT_TRUE(slurp(out) == bits) << ranks << " ranks differ from one process";
   }
@@ -312,6 +357,23 @@ std::string auto_decisions(const std::string& output) {
   return lines;
 }
 
+// With the defaults at 48x32 `auto` keeps a map every 32 passes: its
+// second decision (the caustic's share of the light) comes after adaptive
+// waves whose pixels the ranks split by samples, from the summed films.
+TEST(MpiRender, PhotonPassAutoAfterAdaptiveWavesDecidesAsOneProcess) {
+  SKIP_WITHOUT_MPI();
+  const std::string dir = test::temp_dir();
+  const std::string size = "--width 48 --height 32";
+  const test::CliResult one = test::run_cli(caustics_args("--spp 40 -v -o '" + dir + "/one.pfm'", size));
+  ASSERT_EQ(one.status, 0) << one.output;
+  const std::string decisions = auto_decisions(one.output);
+  ASSERT_TRUE(Contains(decisions, {"every 32 passes after pass 1", "kept after pass 33"})) << decisions;
+  const test::CliResult r = run_mpi(3, caustics_args("--spp 40 -v -o '" + dir + "/three.pfm'", size));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(auto_decisions(r.output), decisions);
+  EXPECT_TRUE(slurp(dir + "/three.pfm") == slurp(dir + "/one.pfm")) << "3 ranks differ from one process";
+}
+
 // `--caustics auto` on ranks shared by pixels decides from the whole
 // image's counts, film and statistics, gathered at its three decisions:
 // at 128x96 and 16 spp it picks a map every 6 passes after the first, keeps
@@ -353,12 +415,9 @@ TEST(MpiRender, WhatRanksCannotDoIsRefused) {
   const std::string scene = "render '" + test::source_dir() + "/scenes/cornell_box.json' --width 32 --spp 4 -o '" +
                             dir + "/x.pfm' ";
   // Every rank refuses; the first to get there ends the job, naming itself.
-  test::CliResult r = run_mpi(2, scene + "--caustics off --adaptive");
+  const test::CliResult r = run_mpi(2, scene + "--caustics off --no-adaptive --passes 0:4");
   EXPECT_NE(r.status, 0);
-  EXPECT_TRUE(Contains(r.output, {" of 2: mpirun with 2 ranks: adaptive sampling plans each wave", "--no-adaptive"}))
-      << r.output;
-  r = run_mpi(2, scene + "--caustics off --no-adaptive --passes 0:4");
-  EXPECT_TRUE(Contains(r.output, {"mpirun with 2 ranks: --passes is for one process"})) << r.output;
+  EXPECT_TRUE(Contains(r.output, {" of 2: mpirun with 2 ranks: --passes is for one process"})) << r.output;
 }
 
 }  // namespace

@@ -63,19 +63,28 @@ int MpiRanks::broadcast(int value) {
   return value;
 }
 
-void MpiRanks::sum128_to_root(std::vector<uint64_t>& sums) {
+namespace {
+// The film's 128-bit sums added over the ranks, to rank 0 or (to_all) to
+// every rank.
+void sum128(std::vector<uint64_t>& sums, int rank, bool to_all) {
   MPI_Datatype pair;
   MPI_Type_contiguous(2, MPI_UINT64_T, &pair);
   MPI_Type_commit(&pair);
   MPI_Op add;
   MPI_Op_create(&add_sums128, /*commute=*/1, &add);
   const int n = count_of(sums.size() / 2, "the film's sums");
-  const int rc = rank_ == 0 ? MPI_Reduce(MPI_IN_PLACE, sums.data(), n, pair, add, 0, MPI_COMM_WORLD)
-                            : MPI_Reduce(sums.data(), nullptr, n, pair, add, 0, MPI_COMM_WORLD);
+  const int rc = to_all ? MPI_Allreduce(MPI_IN_PLACE, sums.data(), n, pair, add, MPI_COMM_WORLD)
+                 : rank == 0 ? MPI_Reduce(MPI_IN_PLACE, sums.data(), n, pair, add, 0, MPI_COMM_WORLD)
+                             : MPI_Reduce(sums.data(), nullptr, n, pair, add, 0, MPI_COMM_WORLD);
   MPI_Op_free(&add);
   MPI_Type_free(&pair);
-  check(rc, "MPI_Reduce of the film's 128-bit sums");
+  check(rc, to_all ? "MPI_Allreduce of the film's 128-bit sums" : "MPI_Reduce of the film's 128-bit sums");
 }
+}  // namespace
+
+void MpiRanks::sum128_to_root(std::vector<uint64_t>& sums) { sum128(sums, rank_, false); }
+
+void MpiRanks::sum128_to_all(std::vector<uint64_t>& sums) { sum128(sums, rank_, true); }
 
 void MpiRanks::sum_to_root(std::vector<uint64_t>& v) {
   const int n = count_of(v.size(), "a sum");

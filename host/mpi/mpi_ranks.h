@@ -30,6 +30,7 @@ class MpiRanks final : public RankGroup {
   void barrier() override;
   int broadcast(int value) override;
   void sum128_to_root(std::vector<uint64_t>& sums128) override;
+  void sum128_to_all(std::vector<uint64_t>& sums128) override;
   void sum_to_root(std::vector<uint64_t>& values) override;
   void sum_to_root(std::vector<uint32_t>& values) override;
   void max_to_all(std::vector<uint64_t>& values) override;

@@ -9,6 +9,8 @@
 #include "host/error.h"
 #include "host/render/integrator.h"
 #include "host/render/kernel_args.h"
+#include "host/render/pixel_share.h"
+#include "lib/film_sums.h"
 #include "lib/wave_samples.h"
 
 namespace caustica {
@@ -409,6 +411,42 @@ ImageF Film::mean() const {
   ImageF image = read_sums(0);
   divide_by(image, spp_);
   if (separate_ && passes_ > 0) separate_->add_to(image, spp_);
+  return image;
+}
+
+ImageF Film::summed_mean(PixelShare& group, bool half) const {
+  if (half && !options_.half_buffer) throw Error("film: no half buffer was asked for");
+  if (half && passes_ < 2) throw Error("film: the half buffer needs at least two passes");
+  // The colour sums (the combined sum's, then the half's), two words a value.
+  const size_t values = pixel_count() * 3, bytes = values * kAccumulatedValueBytes;
+  std::vector<uint64_t> words(2 * values * (half ? 2 : 1));
+  auto& q = runtime_.queue();
+  q.enqueueReadBuffer(accumulated_, CL_TRUE, 0, bytes, words.data());
+  if (half) q.enqueueReadBuffer(accumulated_, CL_TRUE, half_offset_ * kAccumulatedValueBytes, bytes, words.data() + 2 * values);
+  group.sum128_to_all(words);
+  const auto image_of = [&](size_t first_value) {
+    ImageF image(options_.width, options_.height);
+    for (size_t i = 0; i < values; ++i)
+      image.rgb[i] = film_sum_to_float(words[2 * (first_value + i)], words[2 * (first_value + i) + 1]);
+    return image;
+  };
+  // As mean() and half_mean() from the device's floats.
+  ImageF image = image_of(half ? values : 0);
+  if (!half) {
+    divide_by(image, spp_);
+    if (separate_ && passes_ > 0) separate_->add_to(image, spp_);
+    return image;
+  }
+  const std::vector<uint32_t> h = half_counts();
+  divide_by(image, h);
+  if (std::find(h.begin(), h.end(), 0u) != h.end()) {
+    const ImageF sums = image_of(0);
+    for (size_t p = 0; p < h.size(); ++p)
+      if (h[p] == 0)
+        for (int c = 0; c < 3; ++c)
+          image.rgb[3 * p + c] = spp_[p] > 1 ? sums.rgb[3 * p + c] * (1.0f / float(spp_[p])) : sums.rgb[3 * p + c];
+  }
+  if (separate_) separate_->add_to(image, spp_);
   return image;
 }
 

@@ -40,6 +40,7 @@ struct StageKernel;
 class KernelArgs;
 class StageLauncher;
 struct RenderStats;
+class PixelShare;
 
 struct FilmOptions {
   int width = 0, height = 0;
@@ -210,6 +211,12 @@ class Film {
   // Adds `estimate` to every image read from now on (nullptr: none).
   void set_separate_estimate(const SeparateEstimate* estimate) { separate_ = estimate; }
   ImageF mean() const;       // combined sum / passes
+  // mean() (or half_mean()) of the films of a group of processes that
+  // share every wave (each counts every pixel's samples but sums only its
+  // own: pass_driver.h's WaveShare): the colour sums added over the group
+  // (a collective) and converted as the device converts them, so the image
+  // is one process's, bit for bit, on every process.
+  ImageF summed_mean(PixelShare& group, bool half) const;
   // The passes in the half buffer while uniform(): those held from P on, P
   // the largest power of two at most the last held pass ([P, N) for passes
   // [0, N), N >= 2; PassSet::half_count). half_mean: each pixel's half's

@@ -479,10 +479,10 @@ void PathIntegrator::decide_photon_pass(const Film& film) {
   }
   if (maps == 2) {
     // The accumulated passes (this one is not yet) with the caustic image
-    // (shared by pixels: every window's, gathered; the sums below then run
-    // over the pixels in order, as in one process).
+    // (shared: every window's statistics gathered, the films' sums summed;
+    // the sums below then run over the pixels in order, as in one process).
     photons_->gather_pixels_to_all();
-    const ImageF image = photons_->whole_image(film.mean());
+    const ImageF image = share_ ? film.summed_mean(*share_, false) : film.mean();
     double total = 0.0;
     for (float v : image.rgb) total += v;
     const double caustic = photons_->caustic_total(film.spp_after_wave());
@@ -511,8 +511,8 @@ void PathIntegrator::decide_photon_pass(const Film& film) {
   // Shared by pixels: every window's statistics and images, gathered (the
   // photon map's bias term reads each pixel's neighbours).
   photons_->gather_pixels_to_all();
-  const ImageF mean = photons_->whole_image(film.mean()), half = photons_->whole_image(film.half_mean()),
-               map_error = film.separate_variance();
+  const ImageF mean = share_ ? film.summed_mean(*share_, false) : film.mean(),
+               half = share_ ? film.summed_mean(*share_, true) : film.half_mean(), map_error = film.separate_variance();
   const double passes_error = estimated_rel_mse(mean, half, film.pixel_spp(), film.half_counts());
   double map_sum = 0.0;
   for (size_t i = 0; i < mean.rgb.size(); ++i)

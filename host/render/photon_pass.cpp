@@ -228,20 +228,6 @@ void PhotonPass::gather_pixels_to_all() {
   if (!all.empty()) launcher_.runtime().queue().enqueueWriteBuffer(pixels_, CL_TRUE, 0, all.size(), all.data());
 }
 
-ImageF PhotonPass::whole_image(const ImageF& mine) const {
-  if (!share_) return mine;
-  if (mine.pixel_count() != pixel_count_) throw Error("photon pass: an image of another size than the render's");
-  const std::string bytes(reinterpret_cast<const char*>(mine.rgb.data() + 3 * first_pixel_),
-                          3 * (pixel_end_ - first_pixel_) * sizeof(float));
-  const std::string all = share_->gather_bytes_to_all(bytes);
-  ImageF whole(mine.width, mine.height);
-  if (all.size() != whole.rgb.size() * sizeof(float))
-    throw Error("photon pass: " + std::to_string(all.size()) + " bytes of an image gathered for " +
-                std::to_string(pixel_count_) + " pixels");
-  std::memcpy(whole.rgb.data(), all.data(), all.size());
-  return whole;
-}
-
 void PhotonPass::zero_counters() {
   if (gather_mode_ == PhotonGather::PerPixel)
     launcher_.runtime().fill(gather_counters_, cl_ulong(0), 0, GATHER_COUNTERS * sizeof(cl_ulong));

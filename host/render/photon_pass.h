@@ -110,11 +110,9 @@ class PhotonPass final : public SeparateEstimate {
   std::string pixel_slice(bool whole_state) const;
   void put_pixel_slices(const std::vector<std::string>& by_rank);
   // `auto`'s decisions, shared by pixels (collective): every process's
-  // window of statistics into every process's buffers, and an image of
-  // which this process holds its window made whole. One process: nothing
-  // to do.
+  // window of statistics into every process's buffers (the films' means
+  // come whole from Film::summed_mean). One process: nothing to do.
   void gather_pixels_to_all();
-  ImageF whole_image(const ImageF& mine) const;
   // A process other than rank 0 resuming a state: its gather counters
   // start at zero (rank 0's hold the state's).
   void zero_counters();

@@ -31,6 +31,9 @@ class PixelShare {
   virtual std::vector<std::string> gather_bytes_to_root(const std::string& mine) = 0;
   // Each value's sum over the processes, on every process (integers: exact).
   virtual void sum_to_all(std::vector<uint64_t>& values) = 0;
+  // Each 128-bit integer's sum (two words, low first: the film's sums),
+  // on every process.
+  virtual void sum128_to_all(std::vector<uint64_t>& sums128) = 0;
   // Rank 0's `value`, on every process (a decision its clock takes for all).
   virtual int broadcast(int value) = 0;
 };
