@@ -55,22 +55,9 @@ ShapeRender render_with(const std::string& scene, KernelShape shape, CausticsMod
 // The committed scenes written for path mode (the phong and binary ones
 // add no path-mode feature these lack; each feature set costs the suite a
 // cold build of both shapes' kernels).
-std::vector<std::string> committed_path_scenes() {
-  std::vector<std::string> scenes;
-  for (const auto& e : fs::directory_iterator(test::source_dir() + "/scenes")) {
-    if (e.path().extension() != ".json") continue;
-    const std::string text = test::slurp(e.path().string());
-    const size_t mode = text.find("\"rendermode\"");
-    if (mode != std::string::npos && text.find("path", mode) < text.find('\n', mode))
-      scenes.push_back(e.path().string());
-  }
-  std::sort(scenes.begin(), scenes.end());
-  return scenes;
-}
-
 TEST(KernelShapes, EveryCommittedSceneGivesTheSameBitsInBothShapes) {
   size_t compared = 0;
-  for (const std::string& scene : committed_path_scenes()) {
+  for (const std::string& scene : test::committed_path_scenes()) {
     for (CausticsMode caustics : {CausticsMode::Off, CausticsMode::On}) {
       const std::string what =
           fs::path(scene).filename().string() + (caustics == CausticsMode::On ? ", photon pass on" : ", photon pass off");

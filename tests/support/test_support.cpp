@@ -6,6 +6,7 @@
 
 #include "host/error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -135,6 +136,19 @@ Runtime& runtime() {
 }
 
 std::string source_dir() { return CAUSTICA_SOURCE_DIR; }
+
+std::vector<std::string> committed_path_scenes() {
+  std::vector<std::string> scenes;
+  for (const auto& e : std::filesystem::directory_iterator(source_dir() + "/scenes")) {
+    if (e.path().extension() != ".json") continue;
+    const std::string text = slurp(e.path().string());
+    const size_t mode = text.find("\"rendermode\"");
+    if (mode != std::string::npos && text.find("path", mode) < text.find('\n', mode))
+      scenes.push_back(e.path().string());
+  }
+  std::sort(scenes.begin(), scenes.end());
+  return scenes;
+}
 
 std::string shared_dir() {
   std::filesystem::path p;

@@ -46,6 +46,8 @@ std::string test_kernel_source(const std::string& relative_path);
 BuiltProgram build_test_kernel(const std::string& relative_path, const std::string& options, Runtime& rt = runtime());
 // "<repo>/../shared" or $CAUSTICA_SHARED_DIR; empty when it does not exist.
 std::string shared_dir();
+// The committed scenes (scenes/*.json) whose rendermode is path, sorted.
+std::vector<std::string> committed_path_scenes();
 std::string binary_path();  // the caustica executable
 
 // The message of the caustica::Error that `fn` throws; fails the test if it
