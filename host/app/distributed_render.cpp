@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <limits>
 #include <tuple>
 
@@ -207,23 +206,13 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
     share.group = &ranks;
     share.decides = decided;
     if (settings.adaptive)
-      share.weights = [&](const Film&) {
-        // The sampler's weights from the summed film, computed on rank 0
-        // and sent to every rank: O(log passes) times a render.
+      share.weights = [&](const Film& film) {
+        // The sampler's weights from the films summed on every rank (the
+        // colour sums and the ray counts only; the photon pass's windows
+        // gathered): O(log passes) times a render.
         const auto w0 = std::chrono::steady_clock::now();
-        reduce(false);
-        std::vector<double> weights;
-        std::string bytes;
-        if (rank == 0) {
-          weights = AdaptiveSampler::weights_of(out.summed->film(), settings.adaptive_options);
-          bytes.assign(reinterpret_cast<const char*>(weights.data()), weights.size() * sizeof(double));
-        }
-        const std::string all = ranks.gather_bytes_to_all(bytes);
-        if (all.size() != renderer.film().pixel_count() * sizeof(double))
-          throw Error("adaptive sampling: " + std::to_string(all.size()) + " bytes of weights from rank 0 for " +
-                      std::to_string(renderer.film().pixel_count()) + " pixels");
-        weights.resize(renderer.film().pixel_count());
-        std::memcpy(weights.data(), all.data(), all.size());
+        renderer.integrator().gather_shared_pixels();
+        std::vector<double> weights = AdaptiveSampler::weights_of(film, settings.adaptive_options, &ranks);
         ++out.weight_refreshes;
         out.weight_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
         return weights;

@@ -11,10 +11,10 @@
 // process's) but sums only what it traced; the films summed as 128-bit
 // integers are one process's film, bit for bit. Rank 0 decides what one
 // process decides from its clock (a wave cut to a time limit, whether to
-// go on: broadcast after every wave when there is anything to decide), and
-// computes the adaptive sampler's weights from the summed film when the
-// sampler refreshes them (O(log passes) reductions), which it sends to
-// every rank. With the photon pass each rank traces its slice of each
+// go on: broadcast after every wave when there is anything to decide);
+// where the adaptive sampler refreshes its weights (O(log passes) times)
+// every rank computes them from the films' colour sums and ray counts
+// summed on all (Film::summed_means). With the photon pass each rank traces its slice of each
 // photon map, the maps gathered whole to every rank, and each pixel's SPPM
 // statistics live with the rank whose window holds it (a photon map's pass
 // is an even wave; pixel_share.h; docs/distributed.md).
@@ -50,9 +50,9 @@ struct DistributedResult {
   // for its decision meanwhile). The film reads include waiting for the
   // device to finish the round's queued work.
   double measure_seconds = 0.0;
-  // By waves: the adaptive sampler's weight refreshes (each a reduction,
-  // counted above too) and their time on rank 0 (reduction, weights and
-  // their broadcast); what gathering the photon maps cost rank 0
+  // By waves: the adaptive sampler's weight refreshes (the colour sums and
+  // ray counts summed on every rank, which computes the weights itself) and
+  // their time on rank 0; what gathering the photon maps cost rank 0
   // (pixel_share.h).
   bool by_waves = false;
   int weight_refreshes = 0;

@@ -100,7 +100,9 @@ void check_pass_split(const RenderArgs& a, const Session& session) {
   if (session.settings.caustics)
     throw Error("--passes " + a.passes + ": the photon pass (--caustics " +
                 std::string(a.session.caustics == CausticsMode::On ? "on" : "auto, which found caustics here") +
-                ") keeps per-pixel statistics that are not sums of passes: add --caustics off");
+                ") keeps per-pixel statistics that are not sums of passes (each photon map's gather updates those "
+                "the maps before it left): add --caustics off, or render on mpirun's ranks, which keep the photon "
+                "pass (docs/distributed.md)");
 }
 
 // What a resumed state must match, and what a checkpoint records.

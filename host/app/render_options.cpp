@@ -81,9 +81,13 @@ void take_pass_range(RenderArgs& a) {
   if (a.session.spp > 0) throw Error("--passes " + a.passes + " and --spp: give one (--passes ends at END)");
   if (a.session.time_limit_s > 0.0 || a.target_error > 0.0)
     throw Error("--passes " + a.passes + ": a render of a fixed set of passes takes no --time or --target-error");
+  // Adaptive sampling places each wave by the error estimate of every pass
+  // before it: a range rendered alone cannot know its allocation.
   if (a.session.adaptive)
     throw Error("--passes " + a.passes + ": adaptive sampling plans each wave from the error of the whole film, "
-                "which a render of some of its passes does not hold: add --no-adaptive");
+                "which a render of some of its passes does not hold (each wave's allocation depends on every pass before "
+                "it, from pass 0): add --no-adaptive and `caustica merge` the "
+                "parts' states, or render on mpirun's ranks, which keep adaptive sampling (docs/distributed.md)");
   a.session.first_pass = first;
   a.session.spp = end;
 }

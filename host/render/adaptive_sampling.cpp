@@ -258,13 +258,14 @@ std::vector<uint32_t> AdaptiveSampler::plan(const Film& film, int pass_count) {
   return place(film.pixel_spp(), pass_count);
 }
 
-std::vector<double> AdaptiveSampler::weights_of(const Film& film, const AdaptiveOptions& options) {
+std::vector<double> AdaptiveSampler::weights_of(const Film& film, const AdaptiveOptions& options, PixelShare* group) {
   AdaptiveInputs in;
   in.width = film.width();
   in.height = film.height();
   in.spp = film.pixel_spp();
-  in.pixel_error = pixel_rel_mse(film.mean(), film.half_mean(), in.spp, film.half_counts());
-  if (options.weigh_cost) in.rays = film.pixel_rays();
+  const Film::Means means = group ? film.summed_means(*group, true) : Film::Means{film.mean(), film.half_mean()};
+  in.pixel_error = pixel_rel_mse(means.mean, means.half, in.spp, film.half_counts());
+  if (options.weigh_cost) in.rays = group ? film.summed_pixel_rays(*group) : film.pixel_rays();
   return neyman_weights(in, options);
 }
 

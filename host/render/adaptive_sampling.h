@@ -58,6 +58,7 @@
 namespace caustica {
 
 class Film;
+class PixelShare;
 
 struct AdaptiveOptions {
   uint32_t min_spp = 16;        // uniform until every pixel has these (a power of two >= 2)
@@ -106,10 +107,13 @@ class AdaptiveSampler {
  public:
   explicit AdaptiveSampler(const AdaptiveOptions& options) : options_(options) {}
   std::vector<uint32_t> plan(const Film& film, int pass_count);
-  // The weights plan() takes from a film when it refreshes them (a render
-  // shared among processes computes them once, from the summed film, and
-  // hands them to every process's sampler with restore()).
-  static std::vector<double> weights_of(const Film& film, const AdaptiveOptions& options);
+  // The weights plan() takes from a film when it refreshes them. `group`:
+  // the film is one of a group of processes that share every wave
+  // (pass_driver.h's WaveShare), whose films are summed for them (a
+  // collective: Film::summed_means), so every process takes one process's
+  // weights and hands them to its sampler with restore().
+  static std::vector<double> weights_of(const Film& film, const AdaptiveOptions& options,
+                                        PixelShare* group = nullptr);
   // Whether plan() reads the film's estimate again at this many passes
   // (its weights change slowly: again once the samples grew by a quarter).
   bool needs_weights(int film_passes) const {

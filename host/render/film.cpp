@@ -414,16 +414,42 @@ ImageF Film::mean() const {
   return image;
 }
 
-ImageF Film::summed_mean(PixelShare& group, bool half) const {
-  if (half && !options_.half_buffer) throw Error("film: no half buffer was asked for");
-  if (half && passes_ < 2) throw Error("film: the half buffer needs at least two passes");
+namespace {
+// The film's 128-bit sums added over a group, on every process. Their high
+// words are zero unless a sum reached 2^64 (2^40 in radiance at the finest
+// scale, 2^20): when every process's are and no low word exceeds
+// (2^64 - 1) / processes, the low words alone add without overflow (half
+// the bytes); otherwise the 128-bit op. Exact either way.
+void sum_film_sums_to_all(PixelShare& group, std::vector<uint64_t>& words) {
+  uint64_t high = 0, most_low = 0;
+  for (size_t i = 0; i + 1 < words.size(); i += 2) {
+    most_low = std::max(most_low, words[i]);
+    high |= words[i + 1];
+  }
+  std::vector<uint64_t> wide = {high != 0 || most_low > UINT64_MAX / uint64_t(group.size()) ? 1u : 0u};
+  group.sum_to_all(wide);
+  if (wide[0] != 0) return group.sum128_to_all(words);
+  std::vector<uint64_t> low(words.size() / 2);
+  for (size_t i = 0; i < low.size(); ++i) low[i] = words[2 * i];
+  group.sum_to_all(low);
+  for (size_t i = 0; i < low.size(); ++i) {
+    words[2 * i] = low[i];
+    words[2 * i + 1] = 0;
+  }
+}
+}  // namespace
+
+Film::Means Film::summed_means(PixelShare& group, bool with_half) const {
+  if (with_half && !options_.half_buffer) throw Error("film: no half buffer was asked for");
+  if (with_half && passes_ < 2) throw Error("film: the half buffer needs at least two passes");
   // The colour sums (the combined sum's, then the half's), two words a value.
   const size_t values = pixel_count() * 3, bytes = values * kAccumulatedValueBytes;
-  std::vector<uint64_t> words(2 * values * (half ? 2 : 1));
+  std::vector<uint64_t> words(2 * values * (with_half ? 2 : 1));
   auto& q = runtime_.queue();
   q.enqueueReadBuffer(accumulated_, CL_TRUE, 0, bytes, words.data());
-  if (half) q.enqueueReadBuffer(accumulated_, CL_TRUE, half_offset_ * kAccumulatedValueBytes, bytes, words.data() + 2 * values);
-  group.sum128_to_all(words);
+  if (with_half)
+    q.enqueueReadBuffer(accumulated_, CL_TRUE, half_offset_ * kAccumulatedValueBytes, bytes, words.data() + 2 * values);
+  sum_film_sums_to_all(group, words);
   const auto image_of = [&](size_t first_value) {
     ImageF image(options_.width, options_.height);
     for (size_t i = 0; i < values; ++i)
@@ -431,23 +457,28 @@ ImageF Film::summed_mean(PixelShare& group, bool half) const {
     return image;
   };
   // As mean() and half_mean() from the device's floats.
-  ImageF image = image_of(half ? values : 0);
-  if (!half) {
-    divide_by(image, spp_);
-    if (separate_ && passes_ > 0) separate_->add_to(image, spp_);
-    return image;
-  }
-  const std::vector<uint32_t> h = half_counts();
-  divide_by(image, h);
-  if (std::find(h.begin(), h.end(), 0u) != h.end()) {
+  Means out;
+  out.mean = image_of(0);
+  divide_by(out.mean, spp_);
+  if (with_half) {
+    const std::vector<uint32_t> h = half_counts();
+    out.half = image_of(values);
+    divide_by(out.half, h);
     const ImageF sums = image_of(0);
     for (size_t p = 0; p < h.size(); ++p)
       if (h[p] == 0)
         for (int c = 0; c < 3; ++c)
-          image.rgb[3 * p + c] = spp_[p] > 1 ? sums.rgb[3 * p + c] * (1.0f / float(spp_[p])) : sums.rgb[3 * p + c];
+          out.half.rgb[3 * p + c] = spp_[p] > 1 ? sums.rgb[3 * p + c] * (1.0f / float(spp_[p])) : sums.rgb[3 * p + c];
+    if (separate_) separate_->add_to(out.half, spp_);
   }
-  if (separate_) separate_->add_to(image, spp_);
-  return image;
+  if (separate_ && passes_ > 0) separate_->add_to(out.mean, spp_);
+  return out;
+}
+
+std::vector<uint64_t> Film::summed_pixel_rays(PixelShare& group) const {
+  std::vector<uint64_t> rays = pixel_rays();
+  group.sum_to_all(rays);
+  return rays;
 }
 
 int Film::half_passes() const { return held_.half_count(); }

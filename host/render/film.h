@@ -211,12 +211,18 @@ class Film {
   // Adds `estimate` to every image read from now on (nullptr: none).
   void set_separate_estimate(const SeparateEstimate* estimate) { separate_ = estimate; }
   ImageF mean() const;       // combined sum / passes
-  // mean() (or half_mean()) of the films of a group of processes that
-  // share every wave (each counts every pixel's samples but sums only its
-  // own: pass_driver.h's WaveShare): the colour sums added over the group
-  // (a collective) and converted as the device converts them, so the image
-  // is one process's, bit for bit, on every process.
-  ImageF summed_mean(PixelShare& group, bool half) const;
+  // mean() (and, with_half, half_mean()) of the films of a group of
+  // processes that share every wave (each counts every pixel's samples but
+  // sums only its own: pass_driver.h's WaveShare): the colour sums added
+  // over the group (a collective) and converted as the device converts
+  // them, so the images are one process's, bit for bit, on every process.
+  // The separate estimate's per-pixel state must be whole on every process.
+  struct Means {
+    ImageF mean, half;
+  };
+  Means summed_means(PixelShare& group, bool with_half) const;
+  // pixel_rays() summed over such a group (a collective).
+  std::vector<uint64_t> summed_pixel_rays(PixelShare& group) const;
   // The passes in the half buffer while uniform(): those held from P on, P
   // the largest power of two at most the last held pass ([P, N) for passes
   // [0, N), N >= 2; PassSet::half_count). half_mean: each pixel's half's

@@ -204,6 +204,11 @@ class Integrator {
   // the sums the processes keep apart (its film's are zeroed by the
   // caller; the photon pass's gather counters here).
   virtual void zero_shared_sums() {}
+  // Shared, between waves (collective): every process's window of the
+  // per-pixel state the image reads beyond the film (the photon pass's
+  // statistics) into every process's, so that the whole image can be
+  // formed on each (Film::summed_means).
+  virtual void gather_shared_pixels() {}
   // Shared by pixels: what gathering the photon maps cost this process.
   virtual SharedPhotonTraffic shared_photon_traffic() const { return {}; }
 

@@ -233,6 +233,9 @@ class PathIntegrator final : public Integrator {
   void zero_shared_sums() override {
     if (photons_) photons_->zero_counters();
   }
+  void gather_shared_pixels() override {
+    if (photons_) photons_->gather_pixels_to_all();
+  }
   std::string pixel_slice(bool for_state) const override {
     return photons_ ? photons_->pixel_slice(for_state) : std::string();
   }
@@ -482,7 +485,7 @@ void PathIntegrator::decide_photon_pass(const Film& film) {
     // (shared: every window's statistics gathered, the films' sums summed;
     // the sums below then run over the pixels in order, as in one process).
     photons_->gather_pixels_to_all();
-    const ImageF image = share_ ? film.summed_mean(*share_, false) : film.mean();
+    const ImageF image = share_ ? film.summed_means(*share_, false).mean : film.mean();
     double total = 0.0;
     for (float v : image.rgb) total += v;
     const double caustic = photons_->caustic_total(film.spp_after_wave());
@@ -511,8 +514,8 @@ void PathIntegrator::decide_photon_pass(const Film& film) {
   // Shared by pixels: every window's statistics and images, gathered (the
   // photon map's bias term reads each pixel's neighbours).
   photons_->gather_pixels_to_all();
-  const ImageF mean = share_ ? film.summed_mean(*share_, false) : film.mean(),
-               half = share_ ? film.summed_mean(*share_, true) : film.half_mean(), map_error = film.separate_variance();
+  const Film::Means both = share_ ? film.summed_means(*share_, true) : Film::Means{film.mean(), film.half_mean()};
+  const ImageF &mean = both.mean, &half = both.half, map_error = film.separate_variance();
   const double passes_error = estimated_rel_mse(mean, half, film.pixel_spp(), film.half_counts());
   double map_sum = 0.0;
   for (size_t i = 0; i < mean.rgb.size(); ++i)

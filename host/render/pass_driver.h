@@ -87,7 +87,8 @@ struct WaveShare {
   PixelShare* group = nullptr;
   // Called on every process where the sampler refreshes its weights (the
   // same waves on all): a collective that returns the whole film's weights
-  // (AdaptiveSampler::weights_of of the summed film) on every process.
+  // (AdaptiveSampler::weights_of with the group: the films summed) on every
+  // process.
   std::function<std::vector<double>(const Film&)> weights;
   // Rank 0 decides after every wave (a time limit, an error monitor,
   // outputs due): its pass-done answer and its clock are broadcast. False:

@@ -111,7 +111,7 @@ class PhotonPass final : public SeparateEstimate {
   void put_pixel_slices(const std::vector<std::string>& by_rank);
   // `auto`'s decisions, shared by pixels (collective): every process's
   // window of statistics into every process's buffers (the films' means
-  // come whole from Film::summed_mean). One process: nothing to do.
+  // come whole from Film::summed_means). One process: nothing to do.
   void gather_pixels_to_all();
   // A process other than rank 0 resuming a state: its gather counters
   // start at zero (rank 0's hold the state's).
