@@ -1,44 +1,50 @@
 #!/usr/bin/env python3
-"""Distributed rendering's scaling (issue 23; results for docs/distributed.md;
-not part of the tests or CI).
+"""Distributed rendering's scaling (issues 23 and 40; results for
+docs/distributed.md; not part of the tests or CI).
 
-Time to reach a target error with 1, 2 and 3 MPI ranks of one PoCL thread
-each (POCL_MAX_PTHREAD_COUNT=1 per rank), against one process of 1, 2 and 3
-PoCL threads: the Cornell box at 512x512 and the showcase
+Time to reach a target error with 1 and 2 (--most-ranks: more) MPI ranks of
+one PoCL thread each (POCL_MAX_PTHREAD_COUNT=1 per rank), against one
+process of as many PoCL threads: the Cornell box at 512x512 and the showcase
 (scenes/showcase_path.json: glass and metal spheres, with the photon pass as
-`--caustics auto` decides; under ranks it is shared by pixels), uniform
-sampling (--no-adaptive: the ranks sample uniformly). Each run renders with --target-error E (the
-film's own relMSE estimate, taken on rank 0 from the ranks' summed film)
-and reports its render time (rank 0's, reductions included), the spp
-reached and the estimate there. Runs stop at slightly different spp (ranks
-stop after whole rounds), so each time is normalised to the target: the
-error falls as 1 / spp, so t_norm = t * estimate / target is the time the
-run would have taken to reach exactly E. Efficiency at N = t_norm(1) /
-(N * t_norm(N)) (1: perfect).
+`--caustics auto` decides), with the defaults: adaptive sampling (the ranks
+share every wave; --uniform adds --no-adaptive). Each run renders with
+--target-error E (the film's own relMSE estimate, taken on rank 0 from the
+ranks' summed film) and reports its render time (rank 0's, reductions and
+weight refreshes included), the spp reached and the estimate there. Runs
+stop at slightly different spp (after whole waves), so each time is
+normalised to the target: the error falls as 1 / spp, so t_norm = t *
+estimate / target is the time the run would have taken to reach exactly E.
+Efficiency at N = t_norm(1) / (N * t_norm(N)) (1: perfect).
 
 Then the cost of one reduction (the ranks' films summed on rank 0: each
 rank reads its film from the device, the 128-bit sums and the half buffer
-go through MPI_Reduce with an integer op, rank 0 restores the sum) for a
-1920x1080 film on 2 ranks, measured from a 2 spp render, and the model of
-efficiency at 16 and 64 ranks for a 1920x1080 render of one minute
-(docs/distributed.md derives it):
+go through MPI_Reduce with an integer op, rank 0 restores the sum) and of
+one adaptive weight refresh (the colour sums and ray counts summed on every
+rank with MPI_Allreduce, the weights computed on each) for a 1920x1080 film
+on 2 ranks, and the model of efficiency at 16 and 64 ranks for a 1920x1080
+render of one minute (docs/distributed.md derives it):
 
     t_reduce(R) = t_read + ceil(log2 R) * t_mpi(2) + t_restore
     (t_mpi measured after a barrier: the wait for the slowest rank is apart)
-    efficiency(R) = 60 / (60 + k * t_reduce(R) + t_imbalance)
+    t_refresh(R) = t_refresh(2) + (ceil(log2 R) - 1) * 2 * t_mpi(2) * b_w / b_r
+    (a tree all-reduce: up and down every level, b_w / b_r the share of
+    bytes a refresh sums: colour and rays, not the aux values)
+    efficiency(R) = 60 / (60 + k * t_reduce(R) + w * t_refresh(R) + t_imbalance)
 
 k reductions (1 with --spp or --time; with only a target error the
 sparse monitor's measurements: one at 16 passes, then where the estimate
 projects the target, at most 4x apart, about 2 + log4(passes / 16); with
-a report, log2 of the passes + 1), t_imbalance
-at most one block of passes per rank (the last round).
+a report, log2 of the passes + 1), w weight refreshes (one at 16 passes,
+then at every quarter's growth: 1 + log(passes / 16) / log(1.25)),
+t_imbalance at most one wave on one rank (the last; a wave is shared by
+all, so its share of a pass).
 
     cmake --build build --target caustica    # caustica built with MPI
     bench/mpi_scaling.py                     # defaults: --target 0.005 0.01
 
 Keep the machine otherwise idle: the ranks and threads share its cores.
-It takes about 3 to 5 minutes on 2 cores. Progress goes to stderr, the
-Markdown tables to stdout.
+It takes about 3 to 5 minutes on 2 cores (--repeat 3: 10). Progress goes to
+stderr, the Markdown tables to stdout.
 """
 import argparse
 import math
@@ -75,22 +81,27 @@ def run(cmd, threads, out):
         sys.exit(f"no result line in: {' '.join(cmd)}\n{text}")
     r = re.search(r"summed on rank 0 in (\d+) reductions, ([0-9.]+) s \(film reads ([0-9.]+) s, waiting for ranks "
                   r"([0-9.]+) s, MPI ([0-9.]+) s, restore ([0-9.]+) s\)", text)
+    w = re.search(r"weights refreshed (\d+) times from the summed film, ([0-9.]+) s", text)
     return {"spp": int(m.group(1)), "seconds": float(m.group(2)), "estimate": float(m.group(3)), "wall": wall,
             "reductions": int(r.group(1)) if r else 0, "reduce_s": float(r.group(2)) if r else 0.0,
             "read_s": float(r.group(3)) if r else 0.0, "wait_s": float(r.group(4)) if r else 0.0,
-            "mpi_s": float(r.group(5)) if r else 0.0, "restore_s": float(r.group(6)) if r else 0.0}
+            "mpi_s": float(r.group(5)) if r else 0.0, "restore_s": float(r.group(6)) if r else 0.0,
+            "refreshes": int(w.group(1)) if w else 0, "refresh_s": float(w.group(2)) if w else 0.0}
+
+
+UNIFORM = []  # ["--no-adaptive"] with --uniform
 
 
 def render_cmd(scene, size, extra):
-    return [BINARY, "render", os.path.join(ROOT, scene), "--mode", "path", "--no-adaptive",
-            "-v", "-o", "/tmp/caustica_mpi_scaling.pfm"] + size + extra
+    return [BINARY, "render", os.path.join(ROOT, scene), "--mode", "path"] + UNIFORM + [
+        "-v", "-o", "/tmp/caustica_mpi_scaling.pfm"] + size + extra
 
 
-def scaling(name, scene, size, target, repeat):
+def scaling(name, scene, size, target, repeat, most):
     """Each configuration `repeat` times, the configurations interleaved (so
     that drift in the machine's speed hits all alike); a row is the run of
     median normalised time."""
-    configs = [("process", 1), ("ranks", 2), ("threads", 2), ("ranks", 3), ("threads", 3)]
+    configs = [("process", 1)] + [c for n in range(2, most + 1) for c in (("ranks", n), ("threads", n))]
     runs = {c: [] for c in configs}
     for attempt in range(repeat):
         for kind, n in configs:
@@ -110,27 +121,40 @@ def scaling(name, scene, size, target, repeat):
             print(f"[mpi_scaling] {name}: {c[1]} {c[0]}: efficiency of each run against the median 1-thread "
                   f"run: {effs}", file=sys.stderr)
     print(f"\n### {name}, target relMSE {target}" + (f", medians of {repeat} runs" if repeat > 1 else "") + "\n")
-    print("| run | spp | estimated relMSE | render s | wall s | normalised s | efficiency | reductions (s) |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| run | spp | estimated relMSE | render s | wall s | normalised s | efficiency | reductions (s) | "
+          "weight refreshes (s) |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         label = "1 process, 1 thread" if r["kind"] == "process" else (
             f"{r['n']} ranks x 1 thread" if r["kind"] == "ranks" else f"1 process, {r['n']} threads")
         eff = one / (r["n"] * r["t_norm"])
         red = f"{r['reductions']} ({r['reduce_s']:.3f})" if r["reductions"] else "-"
+        ref = f"{r['refreshes']} ({r['refresh_s']:.3f})" if r["refreshes"] else "-"
         print(f"| {label} | {r['spp']} | {r['estimate']:.4g} | {r['seconds']:.2f} | {r['wall']:.2f} | "
-              f"{r['t_norm']:.2f} | {eff:.2f} | {red} |")
+              f"{r['t_norm']:.2f} | {eff:.2f} | {red} | {ref} |")
     return rows
 
 
 def reduction_cost():
+    """One reduction (a 2-spp render's last) and, unless --uniform, one
+    weight refresh (an 18-spp render's first, at 16 passes) of a 1920x1080
+    film on 2 ranks of 1 thread each."""
     print("[mpi_scaling] 1920x1080 reduction on 2 ranks ...", file=sys.stderr, flush=True)
-    cmd = mpirun(2) + render_cmd("scenes/cornell_box.json", ["--width", "1920", "--height", "1080"], ["--spp", "2"])
-    r = run(cmd, 1, None)
+    size = ["--width", "1920", "--height", "1080"]
+    r = run(mpirun(2) + render_cmd("scenes/cornell_box.json", size, ["--spp", "2"]), 1, None)
     film_mb = 1920 * 1080 * 3 * 16 * 2 / 1e6  # 128-bit sums, the combined sum and the half
     print(f"\n### One reduction of a 1920x1080 film ({film_mb:.0f} MB of sums) on 2 ranks\n")
     print("| film reads s | waiting for the other rank s | MPI s | restore s | total s |")
     print("|---|---|---|---|---|")
     print(f"| {r['read_s']:.3f} | {r['wait_s']:.3f} | {r['mpi_s']:.3f} | {r['restore_s']:.3f} | {r['reduce_s']:.3f} |")
+    r["refresh_one_s"] = 0.0
+    if not UNIFORM:
+        print("[mpi_scaling] 1920x1080 weight refresh on 2 ranks (18 spp, about a minute) ...", file=sys.stderr,
+              flush=True)
+        w = run(mpirun(2) + render_cmd("scenes/cornell_box.json", size, ["--spp", "18"]), 1, None)
+        r["refresh_one_s"] = w["refresh_s"] / max(1, w["refreshes"])
+        print(f"\nOne adaptive weight refresh of that film on 2 ranks (colour sums and ray counts all-reduced, "
+              f"weights on every rank): {r['refresh_one_s']:.3f} s ({w['refreshes']} in an 18-spp render).")
     return r
 
 
@@ -148,23 +172,34 @@ def model(red, pass_s):
     where the estimate projects the target, at most 4x the passes apart,
     about 2 + ceil(log4(passes / 16)); with --report every power of two,
     log2(passes) + 1."""
-    for label, imbalance in ((f"this CPU's 1-thread 1080p pass, {pass_s:.2f} s (measured)", pass_s),
+    # A refresh sums the colour (combined and half, 64-bit words where they
+    # fit: 48 bytes a pixel) and the rays (8); a reduction 96 bytes a pixel.
+    bytes_share = (48 + 8) / 96
+    for label, pass_time in ((f"this CPU's 1-thread 1080p pass, {pass_s:.2f} s (measured)", pass_s),
                              ("a 0.1 s 1080p pass (a GPU; assumed)", 0.1)):
-        print(f"\n### Modelled efficiency, 1920x1080, one minute; imbalance: {label}\n")
-        print("| ranks | t_reduce s, tree / pipelined | --spp or --time (1 reduction), tree / pipelined | "
+        print(f"\n### Modelled efficiency, 1920x1080, one minute, adaptive sampling; passes: {label}\n")
+        print("| ranks | passes | weight refreshes w, t_refresh s, tree / pipelined | t_reduce s, tree / pipelined | "
+              "--spp or --time (1 reduction), tree / pipelined | "
               "--target-error (sparse, k reductions), tree / pipelined | with --report (k reductions), tree / pipelined |")
-        print("|---|---|---|---|---|")
+        print("|---|---|---|---|---|---|---|")
         for ranks in (2, 16, 64):
+            levels = math.ceil(math.log2(ranks))
             fixed = red["read_s"] + red["restore_s"]
-            tree = fixed + math.ceil(math.log2(ranks)) * red["mpi_s"]
+            tree = fixed + levels * red["mpi_s"]
             pipe = fixed + red["mpi_s"]
-            passes = max(2.0, ranks * 60 / imbalance)
+            one = red["refresh_one_s"]
+            w_tree = one + max(0, levels - 1) * 2 * red["mpi_s"] * bytes_share
+            passes = max(2.0, ranks * 60 / pass_time)
+            # The last wave: one pass shared by the ranks (a 1080p wave is 2 passes).
+            imbalance = 2 * pass_time / ranks
+            w = 0 if not one else 1 + int(math.log(max(1.0, passes / 16)) / math.log(1.25))
             k = int(math.log2(passes)) + 1
             k_sparse = 2 + max(0, math.ceil(math.log(max(1.0, passes / 16), 4)))
-            eff = lambda n, t: 60 / (60 + n * t + imbalance)
-            print(f"| {ranks} | {tree:.3f} / {pipe:.3f} | {eff(1, tree):.3f} / {eff(1, pipe):.3f} | "
-                  f"{eff(k_sparse, tree):.3f} / {eff(k_sparse, pipe):.3f} (k = {k_sparse}) | "
-                  f"{eff(k, tree):.3f} / {eff(k, pipe):.3f} (k = {k}) |")
+            eff = lambda n, t, wt: 60 / (60 + n * t + w * wt + imbalance)
+            print(f"| {ranks} | {passes:.0f} | {w}, {w_tree:.3f} / {one:.3f} | {tree:.3f} / {pipe:.3f} | "
+                  f"{eff(1, tree, w_tree):.3f} / {eff(1, pipe, one):.3f} | "
+                  f"{eff(k_sparse, tree, w_tree):.3f} / {eff(k_sparse, pipe, one):.3f} (k = {k_sparse}) | "
+                  f"{eff(k, tree, w_tree):.3f} / {eff(k, pipe, one):.3f} (k = {k}) |")
 
 
 def main():
@@ -175,19 +210,22 @@ def main():
     ap.add_argument("--repeat", type=int, default=1, help="runs of each configuration (interleaved); rows are medians")
     ap.add_argument("--scenes", nargs="*", choices=["cornell", "showcase"], default=["cornell", "showcase"])
     ap.add_argument("--skip-model", action="store_true", help="no 1080p reduction and model")
+    ap.add_argument("--most-ranks", type=int, default=2, help="ranks (and threads) up to this many")
+    ap.add_argument("--uniform", action="store_true", help="--no-adaptive (every pixel alike)")
     args = ap.parse_args()
+    if args.uniform:
+        UNIFORM.append("--no-adaptive")
     if not os.path.exists(BINARY):
         sys.exit(f"{BINARY}: build caustica first (with MPI: libopenmpi-dev)")
     if not args.skip_scaling:
         for (name, scene, size), target, key in zip(SCENES, args.target, ["cornell", "showcase"]):
             if key in args.scenes:
-                scaling(name, scene, size, target, max(1, args.repeat))
+                scaling(name, scene, size, target, max(1, args.repeat), max(2, args.most_ranks))
     if args.skip_model:
         return
     red = reduction_cost()
-    # The last round's imbalance: one block of passes on one rank; at
-    # 1920x1080 a block is one pass (the wave holds one pass of that many
-    # pixels), measured as the 2 spp render's time per pass on a rank.
+    # A 1080p pass on one thread: the 2-spp render on 2 ranks traced 2
+    # passes' samples, half on each, in its time less the reduction.
     model(red, max(1e-3, red["seconds"] - red["reduce_s"] + red["wait_s"]))
 
 
