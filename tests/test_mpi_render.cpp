@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "host/denoise/denoiser.h"
 #include "host/render/pixel_share.h"
 #include "tests/support/test_support.h"
 
@@ -168,14 +169,21 @@ TEST(MpiRender, WriteEveryWritesTheSummedFilmOnRankZero) {
 
 // The aux passes (an .exr's albedo, normal, depth and variance layers) are
 // summed across ranks like the colour, and its 'spp' channel is adaptive
-// sampling's counts (--spp-map's): the same file bytes.
+// sampling's counts (--spp-map's): the same file bytes; and the denoised
+// image, where Open Image Denoise is built in.
 TEST(MpiRender, AuxPassesOfTwoRanksAreThoseOfOneProcess) {
   SKIP_WITHOUT_MPI();
   const std::string dir = test::temp_dir();
   ASSERT_EQ(test::run_cli(render_args("--spp 24 -q -o '" + dir + "/one.exr'")).status, 0);
-  const test::CliResult r = run_mpi(2, render_args("--spp 24 -q -o '" + dir + "/two.exr'"));
+  test::CliResult r = run_mpi(2, render_args("--spp 24 -q -o '" + dir + "/two.exr'"));
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(slurp(dir + "/two.exr") == slurp(dir + "/one.exr")) << "2 ranks' EXR layers differ from one process";
+  // --denoise: rank 0 denoises the reduced film, one process's input.
+  if (!Denoiser::available()) return;
+  ASSERT_EQ(test::run_cli(render_args("--spp 24 -q --denoise -o '" + dir + "/one.pfm'")).status, 0);
+  r = run_mpi(2, render_args("--spp 24 -q --denoise -o '" + dir + "/two.pfm'"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(slurp(dir + "/two.pfm") == slurp(dir + "/one.pfm")) << "2 ranks' denoised image differs from one process";
 }
 
 // Binary and phong: one pass, which rank 0 traces; the others hold none

@@ -45,7 +45,7 @@ void sum_film_sums_to_root(RankGroup& ranks, std::vector<uint64_t>& sums) {
 
 }  // namespace
 
-FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine, bool by_pixels) {
+FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine, bool by_waves) {
   // The pass sets first: rank 0 forms the union (refusing overlaps: a
   // schedule bug must not double passes silently) and tells every rank its
   // last pass, which decides whose half buffer belongs to the union's.
@@ -58,17 +58,17 @@ FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine, bool by_pixels) 
     PassSet rank_held;
     for (size_t i = 0; i + 1 < all[r].size(); i += 2) {
       const PassSet part = PassSet::range(all[r][i], all[r][i + 1]);
-      if (!by_pixels && held.overlaps(part))
+      if (!by_waves && held.overlaps(part))
         throw Error("rank " + std::to_string(r) + " traced pass " + std::to_string(held.first_common(part)) +
                     ", which another rank traced too");
-      if (!by_pixels) held.add(part);
+      if (!by_waves) held.add(part);
       rank_held.add(part);
     }
-    if (by_pixels && !(rank_held == mine.held))
+    if (by_waves && !(rank_held == mine.held))
       throw Error("rank " + std::to_string(r) + " holds " + rank_held.describe() + " of its pixels, rank 0 " +
                   mine.held.describe());
   }
-  if (by_pixels && ranks.rank() == 0) held = mine.held;
+  if (by_waves && ranks.rank() == 0) held = mine.held;
   const int last = ranks.broadcast(held.last());
   FilmLayout layout;
   if (!FilmLayout::from_words(mine.spp.size(), mine.accumulated.size(), &layout))
@@ -80,10 +80,10 @@ FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine, bool by_pixels) 
   sum_film_sums_to_root(ranks, mine.accumulated);
   // Shared by pixels: every rank counts every pixel's passes (its own
   // pixels' samples, the others' zero): rank 0's counts are the image's.
-  if (!by_pixels) ranks.sum_to_root(mine.spp);
+  if (!by_waves) ranks.sum_to_root(mine.spp);
   ranks.sum_to_root(mine.pixel_rays);
   ranks.sum_to_root(mine.counters);
-  if (ranks.rank() != 0 || by_pixels) return mine;  // by pixels: rank 0's counts, halves and passes are the image's
+  if (ranks.rank() != 0 || by_waves) return mine;  // by waves: rank 0's counts, halves and passes are the image's
   mine.held = held;
   mine.passes = held.count();
   mine.per_pixel = false;

@@ -82,9 +82,9 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
 // Every rank's film, summed on rank 0 (the union of their passes; on
 // other ranks the returned state is their own, unchanged in meaning).
 // Collective.
-// `by_pixels`: the ranks shared every wave (each holding the same passes,
+// `by_waves`: the ranks shared every wave (each holding the same passes,
 // counting every pixel's samples, summing its own): the pass sets must be
 // equal, and rank 0's per-pixel counts and half starts are the image's.
-FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine, bool by_pixels = false);
+FilmState reduce_film_to_root(RankGroup& ranks, FilmState mine, bool by_waves = false);
 
 }  // namespace caustica

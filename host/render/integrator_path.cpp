@@ -111,7 +111,7 @@ class PathIntegrator final : public Integrator {
   uint32_t passes_counted_ = 0;           // passes whose inline gathers the counters hold
   uint32_t passes_since_photons_ = 0;     // 0: this pass traces and gathers a photon map
   bool photon_pass_now_ = false;
-  PixelShare* share_ = nullptr;           // shared by pixels among processes (share_pixels)
+  PixelShare* share_ = nullptr;           // waves shared among processes (share_pixels)
 
   void decide_photon_pass(const Film& film);
   // The wave as whole paths per work-item (trace_paths.cl), one launch.
@@ -222,7 +222,8 @@ class PathIntegrator final : public Integrator {
     // Added to the image even when no pass is left to run.
     film.set_separate_estimate(photons_.get());
   }
-  // The photon pass under ranks (docs/distributed.md): shared by pixels.
+  // Under ranks every wave is shared (docs/distributed.md); the photon pass
+  // keeps each pixel's statistics with the process whose window holds it.
   // `auto` decides from the whole image's counts and film, which every
   // process gathers at its three decisions (decide_photon_pass).
   bool share_pixels(PixelShare* share) override {

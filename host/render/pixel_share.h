@@ -1,15 +1,18 @@
-// A render shared by a group of processes by pixels (issue 23: the photon
-// pass under MPI ranks, docs/distributed.md): what the render core needs of
-// the group, so that it stays free of MPI (host/app/rank_group.h derives
-// from this; host/mpi/ implements it).
+// A render shared by a group of processes (issues 23 and 40: mpirun's
+// ranks, docs/distributed.md): what the render core needs of the group, so
+// that it stays free of MPI (host/app/rank_group.h derives from this;
+// host/mpi/ implements it).
 //
-// Rules. Every process traces every pass, but only the camera paths of its
-// own window of pixels (pixel_window: contiguous, by rank), and only its
-// share of each photon map's photons (photon_slice: contiguous, by rank);
-// the stored photons are gathered to every process in rank order, which is
-// photon order, so every process builds the grid one process would, and
-// each pixel's SPPM statistics are updated by the one process that owns
-// it. The collectives below are called by every process in the same order.
+// Rules. Every process runs one process's waves and traces its part of
+// each (pass_driver.h's WaveShare): an even wave's pixels by window
+// (share_of: contiguous, by rank), an uneven wave's by equal shares of its
+// samples (samples_share_of). With the photon pass each process traces its
+// share of each photon map's photons (contiguous, by rank); the stored
+// photons are gathered to every process in rank order, which is photon
+// order, so every process builds the grid one process would, and each
+// pixel's SPPM statistics are updated by the one process whose window holds
+// it in the map's pass (an even wave). The collectives below are called by
+// every process in the same order.
 #pragma once
 
 #include <cstddef>
