@@ -81,12 +81,13 @@ def run(cmd, threads, out):
         sys.exit(f"no result line in: {' '.join(cmd)}\n{text}")
     r = re.search(r"summed on rank 0 in (\d+) reductions, ([0-9.]+) s \(film reads ([0-9.]+) s, waiting for ranks "
                   r"([0-9.]+) s, MPI ([0-9.]+) s, restore ([0-9.]+) s\)", text)
-    w = re.search(r"weights refreshed (\d+) times from the summed film, ([0-9.]+) s", text)
+    w = re.search(r"weights refreshed (\d+) times from the summed film, ([0-9.]+) s .*waiting ([0-9.]+) s", text)
     return {"spp": int(m.group(1)), "seconds": float(m.group(2)), "estimate": float(m.group(3)), "wall": wall,
             "reductions": int(r.group(1)) if r else 0, "reduce_s": float(r.group(2)) if r else 0.0,
             "read_s": float(r.group(3)) if r else 0.0, "wait_s": float(r.group(4)) if r else 0.0,
             "mpi_s": float(r.group(5)) if r else 0.0, "restore_s": float(r.group(6)) if r else 0.0,
-            "refreshes": int(w.group(1)) if w else 0, "refresh_s": float(w.group(2)) if w else 0.0}
+            "refreshes": int(w.group(1)) if w else 0, "refresh_s": float(w.group(2)) if w else 0.0,
+            "refresh_wait_s": float(w.group(3)) if w else 0.0}
 
 
 UNIFORM = []  # ["--no-adaptive"] with --uniform
@@ -122,14 +123,14 @@ def scaling(name, scene, size, target, repeat, most):
                   f"run: {effs}", file=sys.stderr)
     print(f"\n### {name}, target relMSE {target}" + (f", medians of {repeat} runs" if repeat > 1 else "") + "\n")
     print("| run | spp | estimated relMSE | render s | wall s | normalised s | efficiency | reductions (s) | "
-          "weight refreshes (s) |")
+          "weight refreshes (s; waiting for the slowest rank before them) |")
     print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         label = "1 process, 1 thread" if r["kind"] == "process" else (
             f"{r['n']} ranks x 1 thread" if r["kind"] == "ranks" else f"1 process, {r['n']} threads")
         eff = one / (r["n"] * r["t_norm"])
         red = f"{r['reductions']} ({r['reduce_s']:.3f})" if r["reductions"] else "-"
-        ref = f"{r['refreshes']} ({r['refresh_s']:.3f})" if r["refreshes"] else "-"
+        ref = f"{r['refreshes']} ({r['refresh_s']:.3f}, waiting {r['refresh_wait_s']:.3f})" if r["refreshes"] else "-"
         print(f"| {label} | {r['spp']} | {r['estimate']:.4g} | {r['seconds']:.2f} | {r['wall']:.2f} | "
               f"{r['t_norm']:.2f} | {eff:.2f} | {red} | {ref} |")
     return rows

@@ -210,7 +210,12 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
         // The sampler's weights from the films summed on every rank (the
         // colour sums and the ray counts only; the photon pass's windows
         // gathered): O(log passes) times a render.
+        // The ranks' waves since the last talk end apart: the wait is the
+        // imbalance, apart from the refresh's own cost.
+        const auto waited = std::chrono::steady_clock::now();
+        ranks.barrier();
         const auto w0 = std::chrono::steady_clock::now();
+        out.weight_wait_seconds += std::chrono::duration<double>(w0 - waited).count();
         renderer.integrator().gather_shared_pixels();
         std::vector<double> weights = AdaptiveSampler::weights_of(film, settings.adaptive_options, &ranks);
         ++out.weight_refreshes;

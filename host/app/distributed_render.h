@@ -52,11 +52,11 @@ struct DistributedResult {
   double measure_seconds = 0.0;
   // By waves: the adaptive sampler's weight refreshes (the colour sums and
   // ray counts summed on every rank, which computes the weights itself) and
-  // their time on rank 0; what gathering the photon maps cost rank 0
+  // their time on rank 0 (apart: waiting for the slowest rank before each); what gathering the photon maps cost rank 0
   // (pixel_share.h).
   bool by_waves = false;
   int weight_refreshes = 0;
-  double weight_seconds = 0.0;
+  double weight_seconds = 0.0, weight_wait_seconds = 0.0;  // the refreshes, and waiting for the slowest rank before them
   SharedPhotonTraffic photon_traffic;
 };
 
