@@ -216,10 +216,12 @@ DistributedResult render_distributed(Session& session, RankGroup& ranks, RenderS
         ranks.barrier();
         const auto w0 = std::chrono::steady_clock::now();
         out.weight_wait_seconds += std::chrono::duration<double>(w0 - waited).count();
+        const double mpi0 = ranks.collective_seconds();
         renderer.integrator().gather_shared_pixels();
         std::vector<double> weights = AdaptiveSampler::weights_of(film, settings.adaptive_options, &ranks);
         ++out.weight_refreshes;
         out.weight_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+        out.weight_mpi_seconds += ranks.collective_seconds() - mpi0;
         return weights;
       };
     renderer.share_waves(std::move(share));  // (begin() hands it to the driver)

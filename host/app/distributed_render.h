@@ -56,7 +56,9 @@ struct DistributedResult {
   // (pixel_share.h).
   bool by_waves = false;
   int weight_refreshes = 0;
-  double weight_seconds = 0.0, weight_wait_seconds = 0.0;  // the refreshes, and waiting for the slowest rank before them
+  // The refreshes (of which in MPI's collectives), and waiting for the
+  // slowest rank before them.
+  double weight_seconds = 0.0, weight_mpi_seconds = 0.0, weight_wait_seconds = 0.0;
   SharedPhotonTraffic photon_traffic;
 };
 

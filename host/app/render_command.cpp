@@ -275,9 +275,10 @@ std::optional<RenderResult> render_on_ranks(const RenderArgs& a, RenderPlan& pla
   if (a.verbose && summed.by_waves && summed.weight_refreshes > 0)
     std::fprintf(stderr,
                  "[caustica] %d ranks: the adaptive sampler's weights refreshed %d times from the summed film, %.3f s "
-                 "(colour sums and ray counts summed on every rank, weights on each), after waiting %.3f s for the "
-                 "slowest rank\n",
-                 ranks.size(), summed.weight_refreshes, summed.weight_seconds, summed.weight_wait_seconds);
+                 "(colour sums and ray counts summed on every rank: MPI %.3f s; weights on each), after waiting %.3f s "
+                 "for the slowest rank\n",
+                 ranks.size(), summed.weight_refreshes, summed.weight_seconds, summed.weight_mpi_seconds,
+                 summed.weight_wait_seconds);
   if (a.verbose && summed.by_waves && stats.photon_maps > 0)
     std::fprintf(stderr,
                  "[caustica] %d ranks shared the photon pass: %u photon maps gathered to every rank, "

@@ -2,6 +2,7 @@
 
 #include <mpi.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <limits>
 
@@ -20,6 +21,17 @@ void add_sums128(void* in, void* inout, int* count, MPI_Datatype*) {
     b[2 * i] = low;
   }
 }
+
+// Seconds spent in the data-moving collectives (the barrier is a wait).
+class CollectiveTimer {
+ public:
+  explicit CollectiveTimer(double* total) : total_(total), t0_(std::chrono::steady_clock::now()) {}
+  ~CollectiveTimer() { *total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
+
+ private:
+  double* total_;
+  std::chrono::steady_clock::time_point t0_;
+};
 
 void check(int rc, const char* what) {
   if (rc == MPI_SUCCESS) return;
@@ -59,6 +71,7 @@ MpiRanks::~MpiRanks() { MPI_Finalize(); }
 void MpiRanks::barrier() { check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier"); }
 
 int MpiRanks::broadcast(int value) {
+  const CollectiveTimer timer(&collective_seconds_);
   check(MPI_Bcast(&value, 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Bcast");
   return value;
 }
@@ -66,7 +79,8 @@ int MpiRanks::broadcast(int value) {
 namespace {
 // The film's 128-bit sums added over the ranks, to rank 0 or (to_all) to
 // every rank.
-void sum128(std::vector<uint64_t>& sums, int rank, bool to_all) {
+void sum128(std::vector<uint64_t>& sums, int rank, bool to_all, double* seconds) {
+  const CollectiveTimer timer(seconds);
   MPI_Datatype pair;
   MPI_Type_contiguous(2, MPI_UINT64_T, &pair);
   MPI_Type_commit(&pair);
@@ -82,11 +96,12 @@ void sum128(std::vector<uint64_t>& sums, int rank, bool to_all) {
 }
 }  // namespace
 
-void MpiRanks::sum128_to_root(std::vector<uint64_t>& sums) { sum128(sums, rank_, false); }
+void MpiRanks::sum128_to_root(std::vector<uint64_t>& sums) { sum128(sums, rank_, false, &collective_seconds_); }
 
-void MpiRanks::sum128_to_all(std::vector<uint64_t>& sums) { sum128(sums, rank_, true); }
+void MpiRanks::sum128_to_all(std::vector<uint64_t>& sums) { sum128(sums, rank_, true, &collective_seconds_); }
 
 void MpiRanks::sum_to_root(std::vector<uint64_t>& v) {
+  const CollectiveTimer timer(&collective_seconds_);
   const int n = count_of(v.size(), "a sum");
   check(rank_ == 0 ? MPI_Reduce(MPI_IN_PLACE, v.data(), n, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD)
                    : MPI_Reduce(v.data(), nullptr, n, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD),
@@ -94,6 +109,7 @@ void MpiRanks::sum_to_root(std::vector<uint64_t>& v) {
 }
 
 void MpiRanks::sum_to_root(std::vector<uint32_t>& v) {
+  const CollectiveTimer timer(&collective_seconds_);
   const int n = count_of(v.size(), "a sum");
   check(rank_ == 0 ? MPI_Reduce(MPI_IN_PLACE, v.data(), n, MPI_UINT32_T, MPI_SUM, 0, MPI_COMM_WORLD)
                    : MPI_Reduce(v.data(), nullptr, n, MPI_UINT32_T, MPI_SUM, 0, MPI_COMM_WORLD),
@@ -101,11 +117,13 @@ void MpiRanks::sum_to_root(std::vector<uint32_t>& v) {
 }
 
 void MpiRanks::max_to_all(std::vector<uint64_t>& v) {
+  const CollectiveTimer timer(&collective_seconds_);
   check(MPI_Allreduce(MPI_IN_PLACE, v.data(), count_of(v.size(), "a maximum"), MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD),
         "MPI_Allreduce");
 }
 
 std::vector<std::vector<int32_t>> MpiRanks::gather_to_root(const std::vector<int32_t>& values) {
+  const CollectiveTimer timer(&collective_seconds_);
   int mine = count_of(values.size(), "a gather");
   std::vector<int> counts(rank_ == 0 ? size_t(size_) : 0u), offsets;
   check(MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
@@ -142,6 +160,7 @@ std::vector<int> offsets_of(const std::vector<int>& counts, const char* what) {
 }  // namespace
 
 std::string MpiRanks::gather_bytes_to_all(const std::string& mine) {
+  const CollectiveTimer timer(&collective_seconds_);
   int n = count_of(mine.size(), "a gather of bytes");
   std::vector<int> counts(size_t(size_), 0);
   check(MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
@@ -153,6 +172,7 @@ std::string MpiRanks::gather_bytes_to_all(const std::string& mine) {
 }
 
 std::vector<std::string> MpiRanks::gather_bytes_to_root(const std::string& mine) {
+  const CollectiveTimer timer(&collective_seconds_);
   int n = count_of(mine.size(), "a gather of bytes");
   std::vector<int> counts(rank_ == 0 ? size_t(size_) : 0u), offsets;
   check(MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
@@ -169,6 +189,7 @@ std::vector<std::string> MpiRanks::gather_bytes_to_root(const std::string& mine)
 }
 
 void MpiRanks::sum_to_all(std::vector<uint64_t>& v) {
+  const CollectiveTimer timer(&collective_seconds_);
   check(MPI_Allreduce(MPI_IN_PLACE, v.data(), count_of(v.size(), "a sum"), MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD),
         "MPI_Allreduce");
 }

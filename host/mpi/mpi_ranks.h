@@ -39,10 +39,12 @@ class MpiRanks final : public RankGroup {
   std::vector<std::string> gather_bytes_to_root(const std::string& mine) override;
   void sum_to_all(std::vector<uint64_t>& values) override;
   [[noreturn]] void abort(int code) override;
+  double collective_seconds() const override { return collective_seconds_; }
 
  private:
   MpiRanks(int* argc, char*** argv);
   int rank_ = 0, size_ = 1, local_rank_ = 0;
+  double collective_seconds_ = 0.0;
 };
 
 }  // namespace caustica

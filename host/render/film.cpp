@@ -459,16 +459,14 @@ Film::Means Film::summed_means(PixelShare& group, bool with_half) const {
   // As mean() and half_mean() from the device's floats.
   Means out;
   out.mean = image_of(0);
-  divide_by(out.mean, spp_);
+  divide_by(out.mean, spp_);  // (a pixel with an empty half takes this mean: as half_mean's)
   if (with_half) {
     const std::vector<uint32_t> h = half_counts();
     out.half = image_of(values);
     divide_by(out.half, h);
-    const ImageF sums = image_of(0);
     for (size_t p = 0; p < h.size(); ++p)
       if (h[p] == 0)
-        for (int c = 0; c < 3; ++c)
-          out.half.rgb[3 * p + c] = spp_[p] > 1 ? sums.rgb[3 * p + c] * (1.0f / float(spp_[p])) : sums.rgb[3 * p + c];
+        for (int c = 0; c < 3; ++c) out.half.rgb[3 * p + c] = out.mean.rgb[3 * p + c];
     if (separate_) separate_->add_to(out.half, spp_);
   }
   if (separate_ && passes_ > 0) separate_->add_to(out.mean, spp_);

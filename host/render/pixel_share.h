@@ -39,6 +39,9 @@ class PixelShare {
   virtual void sum128_to_all(std::vector<uint64_t>& sums128) = 0;
   // Rank 0's `value`, on every process (a decision its clock takes for all).
   virtual int broadcast(int value) = 0;
+  // Seconds this process spent in the collectives that move data (those
+  // above; waits at a barrier apart), over its life.
+  virtual double collective_seconds() const { return 0.0; }
 };
 
 // What sharing the photon maps cost a process, over a render: the bytes
