@@ -81,13 +81,14 @@ def run(cmd, threads, out):
         sys.exit(f"no result line in: {' '.join(cmd)}\n{text}")
     r = re.search(r"summed on rank 0 in (\d+) reductions, ([0-9.]+) s \(film reads ([0-9.]+) s, waiting for ranks "
                   r"([0-9.]+) s, MPI ([0-9.]+) s, restore ([0-9.]+) s\)", text)
-    w = re.search(r"weights refreshed (\d+) times from the summed film, ([0-9.]+) s .*waiting ([0-9.]+) s", text)
+    w = re.search(r"weights refreshed (\d+) times from the summed film, ([0-9.]+) s .*MPI ([0-9.]+) s.*waiting "
+                  r"([0-9.]+) s", text)
     return {"spp": int(m.group(1)), "seconds": float(m.group(2)), "estimate": float(m.group(3)), "wall": wall,
             "reductions": int(r.group(1)) if r else 0, "reduce_s": float(r.group(2)) if r else 0.0,
             "read_s": float(r.group(3)) if r else 0.0, "wait_s": float(r.group(4)) if r else 0.0,
             "mpi_s": float(r.group(5)) if r else 0.0, "restore_s": float(r.group(6)) if r else 0.0,
             "refreshes": int(w.group(1)) if w else 0, "refresh_s": float(w.group(2)) if w else 0.0,
-            "refresh_wait_s": float(w.group(3)) if w else 0.0}
+            "refresh_mpi_s": float(w.group(3)) if w else 0.0, "refresh_wait_s": float(w.group(4)) if w else 0.0}
 
 
 UNIFORM = []  # ["--no-adaptive"] with --uniform
@@ -148,59 +149,63 @@ def reduction_cost():
     print("| film reads s | waiting for the other rank s | MPI s | restore s | total s |")
     print("|---|---|---|---|---|")
     print(f"| {r['read_s']:.3f} | {r['wait_s']:.3f} | {r['mpi_s']:.3f} | {r['restore_s']:.3f} | {r['reduce_s']:.3f} |")
-    r["refresh_one_s"] = 0.0
+    r["refresh_local_s"] = r["refresh_mpi_s"] = 0.0
     if not UNIFORM:
         print("[mpi_scaling] 1920x1080 weight refresh on 2 ranks (18 spp, about a minute) ...", file=sys.stderr,
               flush=True)
         w = run(mpirun(2) + render_cmd("scenes/cornell_box.json", size, ["--spp", "18"]), 1, None)
-        r["refresh_one_s"] = w["refresh_s"] / max(1, w["refreshes"])
+        n = max(1, w["refreshes"])
+        r["refresh_mpi_s"] = w["refresh_mpi_s"] / n
+        r["refresh_local_s"] = (w["refresh_s"] - w["refresh_mpi_s"]) / n
         print(f"\nOne adaptive weight refresh of that film on 2 ranks (colour sums and ray counts all-reduced, "
-              f"weights on every rank): {r['refresh_one_s']:.3f} s ({w['refreshes']} in an 18-spp render).")
+              f"weights on every rank): {r['refresh_local_s'] + r['refresh_mpi_s']:.3f} s, of which MPI "
+              f"{r['refresh_mpi_s']:.3f} s ({w['refreshes']} in an 18-spp render).")
     return r
 
 
 def model(red, pass_s):
     """Efficiency of a one-minute 1920x1080 render on R ranks (docs/distributed.md).
 
-    t_reduce: tree = every level of a binomial tree moves the whole film
-    (pessimistic); pipelined = a segmented reduce (Open MPI's choice for
-    large messages) costs about one transfer plus a segment per level, taken
-    as t_mpi(2). Imbalance: the last round leaves ranks idle for at most one
-    block (one pass at 1080p): this CPU's measured 1-thread pass, and an
-    assumed 0.1 s (a GPU). k: reductions, 1 for --spp/--time; for a target
-    error one per monitor measurement: the sparse monitor's (ranks with only
-    a target error: host/app/error_monitor.h) one at 16 passes and then
-    where the estimate projects the target, at most 4x the passes apart,
-    about 2 + ceil(log4(passes / 16)); with --report every power of two,
-    log2(passes) + 1."""
-    # A refresh sums the colour (combined and half, 64-bit words where they
-    # fit: 48 bytes a pixel) and the rays (8); a reduction 96 bytes a pixel.
-    bytes_share = (48 + 8) / 96
-    for label, pass_time in ((f"this CPU's 1-thread 1080p pass, {pass_s:.2f} s (measured)", pass_s),
-                             ("a 0.1 s 1080p pass (a GPU; assumed)", 0.1)):
-        print(f"\n### Modelled efficiency, 1920x1080, one minute, adaptive sampling; passes: {label}\n")
-        print("| ranks | passes | weight refreshes w, t_refresh s, tree / pipelined | t_reduce s, tree / pipelined | "
-              "--spp or --time (1 reduction), tree / pipelined | "
-              "--target-error (sparse, k reductions), tree / pipelined | with --report (k reductions), tree / pipelined |")
-        print("|---|---|---|---|---|---|---|")
-        for ranks in (2, 16, 64):
-            levels = math.ceil(math.log2(ranks))
-            fixed = red["read_s"] + red["restore_s"]
-            tree = fixed + levels * red["mpi_s"]
-            pipe = fixed + red["mpi_s"]
-            one = red["refresh_one_s"]
-            w_tree = one + max(0, levels - 1) * 2 * red["mpi_s"] * bytes_share
-            passes = max(2.0, ranks * 60 / pass_time)
-            # The last wave: one pass shared by the ranks (a 1080p wave is 2 passes).
-            imbalance = 2 * pass_time / ranks
-            w = 0 if not one else 1 + int(math.log(max(1.0, passes / 16)) / math.log(1.25))
-            k = int(math.log2(passes)) + 1
-            k_sparse = 2 + max(0, math.ceil(math.log(max(1.0, passes / 16), 4)))
-            eff = lambda n, t, wt: 60 / (60 + n * t + w * wt + imbalance)
-            print(f"| {ranks} | {passes:.0f} | {w}, {w_tree:.3f} / {one:.3f} | {tree:.3f} / {pipe:.3f} | "
-                  f"{eff(1, tree, w_tree):.3f} / {eff(1, pipe, one):.3f} | "
-                  f"{eff(k_sparse, tree, w_tree):.3f} / {eff(k_sparse, pipe, one):.3f} (k = {k_sparse}) | "
-                  f"{eff(k, tree, w_tree):.3f} / {eff(k, pipe, one):.3f} (k = {k}) |")
+    Collectives: tree = every level of a binomial tree moves the whole
+    film (pessimistic: a reduce ceil(log2 R) times t_mpi(2), an all-reduce
+    as many); pipelined = Open MPI's segmented reduce or ring all-reduce for
+    large messages, about one transfer of the film (an all-reduce 2 (R - 1)
+    / R of one, which is 1 at 2 ranks). The MPI times are this VM's (shared
+    memory without single copy) or scaled to an assumed 12.5 GB/s network
+    (100 Gbit/s). Imbalance: the last wave on one rank (2 passes at 1080p,
+    shared by the ranks). k reductions: 1 for --spp/--time; for a target
+    error the sparse monitor's (one at 16 passes, then where the estimate
+    projects the target, at most 4x apart: about 2 + ceil(log4(passes /
+    16))). w weight refreshes: at 16 passes, then every quarter's growth."""
+    film_bytes = 1920 * 1080 * 3 * 16 * 2
+    vm_bandwidth = film_bytes / max(1e-6, red["mpi_s"])
+    print(f"\nThis VM's reduction moved {film_bytes / 1e6:.0f} MB in {red['mpi_s']:.3f} s: "
+          f"{vm_bandwidth / 1e9:.2f} GB/s.")
+    for net, scale in (("this VM's shared memory (measured)", 1.0),
+                       ("a 12.5 GB/s network (100 Gbit/s; assumed)", vm_bandwidth / 12.5e9)):
+        for label, pass_time in ((f"this CPU's 1-thread 1080p pass, {pass_s:.2f} s (measured)", pass_s),
+                                 ("a 0.1 s 1080p pass (a GPU; assumed)", 0.1)):
+            print(f"\n### Modelled efficiency, 1920x1080, one minute, adaptive sampling; MPI over {net}; "
+                  f"passes: {label}\n")
+            print("| ranks | passes | w | t_refresh s, tree / pipelined | t_reduce s, tree / pipelined | "
+                  "--spp or --time, tree / pipelined | --target-error (k reductions), tree / pipelined |")
+            print("|---|---|---|---|---|---|---|")
+            for ranks in (2, 16, 64):
+                levels = math.ceil(math.log2(ranks))
+                mpi = red["mpi_s"] * scale
+                fixed = red["read_s"] + red["restore_s"]
+                tree, pipe = fixed + levels * mpi, fixed + mpi
+                refresh_mpi = red["refresh_mpi_s"] * scale
+                w_tree = red["refresh_local_s"] + levels * refresh_mpi
+                w_pipe = red["refresh_local_s"] + 2 * (ranks - 1) / ranks * refresh_mpi
+                passes = max(2.0, ranks * 60 / pass_time)
+                imbalance = 2 * pass_time / ranks
+                w = 0 if not red["refresh_local_s"] else 1 + int(math.log(max(1.0, passes / 16)) / math.log(1.25))
+                k_sparse = 2 + max(0, math.ceil(math.log(max(1.0, passes / 16), 4)))
+                eff = lambda n, t, wt: 60 / (60 + n * t + w * wt + imbalance)
+                print(f"| {ranks} | {passes:.0f} | {w} | {w_tree:.3f} / {w_pipe:.3f} | {tree:.3f} / {pipe:.3f} | "
+                      f"{eff(1, tree, w_tree):.3f} / {eff(1, pipe, w_pipe):.3f} | "
+                      f"{eff(k_sparse, tree, w_tree):.3f} / {eff(k_sparse, pipe, w_pipe):.3f} (k = {k_sparse}) |")
 
 
 def main():
