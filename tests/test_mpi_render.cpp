@@ -102,7 +102,8 @@ TEST(MpiRender, TwoAndThreeRanksGiveTheBitsOfOneProcess) {
   const std::string bits = slurp(dir + "/one.pfm");
   ASSERT_FALSE(bits.empty());
   // 3 ranks twice: the sums' low words through MPI's own 64-bit sum (they
-  // fit), and through the 128-bit op (CAUSTICA_TEST_REDUCE128).
+  // fit), and through the 128-bit op (CAUSTICA_TEST_REDUCE128: the
+  // reduction, and the weight refreshes' reduce-scatter).
   for (int ranks : {2, 3, 4, -3}) {
     const std::string out = dir + "/ranks" + std::to_string(ranks) + ".pfm";
     const test::CliResult r = run_mpi(std::abs(ranks), render_args("--spp 37 -v -o '" + out + "'"),

@@ -194,6 +194,54 @@ void MpiRanks::sum_to_all(std::vector<uint64_t>& v) {
         "MPI_Allreduce");
 }
 
+namespace {
+// MPI_Reduce_scatter of `values` (segments of counts[r] items, each `words`
+// 64-bit words) with `type` and `op`: this rank's segment, summed.
+std::vector<uint64_t> reduce_scatter(const std::vector<uint64_t>& values, const std::vector<size_t>& counts, int rank,
+                                     int size, int words, MPI_Datatype type, MPI_Op op) {
+  if (counts.size() != size_t(size)) throw Error("MPI: a scatter of " + std::to_string(counts.size()) + " segments for " +
+                                                 std::to_string(size) + " ranks");
+  std::vector<int> receive;
+  size_t total = 0;
+  for (size_t c : counts) {
+    receive.push_back(count_of(c, "a scattered sum"));
+    total += c;
+  }
+  if (total * size_t(words) != values.size())
+    throw Error("MPI: a scatter of " + std::to_string(values.size()) + " words in segments of " +
+                std::to_string(total) + " items");
+  std::vector<uint64_t> mine(counts[size_t(rank)] * size_t(words));
+  check(MPI_Reduce_scatter(values.data(), mine.data(), receive.data(), type, op, MPI_COMM_WORLD),
+        "MPI_Reduce_scatter");
+  return mine;
+}
+}  // namespace
+
+std::vector<uint64_t> MpiRanks::sum_scatter(const std::vector<uint64_t>& values, const std::vector<size_t>& counts) {
+  const CollectiveTimer timer(&collective_seconds_);
+  return reduce_scatter(values, counts, rank_, size_, 1, MPI_UINT64_T, MPI_SUM);
+}
+
+std::vector<uint64_t> MpiRanks::sum128_scatter(const std::vector<uint64_t>& values, const std::vector<size_t>& counts) {
+  const CollectiveTimer timer(&collective_seconds_);
+  MPI_Datatype pair;
+  MPI_Type_contiguous(2, MPI_UINT64_T, &pair);
+  MPI_Type_commit(&pair);
+  MPI_Op add;
+  MPI_Op_create(&add_sums128, /*commute=*/1, &add);
+  std::vector<uint64_t> mine;
+  try {
+    mine = reduce_scatter(values, counts, rank_, size_, 2, pair, add);
+  } catch (...) {
+    MPI_Op_free(&add);
+    MPI_Type_free(&pair);
+    throw;
+  }
+  MPI_Op_free(&add);
+  MPI_Type_free(&pair);
+  return mine;
+}
+
 void MpiRanks::abort(int code) {
   MPI_Abort(MPI_COMM_WORLD, code);
   std::_Exit(code);

@@ -38,6 +38,8 @@ class MpiRanks final : public RankGroup {
   std::string gather_bytes_to_all(const std::string& mine) override;
   std::vector<std::string> gather_bytes_to_root(const std::string& mine) override;
   void sum_to_all(std::vector<uint64_t>& values) override;
+  std::vector<uint64_t> sum_scatter(const std::vector<uint64_t>& values, const std::vector<size_t>& counts) override;
+  std::vector<uint64_t> sum128_scatter(const std::vector<uint64_t>& values, const std::vector<size_t>& counts) override;
   [[noreturn]] void abort(int code) override;
   double collective_seconds() const override { return collective_seconds_; }
 

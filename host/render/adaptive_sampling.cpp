@@ -6,6 +6,7 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#include <cstring>
 #include <numeric>
 #include <string>
 
@@ -13,6 +14,7 @@
 #include "host/parallel.h"
 #include "host/render/error_estimate.h"
 #include "host/render/film.h"
+#include "host/render/pixel_share.h"
 
 namespace caustica {
 namespace {
@@ -151,32 +153,35 @@ inline double clamp_without_branches(double x, double cap) {
 
 }  // namespace
 
-std::vector<double> neyman_weights(const AdaptiveInputs& in, const AdaptiveOptions& options) {
-  const size_t pixels = size_t(in.width) * size_t(in.height);
-  if (in.width <= 0 || in.height <= 0 || in.pixel_error.size() != pixels || in.spp.size() != pixels ||
-      (!in.rays.empty() && in.rays.size() != pixels))
-    throw Error("adaptive sampling: " + std::to_string(in.pixel_error.size()) + " errors, " +
-                std::to_string(in.spp.size()) + " counts and " + std::to_string(in.rays.size()) + " ray counts for " +
-                std::to_string(in.width) + "x" + std::to_string(in.height) + " pixels");
-  // Per-sample relative variance, filtered and dilated; its square root is
-  // Neyman's weight. A small share of the largest keeps every weight
-  // positive, so that samples the noisy pixels cannot take (their cap) go
-  // to the others rather than nowhere.
-  std::vector<double> v(pixels);
-  for (size_t p = 0; p < pixels; ++p) {
-    const double e = std::isfinite(in.pixel_error[p]) ? std::max(0.0, in.pixel_error[p]) : 0.0;
-    v[p] = e * double(in.spp[p]);
-  }
+namespace {
+
+// A pixel's per-sample relative variance v = e n, from its estimated
+// relMSE e at n samples (a non-finite or negative estimate counts 0).
+double per_sample_variance(double e, uint32_t spp) {
+  return (std::isfinite(e) ? std::max(0.0, e) : 0.0) * double(spp);
+}
+
+// A pixel's cost per sample: rays per sample, at least the camera ray.
+double cost_per_sample(uint64_t rays, uint32_t spp) {
+  return spp > 0 ? std::max(1.0, double(rays) / double(spp)) : 1.0;
+}
+
+// The weights from every pixel's v and (empty: every sample costs alike)
+// cost per sample.
+std::vector<double> weights_from_variance(int width, int height, const std::vector<double>& v,
+                                          const std::vector<double>& cost, const AdaptiveOptions& options) {
+  const size_t pixels = v.size();
+  // v filtered and dilated; its square root is Neyman's weight. A small
+  // share of the largest keeps every weight positive, so that samples the
+  // noisy pixels cannot take (their cap) go to the others rather than
+  // nowhere.
   const int box = std::max(1, options.filter_radius);
-  std::vector<double> weight = neighbours_weight(v, in.width, in.height, box, std::clamp(options.dilate_radius, 0, box));
-  if (!in.rays.empty()) {
-    // Equal time: weigh v by the cost per sample, rays per sample (at least
-    // the camera ray), its neighbours' mean like v's (no dilation: a costly
-    // rim should not make a cheap inside look costly).
-    std::vector<double> cost(pixels);
-    for (size_t p = 0; p < pixels; ++p)
-      cost[p] = in.spp[p] > 0 ? std::max(1.0, double(in.rays[p]) / double(in.spp[p])) : 1.0;
-    const std::vector<double> neighbours_cost = neighbours_weight(cost, in.width, in.height, box, 0);
+  std::vector<double> weight = neighbours_weight(v, width, height, box, std::clamp(options.dilate_radius, 0, box));
+  if (!cost.empty()) {
+    // Equal time: weigh v by the cost per sample, its neighbours' mean like
+    // v's (no dilation: a costly rim should not make a cheap inside look
+    // costly).
+    const std::vector<double> neighbours_cost = neighbours_weight(cost, width, height, box, 0);
     for (size_t p = 0; p < pixels; ++p) weight[p] /= std::max(1.0, neighbours_cost[p]);
   }
   double largest = 0.0;
@@ -184,6 +189,24 @@ std::vector<double> neyman_weights(const AdaptiveInputs& in, const AdaptiveOptio
   const double least = largest > 0.0 ? 1e-9 * largest : 1.0;
   for (double& w : weight) w += least;
   return weight;
+}
+
+}  // namespace
+
+std::vector<double> neyman_weights(const AdaptiveInputs& in, const AdaptiveOptions& options) {
+  const size_t pixels = size_t(in.width) * size_t(in.height);
+  if (in.width <= 0 || in.height <= 0 || in.pixel_error.size() != pixels || in.spp.size() != pixels ||
+      (!in.rays.empty() && in.rays.size() != pixels))
+    throw Error("adaptive sampling: " + std::to_string(in.pixel_error.size()) + " errors, " +
+                std::to_string(in.spp.size()) + " counts and " + std::to_string(in.rays.size()) + " ray counts for " +
+                std::to_string(in.width) + "x" + std::to_string(in.height) + " pixels");
+  std::vector<double> v(pixels), cost;
+  for (size_t p = 0; p < pixels; ++p) v[p] = per_sample_variance(in.pixel_error[p], in.spp[p]);
+  if (!in.rays.empty()) {
+    cost.resize(pixels);
+    for (size_t p = 0; p < pixels; ++p) cost[p] = cost_per_sample(in.rays[p], in.spp[p]);
+  }
+  return weights_from_variance(in.width, in.height, v, cost, options);
 }
 
 std::vector<uint32_t> place_wave_samples(const std::vector<double>& weight, const std::vector<uint32_t>& spp,
@@ -263,10 +286,36 @@ std::vector<double> AdaptiveSampler::weights_of(const Film& film, const Adaptive
   in.width = film.width();
   in.height = film.height();
   in.spp = film.pixel_spp();
-  const Film::Means means = group ? film.summed_means(*group, true) : Film::Means{film.mean(), film.half_mean()};
-  in.pixel_error = pixel_rel_mse(means.mean, means.half, in.spp, film.half_counts());
-  if (options.weigh_cost) in.rays = group ? film.summed_pixel_rays(*group) : film.pixel_rays();
-  return neyman_weights(in, options);
+  if (!group) {
+    in.pixel_error = pixel_rel_mse(film.mean(), film.half_mean(), in.spp, film.half_counts());
+    if (options.weigh_cost) in.rays = film.pixel_rays();
+    return neyman_weights(in, options);
+  }
+  // Shared: each process sums, converts and weighs its band of rows
+  // (Film::summed_band), and the bands' v and cost per sample are gathered
+  // to all in pixel order: the numbers one process computes, each once.
+  const Film::Band band = film.summed_band(*group, options.weigh_cost);
+  const std::vector<double> error = pixel_rel_mse(band.means.mean, band.means.half, in.spp, film.half_counts());
+  const size_t values = options.weigh_cost ? 2 : 1;
+  std::vector<double> mine;
+  mine.reserve((band.end - band.first) * values);
+  for (size_t p = band.first; p < band.end; ++p) {
+    mine.push_back(per_sample_variance(error[p], in.spp[p]));
+    if (options.weigh_cost) mine.push_back(cost_per_sample(band.rays[p - band.first], in.spp[p]));
+  }
+  const std::string all = group->gather_bytes_to_all(
+      std::string(reinterpret_cast<const char*>(mine.data()), mine.size() * sizeof(double)));
+  const size_t pixels = film.pixel_count();
+  if (all.size() != pixels * values * sizeof(double))
+    throw Error("adaptive sampling: " + std::to_string(all.size()) + " bytes of per-sample variances gathered for " +
+                std::to_string(pixels) + " pixels");
+  std::vector<double> both(pixels * values), v(pixels), cost(options.weigh_cost ? pixels : 0);
+  std::memcpy(both.data(), all.data(), all.size());
+  for (size_t p = 0; p < pixels; ++p) {
+    v[p] = both[values * p];
+    if (options.weigh_cost) cost[p] = both[values * p + 1];
+  }
+  return weights_from_variance(in.width, in.height, v, cost, options);
 }
 
 std::vector<uint32_t> AdaptiveSampler::place(const std::vector<uint32_t>& spp, int pass_count) const {

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <string>
+#include <tuple>
 
 #include "host/cl/runtime.h"
 #include "host/error.h"
@@ -420,7 +422,9 @@ namespace {
 // scale, 2^20): when every process's are and no low word exceeds
 // (2^64 - 1) / processes, the low words alone add without overflow (half
 // the bytes); otherwise the 128-bit op. Exact either way.
-void sum_film_sums_to_all(PixelShare& group, std::vector<uint64_t>& words) {
+bool sums_need_128_bits(PixelShare& group, const std::vector<uint64_t>& words) {
+  // CAUSTICA_TEST_REDUCE128 (tests only): the 128-bit op always.
+  if (std::getenv("CAUSTICA_TEST_REDUCE128")) return true;
   uint64_t high = 0, most_low = 0;
   for (size_t i = 0; i + 1 < words.size(); i += 2) {
     most_low = std::max(most_low, words[i]);
@@ -428,7 +432,11 @@ void sum_film_sums_to_all(PixelShare& group, std::vector<uint64_t>& words) {
   }
   std::vector<uint64_t> wide = {high != 0 || most_low > UINT64_MAX / uint64_t(group.size()) ? 1u : 0u};
   group.sum_to_all(wide);
-  if (wide[0] != 0) return group.sum128_to_all(words);
+  return wide[0] != 0;
+}
+
+void sum_film_sums_to_all(PixelShare& group, std::vector<uint64_t>& words) {
+  if (sums_need_128_bits(group, words)) return group.sum128_to_all(words);
   std::vector<uint64_t> low(words.size() / 2);
   for (size_t i = 0; i < low.size(); ++i) low[i] = words[2 * i];
   group.sum_to_all(low);
@@ -473,10 +481,65 @@ Film::Means Film::summed_means(PixelShare& group, bool with_half) const {
   return out;
 }
 
-std::vector<uint64_t> Film::summed_pixel_rays(PixelShare& group) const {
-  std::vector<uint64_t> rays = pixel_rays();
-  group.sum_to_all(rays);
-  return rays;
+Film::Band Film::summed_band(PixelShare& group, bool with_rays) const {
+  if (!options_.half_buffer) throw Error("film: no half buffer was asked for");
+  if (passes_ < 2) throw Error("film: the half buffer needs at least two passes");
+  const size_t width = size_t(options_.width), values = pixel_count() * 3, bytes = values * kAccumulatedValueBytes;
+  // The colour sums, the combined sum's then the half's, two words a value.
+  std::vector<uint64_t> words(4 * values);
+  auto& q = runtime_.queue();
+  q.enqueueReadBuffer(accumulated_, CL_TRUE, 0, bytes, words.data());
+  q.enqueueReadBuffer(accumulated_, CL_TRUE, half_offset_ * kAccumulatedValueBytes, bytes, words.data() + 2 * values);
+  const bool wide = sums_need_128_bits(group, words);
+  const size_t per_value = wide ? 2 : 1;
+  // One segment a process, in rank order: its pixels' combined values, then
+  // their half's; its pixels' rays.
+  std::vector<uint64_t> send, send_rays;
+  std::vector<size_t> counts, ray_counts;
+  send.reserve(2 * values * per_value);
+  const std::vector<uint64_t> rays = with_rays ? pixel_rays() : std::vector<uint64_t>{};
+  Band out;
+  for (int r = 0; r < group.size(); ++r) {
+    const auto [y0, y1] = share_of(size_t(options_.height), r, group.size());
+    const size_t first = y0 * width, end = y1 * width;
+    if (r == group.rank()) std::tie(out.first, out.end) = std::tie(first, end);
+    for (size_t copy = 0; copy < 2; ++copy)
+      for (size_t i = 3 * first; i < 3 * end; ++i) {
+        const size_t at = 2 * (copy * values + i);
+        send.push_back(words[at]);
+        if (wide) send.push_back(words[at + 1]);
+      }
+    counts.push_back(2 * 3 * (end - first));
+    if (with_rays) send_rays.insert(send_rays.end(), rays.begin() + std::ptrdiff_t(first), rays.begin() + std::ptrdiff_t(end));
+    ray_counts.push_back(end - first);
+  }
+  words.clear();
+  words.shrink_to_fit();
+  const std::vector<uint64_t> mine = wide ? group.sum128_scatter(send, counts) : group.sum_scatter(send, counts);
+  if (with_rays) out.rays = group.sum_scatter(send_rays, ray_counts);
+  // As summed_means, for the band's pixels (zero elsewhere).
+  const size_t n = 3 * (out.end - out.first);
+  const auto image_of = [&](size_t copy) {
+    ImageF image(options_.width, options_.height);
+    for (size_t i = 0; i < n; ++i) {
+      const size_t at = (copy * n + i) * per_value;
+      image.rgb[3 * out.first + i] = film_sum_to_float(mine[at], wide ? mine[at + 1] : 0u);
+    }
+    return image;
+  };
+  out.means.mean = image_of(0);
+  divide_by(out.means.mean, spp_);
+  const std::vector<uint32_t> h = half_counts();
+  out.means.half = image_of(1);
+  divide_by(out.means.half, h);
+  for (size_t p = out.first; p < out.end; ++p)
+    if (h[p] == 0)
+      for (int c = 0; c < 3; ++c) out.means.half.rgb[3 * p + c] = out.means.mean.rgb[3 * p + c];
+  if (separate_) {
+    separate_->add_to(out.means.half, spp_);
+    if (passes_ > 0) separate_->add_to(out.means.mean, spp_);
+  }
+  return out;
 }
 
 int Film::half_passes() const { return held_.half_count(); }

@@ -221,8 +221,17 @@ class Film {
     ImageF mean, half;
   };
   Means summed_means(PixelShare& group, bool with_half) const;
-  // pixel_rays() summed over such a group (a collective).
-  std::vector<uint64_t> summed_pixel_rays(PixelShare& group) const;
+  // The same for this process's band of rows (share_of(height)) only, each
+  // process taking its own (a reduce-scatter: every process converts a
+  // share of the image, and moves a share of the bytes): the band's mean
+  // and half mean (full-size images, filled on the band's pixels [first,
+  // end)) and, with_rays, its pixel_rays() summed. A collective.
+  struct Band {
+    size_t first = 0, end = 0;
+    Means means;
+    std::vector<uint64_t> rays;  // the band's pixels
+  };
+  Band summed_band(PixelShare& group, bool with_rays) const;
   // The passes in the half buffer while uniform(): those held from P on, P
   // the largest power of two at most the last held pass ([P, N) for passes
   // [0, N), N >= 2; PassSet::half_count). half_mean: each pixel's half's

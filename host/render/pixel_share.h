@@ -37,6 +37,13 @@ class PixelShare {
   // Each 128-bit integer's sum (two words, low first: the film's sums),
   // on every process.
   virtual void sum128_to_all(std::vector<uint64_t>& sums128) = 0;
+  // `values` summed over the processes, each process keeping its segment:
+  // the values hold one segment a process, in rank order, counts[r] long
+  // (every process the same counts); returns this process's, summed.
+  // 64-bit integers, or (sum128) 128-bit ones as two words each.
+  virtual std::vector<uint64_t> sum_scatter(const std::vector<uint64_t>& values, const std::vector<size_t>& counts) = 0;
+  virtual std::vector<uint64_t> sum128_scatter(const std::vector<uint64_t>& values,
+                                               const std::vector<size_t>& counts) = 0;
   // Rank 0's `value`, on every process (a decision its clock takes for all).
   virtual int broadcast(int value) = 0;
   // Seconds this process spent in the collectives that move data (those
