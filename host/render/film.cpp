@@ -30,6 +30,7 @@ Film::Film(Runtime& runtime, const cl::Program& program, const FilmOptions& opti
   pixel_rays_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixel_count() * sizeof(cl_ulong));
   accumulate_ = std::make_unique<StageKernel>(program, "accumulate_film_pass");
   read_sums_ = std::make_unique<StageKernel>(program, "read_film_sums");
+  read_low_words_ = std::make_unique<StageKernel>(program, "read_film_low_words");
   // One image's values at a time: the colour's, or the aux passes'.
   read_values_ = cl::Buffer(ctx, CL_MEM_READ_WRITE,
                             pixel_count() * (options.aux_passes ? FilmLayout::kAuxChannels : 3) * sizeof(float));
@@ -484,37 +485,69 @@ Film::Means Film::summed_means(PixelShare& group, bool with_half) const {
 Film::Band Film::summed_band(PixelShare& group, bool with_rays) const {
   if (!options_.half_buffer) throw Error("film: no half buffer was asked for");
   if (passes_ < 2) throw Error("film: the half buffer needs at least two passes");
-  const size_t width = size_t(options_.width), values = pixel_count() * 3, bytes = values * kAccumulatedValueBytes;
-  // The colour sums, the combined sum's then the half's, two words a value.
-  std::vector<uint64_t> words(4 * values);
-  auto& q = runtime_.queue();
-  q.enqueueReadBuffer(accumulated_, CL_TRUE, 0, bytes, words.data());
-  q.enqueueReadBuffer(accumulated_, CL_TRUE, half_offset_ * kAccumulatedValueBytes, bytes, words.data() + 2 * values);
-  const bool wide = sums_need_128_bits(group, words);
-  const size_t per_value = wide ? 2 : 1;
-  // One segment a process, in rank order: its pixels' combined values, then
-  // their half's; its pixels' rays.
-  std::vector<uint64_t> send, send_rays;
-  std::vector<size_t> counts, ray_counts;
-  send.reserve(2 * values * per_value);
-  const std::vector<uint64_t> rays = with_rays ? pixel_rays() : std::vector<uint64_t>{};
-  Band out;
+  const size_t width = size_t(options_.width), values = pixel_count() * 3;
+  // Each process's pixels (its rows), in rank order.
+  std::vector<std::pair<size_t, size_t>> bands;
   for (int r = 0; r < group.size(); ++r) {
     const auto [y0, y1] = share_of(size_t(options_.height), r, group.size());
-    const size_t first = y0 * width, end = y1 * width;
-    if (r == group.rank()) std::tie(out.first, out.end) = std::tie(first, end);
-    for (size_t copy = 0; copy < 2; ++copy)
-      for (size_t i = 3 * first; i < 3 * end; ++i) {
-        const size_t at = 2 * (copy * values + i);
-        send.push_back(words[at]);
-        if (wide) send.push_back(words[at + 1]);
-      }
-    counts.push_back(2 * 3 * (end - first));
-    if (with_rays) send_rays.insert(send_rays.end(), rays.begin() + std::ptrdiff_t(first), rays.begin() + std::ptrdiff_t(end));
-    ray_counts.push_back(end - first);
+    bands.emplace_back(y0 * width, y1 * width);
   }
-  words.clear();
-  words.shrink_to_fit();
+  Band out;
+  std::tie(out.first, out.end) = bands[size_t(group.rank())];
+  // The low words of the colour sums (the combined sum's, then the half's),
+  // taken on the device with a flag for a sum they do not hold; where no
+  // process's has one, the low words alone add without overflow (half the
+  // bytes read and summed). CAUSTICA_TEST_REDUCE128 (tests only): never.
+  auto& q = runtime_.queue();
+  const size_t low_bytes = 2 * values * sizeof(cl_ulong);
+  if (!low_words_ || low_words_->getInfo<CL_MEM_SIZE>() < low_bytes)
+    low_words_ = std::make_unique<cl::Buffer>(runtime_.context(), CL_MEM_READ_WRITE, low_bytes);
+  cl::Buffer flag(runtime_.context(), CL_MEM_READ_WRITE, sizeof(cl_uint));
+  runtime_.fill(flag, cl_uint(0), 0, sizeof(cl_uint));
+  for (size_t copy = 0; copy < 2; ++copy) {
+    KernelArgs(*read_low_words_)
+        .arg("passes", accumulated_)
+        .arg("low", *low_words_)
+        .arg("wide", flag)
+        .arg("value_count", cl_uint(values))
+        .arg("offset", cl_uint(copy == 0 ? 0 : half_offset_))
+        .arg("low_offset", cl_uint(copy * values))
+        .arg("most_low", cl_ulong(UINT64_MAX / uint64_t(group.size())))
+        .finish();
+    q.enqueueNDRangeKernel(read_low_words_->kernel, cl::NullRange, cl::NDRange(values));
+  }
+  cl_uint any_wide = 0;
+  q.enqueueReadBuffer(flag, CL_TRUE, 0, sizeof any_wide, &any_wide);
+  std::vector<uint64_t> wide_flags = {std::getenv("CAUSTICA_TEST_REDUCE128") || any_wide != 0 ? 1u : 0u};
+  group.sum_to_all(wide_flags);
+  const bool wide = wide_flags[0] != 0;
+  const size_t per_value = wide ? 2 : 1;
+  // One segment a process, in rank order: its pixels' combined values,
+  // then their half's (read straight into place); its pixels' rays.
+  std::vector<uint64_t> send(2 * values * per_value);
+  std::vector<size_t> counts;
+  size_t at = 0;
+  for (const auto& [first, end] : bands) {
+    for (size_t copy = 0; copy < 2; ++copy) {
+      const size_t n = 3 * (end - first);
+      if (n == 0) continue;
+      if (wide)
+        q.enqueueReadBuffer(accumulated_, CL_FALSE, ((copy == 0 ? 0 : half_offset_) + 3 * first) * kAccumulatedValueBytes,
+                            n * kAccumulatedValueBytes, send.data() + at);
+      else
+        q.enqueueReadBuffer(*low_words_, CL_FALSE, (copy * values + 3 * first) * sizeof(cl_ulong),
+                            n * sizeof(cl_ulong), send.data() + at);
+      at += n * per_value;
+    }
+    counts.push_back(2 * 3 * (end - first));
+  }
+  q.finish();
+  std::vector<uint64_t> send_rays;
+  std::vector<size_t> ray_counts;
+  if (with_rays) {
+    send_rays = pixel_rays();  // (the bands are in pixel order: already one segment a process)
+    for (const auto& [first, end] : bands) ray_counts.push_back(end - first);
+  }
   const std::vector<uint64_t> mine = wide ? group.sum128_scatter(send, counts) : group.sum_scatter(send, counts);
   if (with_rays) out.rays = group.sum_scatter(send_rays, ray_counts);
   // As summed_means, for the band's pixels (zero elsewhere).

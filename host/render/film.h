@@ -281,7 +281,8 @@ class Film {
   uint64_t traced_samples_ = 0;             // and their samples
   cl::Buffer pixel_spp_, wave_spp_buffer_, entry_pixel_, entry_offset_;
   cl::Buffer pass_, accumulated_, counters_, pixel_rays_;
-  std::unique_ptr<StageKernel> accumulate_, read_sums_;
+  std::unique_ptr<StageKernel> accumulate_, read_sums_, read_low_words_;
+  mutable std::unique_ptr<cl::Buffer> low_words_;  // summed_band's, made at its first call
   cl::Buffer read_values_;  // read_sums' floats (one image's)
   size_t half_offset_ = FILM_PASS_ABSENT;
   const SeparateEstimate* separate_ = nullptr;

@@ -59,3 +59,19 @@ __kernel void read_film_sums(__global const ulong* restrict passes, __global flo
   const ulong at = 2ul * ((ulong)offset + i);
   values[i] = film_sum_to_float(passes[at], passes[at + 1ul]);
 }
+
+/* The low words of value_count sums from `offset` (in values) into `low`
+ * from low_offset, and a flag set where a sum does not fit them: a high
+ * word, or a low word above most_low (the most that the processes of a
+ * render shared among them add in 64 bits; Film::summed_band sums the low
+ * words alone then). */
+__kernel void read_film_low_words(__global const ulong* restrict passes, __global ulong* restrict low,
+                                  volatile __global uint* restrict wide, uint value_count, uint offset,
+                                  uint low_offset, ulong most_low) {
+  const uint i = get_global_id(0);
+  if (i >= value_count) return;
+  const ulong at = 2ul * ((ulong)offset + i);
+  const ulong l = passes[at], h = passes[at + 1ul];
+  low[(ulong)low_offset + i] = l;
+  if (h != 0ul || l > most_low) atomic_or(wide, 1u);
+}
