@@ -20,7 +20,9 @@
 #include "host/bench/host_trace.h"
 #include "host/error.h"
 #include "host/render/device_scene.h"
+#include "host/render/adaptive_sampling.h"
 #include "host/render/film.h"
+#include "host/render/pixel_share.h"
 #include "host/render/kernel_args.h"
 #include "host/lights/light_table.h"
 #include "host/render/renderer.h"
@@ -297,6 +299,73 @@ TEST(Film, UnevenWavesKeepEveryPixelsOwnCountAndHalf) {
   rig.film.plan_wave(2, {3, 3, 0});
   EXPECT_TRUE(test::Contains(test::error_of([&] { rig.film.accumulate_pass(rig.launcher, nullptr, 1); }),
                              {"a wave of 1 passes accumulated, 2 planned"}));
+}
+
+// One process as a group of one (every collective an identity): what a
+// film shared among processes computes from its summed sums must be, for a
+// group of one, exactly what it computes alone.
+class GroupOfOne final : public PixelShare {
+ public:
+  int rank() const override { return 0; }
+  int size() const override { return 1; }
+  std::string gather_bytes_to_all(const std::string& mine) override { return mine; }
+  std::vector<std::string> gather_bytes_to_root(const std::string& mine) override { return {mine}; }
+  void sum_to_all(std::vector<uint64_t>&) override {}
+  void sum128_to_all(std::vector<uint64_t>&) override {}
+  std::vector<uint64_t> sum_scatter(const std::vector<uint64_t>& v, const std::vector<size_t>&) override { return v; }
+  std::vector<uint64_t> sum128_scatter(const std::vector<uint64_t>& v, const std::vector<size_t>&) override {
+    return v;
+  }
+  int broadcast(int value) override { return value; }
+};
+
+// Film::summed_means and summed_band (the host's conversion of the summed
+// sums, the band taken on the device in 64-bit words or, with a sum past
+// 2^64 in fixed point, in 128) give mean() and half_mean()'s bits, and the
+// adaptive sampler's weights from them are its weights from the film alone.
+TEST(Film, SummedMeansAndBandsOfAGroupOfOneAreTheFilmsOwn) {
+  for (const float big : {0.0f, 3.0e6f}) {  // 3e6 x 2^44 > 2^64: the 128-bit path
+    SCOPED_TRACE(big);
+    FilmRig rig(film_options(5, 4, true));
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> radiance(0.0f, 2.0f);
+    for (int wave = 0; wave < 6; ++wave) {
+      // Even waves, then uneven ones (some pixels without samples).
+      std::vector<uint32_t> k(20, 1);
+      if (wave >= 3)
+        for (size_t p = 0; p < k.size(); ++p) k[p] = (p % 3 == 0) ? 0 : (p % 3 == 1) ? 1 : 2;
+      if (wave >= 3)
+        rig.film.plan_wave(1, k);
+      else
+        rig.film.plan_wave(1);
+      std::vector<cs_float4> values;
+      std::vector<uint32_t> pixels;
+      for (uint32_t p = 0; p < 20; ++p)
+        if (k[p] > 0) {
+          values.push_back({{radiance(rng) * float(k[p]), radiance(rng), p == 7 ? big : radiance(rng), 0.0f}});
+          pixels.push_back(p);
+        }
+      rig.add_pass(values, pixels);
+      rig.film.accumulate_pass(rig.launcher, nullptr, 1);
+    }
+    ASSERT_FALSE(rig.film.uniform());
+    GroupOfOne group;
+    const ImageF mean = rig.film.mean(), half = rig.film.half_mean();
+    const auto same = [](const ImageF& a, const ImageF& b) {
+      return a.rgb.size() == b.rgb.size() && std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+    };
+    const Film::Means summed = rig.film.summed_means(group, true);
+    EXPECT_TRUE(same(summed.mean, mean));
+    EXPECT_TRUE(same(summed.half, half));
+    const Film::Band band = rig.film.summed_band(group, true);
+    EXPECT_EQ(band.first, 0u);
+    EXPECT_EQ(band.end, 20u);
+    EXPECT_TRUE(same(band.means.mean, mean));
+    EXPECT_TRUE(same(band.means.half, half));
+    EXPECT_EQ(band.rays, rig.film.pixel_rays());
+    const AdaptiveOptions options;
+    EXPECT_EQ(AdaptiveSampler::weights_of(rig.film, options, &group), AdaptiveSampler::weights_of(rig.film, options));
+  }
 }
 
 TEST(Film, NonFiniteAndNegativeAreCountedAndDroppedHugeValuesClamped) {
