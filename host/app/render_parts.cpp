@@ -1,9 +1,9 @@
-// What a render of part of the passes may do: `--passes START:END` (one
-// process, a part for `caustica merge`) and a render under mpirun with
-// several ranks (host/app/distributed_render.h). Both refuse adaptive
-// sampling; --passes refuses the photon pass, whose state is not a sum of
-// passes, and ranks share it by pixels instead (render_command.cpp refuses
-// its `auto`; docs/distributed.md says why).
+// What a render of part of the work may do: `--passes START:END` (one
+// process, a part for `caustica merge`), which refuses adaptive sampling
+// and the photon pass (neither is a sum of passes: render_options.cpp and
+// render_command.cpp say why), and a render under mpirun with several ranks
+// (host/app/distributed_render.h), which shares every wave and so takes
+// every option but --passes (docs/distributed.md).
 #include <cctype>
 #include <cstdlib>
 #include <limits>

@@ -18,11 +18,12 @@ void check_mergeable(const NamedState& first, const NamedState& named) {
   const std::string& path = named.path;
   if (!s.integrator.empty())
     throw Error(path + ": a state with the photon pass: its per-pixel SPPM statistics (N, tau, r^2) are not sums of "
-                       "passes and cannot be added; render the parts with --caustics off, or in one process");
+                       "passes and cannot be added; render the parts with --caustics off, or the whole in one process or on "
+                       "mpirun's ranks");
   if (s.adaptive)
     throw Error(path + ": an adaptive render's state: its waves were planned from the whole film of passes [0, " +
                 std::to_string(s.film.held.end()) + "), so its parts cannot be merged; render the parts with "
-                "--no-adaptive");
+                "--no-adaptive, or the whole on mpirun's ranks (which keep adaptive sampling)");
   const StateIdentity& want = first.state.identity;
   for (size_t i = 0; i < std::max(want.size(), s.identity.size()); ++i) {
     if (i < want.size() && i < s.identity.size() && want[i] == s.identity[i]) continue;
