@@ -332,8 +332,10 @@ TEST(Film, SummedMeansAndBandsOfAGroupOfOneAreTheFilmsOwn) {
     for (int wave = 0; wave < 6; ++wave) {
       // Even waves, then uneven ones (some pixels without samples).
       std::vector<uint32_t> k(20, 1);
-      if (wave >= 3)
+      if (wave >= 3) {
         for (size_t p = 0; p < k.size(); ++p) k[p] = (p % 3 == 0) ? 0 : (p % 3 == 1) ? 1 : 2;
+        k[19] = 2;  // 20 samples: one pass's
+      }
       if (wave >= 3)
         rig.film.plan_wave(1, k);
       else
