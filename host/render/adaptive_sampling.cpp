@@ -25,7 +25,11 @@ namespace {
 // A pixel's own samples then decide none of its own count directly (a
 // firefly there would otherwise buy it more samples that dilute it: an
 // estimate biased low, measured at -1.9% over 24 seeds on a caustic).
-std::vector<double> neighbours_weight(const std::vector<double>& v, int width, int height, int box, int dilate) {
+// Only rows [first_row, end_row) of the result are computed (the rest stay
+// 0): a process of a group computes its band of rows (AdaptiveSampler::
+// weights_of), from v over the band and the box and dilation around it.
+std::vector<double> neighbours_weight(const std::vector<double>& v, int width, int height, int box, int dilate,
+                                      int first_row, int end_row) {
   // Box sums, separable, each summed afresh (no running or summed-area
   // table: one firefly's v, orders of magnitude above its neighbours',
   // would round every later sum of the image).
@@ -35,19 +39,23 @@ std::vector<double> neighbours_weight(const std::vector<double>& v, int width, i
   const size_t w = size_t(width);
   std::vector<double> rows(v.size()), sums(v.size());
   std::vector<int> counts(v.size());  // pixels in each box (fewer at the image's edges)
-  const auto over_rows = [height](const std::function<void(int)>& row) {
-    parallel_blocks(size_t(height), 0, [&](size_t begin, size_t end) {
-      for (size_t y = begin; y < end; ++y) row(int(y));
+  const auto over_rows = [](int from, int to, const std::function<void(int)>& row) {
+    if (to <= from) return;
+    parallel_blocks(size_t(to - from), 0, [&](size_t begin, size_t end) {
+      for (size_t y = begin; y < end; ++y) row(from + int(y));
     }, 16);
   };
-  over_rows([&](int y) {
+  // The rows each step needs: the output's, the dilation's around them, the
+  // box's around those.
+  const int sums_from = std::max(0, first_row - dilate), sums_to = std::min(height, end_row + dilate);
+  over_rows(std::max(0, sums_from - box), std::min(height, sums_to + box), [&](int y) {
     for (int x = 0; x < width; ++x) {
       double s = 0.0;
       for (int xx = std::max(0, x - box); xx <= std::min(width - 1, x + box); ++xx) s += v[size_t(y) * w + xx];
       rows[size_t(y) * w + x] = s;
     }
   });
-  over_rows([&](int y) {
+  over_rows(sums_from, sums_to, [&](int y) {
     for (int x = 0; x < width; ++x) {
       double s = 0.0;
       for (int yy = std::max(0, y - box); yy <= std::min(height - 1, y + box); ++yy) s += rows[size_t(yy) * w + x];
@@ -58,7 +66,7 @@ std::vector<double> neighbours_weight(const std::vector<double>& v, int width, i
     }
   });
   std::vector<double> out(v.size(), 0.0);
-  over_rows([&](int y) {
+  over_rows(first_row, end_row, [&](int y) {
     for (int x = 0; x < width; ++x) {
       const double own = v[size_t(y) * w + x];
       double best = 0.0;
@@ -166,26 +174,33 @@ double cost_per_sample(uint64_t rays, uint32_t spp) {
   return spp > 0 ? std::max(1.0, double(rays) / double(spp)) : 1.0;
 }
 
-// The weights from every pixel's v and (empty: every sample costs alike)
-// cost per sample.
-std::vector<double> weights_from_variance(int width, int height, const std::vector<double>& v,
-                                          const std::vector<double>& cost, const AdaptiveOptions& options) {
-  const size_t pixels = v.size();
-  // v filtered and dilated; its square root is Neyman's weight. A small
-  // share of the largest keeps every weight positive, so that samples the
-  // noisy pixels cannot take (their cap) go to the others rather than
-  // nowhere.
+// Neyman's weights, before the floor below, of rows [first_row, end_row)
+// (the rest 0) from every pixel's v and (empty: every sample costs alike)
+// cost per sample: the square root of v filtered and dilated, over the
+// neighbours' cost.
+std::vector<double> band_weights(int width, int height, const std::vector<double>& v, const std::vector<double>& cost,
+                                 const AdaptiveOptions& options, int first_row, int end_row) {
   const int box = std::max(1, options.filter_radius);
-  std::vector<double> weight = neighbours_weight(v, width, height, box, std::clamp(options.dilate_radius, 0, box));
+  std::vector<double> weight =
+      neighbours_weight(v, width, height, box, std::clamp(options.dilate_radius, 0, box), first_row, end_row);
   if (!cost.empty()) {
     // Equal time: weigh v by the cost per sample, its neighbours' mean like
     // v's (no dilation: a costly rim should not make a cheap inside look
     // costly).
-    const std::vector<double> neighbours_cost = neighbours_weight(cost, width, height, box, 0);
-    for (size_t p = 0; p < pixels; ++p) weight[p] /= std::max(1.0, neighbours_cost[p]);
+    const std::vector<double> neighbours_cost = neighbours_weight(cost, width, height, box, 0, first_row, end_row);
+    for (size_t p = size_t(first_row) * size_t(width); p < size_t(end_row) * size_t(width); ++p)
+      weight[p] /= std::max(1.0, neighbours_cost[p]);
   }
+  for (double& w : weight) w = std::sqrt(w);
+  return weight;
+}
+
+// A small share of the largest weight keeps every weight positive, so that
+// samples the noisy pixels cannot take (their cap) go to the others rather
+// than nowhere.
+std::vector<double> with_floor(std::vector<double> weight) {
   double largest = 0.0;
-  for (double& w : weight) largest = std::max(largest, w = std::sqrt(w));
+  for (double w : weight) largest = std::max(largest, w);
   const double least = largest > 0.0 ? 1e-9 * largest : 1.0;
   for (double& w : weight) w += least;
   return weight;
@@ -206,7 +221,7 @@ std::vector<double> neyman_weights(const AdaptiveInputs& in, const AdaptiveOptio
     cost.resize(pixels);
     for (size_t p = 0; p < pixels; ++p) cost[p] = cost_per_sample(in.rays[p], in.spp[p]);
   }
-  return weights_from_variance(in.width, in.height, v, cost, options);
+  return with_floor(band_weights(in.width, in.height, v, cost, options, 0, in.height));
 }
 
 std::vector<uint32_t> place_wave_samples(const std::vector<double>& weight, const std::vector<uint32_t>& spp,
@@ -315,7 +330,20 @@ std::vector<double> AdaptiveSampler::weights_of(const Film& film, const Adaptive
     v[p] = both[values * p];
     if (options.weigh_cost) cost[p] = both[values * p + 1];
   }
-  return weights_from_variance(in.width, in.height, v, cost, options);
+  // Each process filters its band of rows; the bands' weights, gathered in
+  // pixel order, are the image's.
+  const auto [first_row, end_row] = share_of(size_t(in.height), group->rank(), group->size());
+  const std::vector<double> weight = band_weights(in.width, in.height, v, cost, options, int(first_row), int(end_row));
+  const size_t width = size_t(in.width);
+  const std::string weights = group->gather_bytes_to_all(
+      std::string(reinterpret_cast<const char*>(weight.data() + first_row * width), (end_row - first_row) * width *
+                                                                                        sizeof(double)));
+  if (weights.size() != pixels * sizeof(double))
+    throw Error("adaptive sampling: " + std::to_string(weights.size()) + " bytes of weights gathered for " +
+                std::to_string(pixels) + " pixels");
+  std::vector<double> whole(pixels);
+  std::memcpy(whole.data(), weights.data(), weights.size());
+  return with_floor(std::move(whole));
 }
 
 std::vector<uint32_t> AdaptiveSampler::place(const std::vector<uint32_t>& spp, int pass_count) const {
