@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <limits>
 #include <tuple>
 
 #include "host/error.h"
@@ -22,14 +21,7 @@ namespace {
 // the low words alone add without overflow, and MPI's own 64-bit sum moves
 // half the bytes; otherwise the 128-bit op. Exact either way.
 void sum_film_sums_to_root(RankGroup& ranks, std::vector<uint64_t>& sums) {
-  std::vector<uint64_t> bounds = {0, 0};  // the largest low word, any high word
-  for (size_t i = 0; i + 1 < sums.size(); i += 2) {
-    bounds[0] = std::max(bounds[0], sums[i]);
-    bounds[1] |= sums[i + 1];
-  }
-  ranks.max_to_all(bounds);
-  // CAUSTICA_TEST_REDUCE128 (tests only): the 128-bit op always.
-  if (std::getenv("CAUSTICA_TEST_REDUCE128") || bounds[1] != 0 || bounds[0] > std::numeric_limits<uint64_t>::max() / uint64_t(ranks.size())) {
+  if (film_sums_need_128_bits(ranks, film_low_words_may_overflow(sums, ranks.size()))) {
     ranks.sum128_to_root(sums);
     return;
   }

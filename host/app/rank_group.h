@@ -30,8 +30,6 @@ class RankGroup : public PixelShare {
   virtual void sum128_to_root(std::vector<uint64_t>& sums128) = 0;
   virtual void sum_to_root(std::vector<uint64_t>& values) = 0;
   virtual void sum_to_root(std::vector<uint32_t>& values) = 0;
-  // On every rank, each value's maximum over the ranks.
-  virtual void max_to_all(std::vector<uint64_t>& values) = 0;
   // On rank 0 every rank's `values`, by rank; elsewhere empty.
   virtual std::vector<std::vector<int32_t>> gather_to_root(const std::vector<int32_t>& values) = 0;
   // Ends every rank now (after this rank printed why), with `code`.

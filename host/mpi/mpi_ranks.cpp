@@ -116,12 +116,6 @@ void MpiRanks::sum_to_root(std::vector<uint32_t>& v) {
         "MPI_Reduce");
 }
 
-void MpiRanks::max_to_all(std::vector<uint64_t>& v) {
-  const CollectiveTimer timer(&collective_seconds_);
-  check(MPI_Allreduce(MPI_IN_PLACE, v.data(), count_of(v.size(), "a maximum"), MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD),
-        "MPI_Allreduce");
-}
-
 std::vector<std::vector<int32_t>> MpiRanks::gather_to_root(const std::vector<int32_t>& values) {
   const CollectiveTimer timer(&collective_seconds_);
   int mine = count_of(values.size(), "a gather");

@@ -33,7 +33,6 @@ class MpiRanks final : public RankGroup {
   void sum128_to_all(std::vector<uint64_t>& sums128) override;
   void sum_to_root(std::vector<uint64_t>& values) override;
   void sum_to_root(std::vector<uint32_t>& values) override;
-  void max_to_all(std::vector<uint64_t>& values) override;
   std::vector<std::vector<int32_t>> gather_to_root(const std::vector<int32_t>& values) override;
   std::string gather_bytes_to_all(const std::string& mine) override;
   std::vector<std::string> gather_bytes_to_root(const std::string& mine) override;

@@ -417,36 +417,48 @@ ImageF Film::mean() const {
   return image;
 }
 
-namespace {
-// The film's 128-bit sums added over a group, on every process. Their high
-// words are zero unless a sum reached 2^64 (2^40 in radiance at the finest
-// scale, 2^20): when every process's are and no low word exceeds
-// (2^64 - 1) / processes, the low words alone add without overflow (half
-// the bytes); otherwise the 128-bit op. Exact either way.
-bool sums_need_128_bits(PixelShare& group, const std::vector<uint64_t>& words) {
-  // CAUSTICA_TEST_REDUCE128 (tests only): the 128-bit op always.
-  if (std::getenv("CAUSTICA_TEST_REDUCE128")) return true;
+bool film_low_words_may_overflow(const std::vector<uint64_t>& sums128, int processes) {
   uint64_t high = 0, most_low = 0;
-  for (size_t i = 0; i + 1 < words.size(); i += 2) {
-    most_low = std::max(most_low, words[i]);
-    high |= words[i + 1];
+  for (size_t i = 0; i + 1 < sums128.size(); i += 2) {
+    most_low = std::max(most_low, sums128[i]);
+    high |= sums128[i + 1];
   }
-  std::vector<uint64_t> wide = {high != 0 || most_low > UINT64_MAX / uint64_t(group.size()) ? 1u : 0u};
-  group.sum_to_all(wide);
-  return wide[0] != 0;
+  return high != 0 || most_low > UINT64_MAX / uint64_t(std::max(1, processes));
 }
 
-void sum_film_sums_to_all(PixelShare& group, std::vector<uint64_t>& words) {
-  if (sums_need_128_bits(group, words)) return group.sum128_to_all(words);
-  std::vector<uint64_t> low(words.size() / 2);
-  for (size_t i = 0; i < low.size(); ++i) low[i] = words[2 * i];
-  group.sum_to_all(low);
-  for (size_t i = 0; i < low.size(); ++i) {
-    words[2 * i] = low[i];
-    words[2 * i + 1] = 0;
-  }
+bool film_sums_need_128_bits(PixelShare& group, bool mine) {
+  if (std::getenv("CAUSTICA_TEST_REDUCE128")) return true;
+  std::vector<uint64_t> any = {mine ? 1u : 0u};
+  group.sum_to_all(any);
+  return any[0] != 0;
 }
-}  // namespace
+
+Film::Means Film::means_of_sums(const std::vector<uint64_t>& sums, size_t words, size_t first, size_t end,
+                                bool with_half) const {
+  const size_t n = 3 * (end - first);
+  const auto image_of = [&](size_t copy) {
+    ImageF image(options_.width, options_.height);
+    for (size_t i = 0; i < n; ++i) {
+      const size_t at = (copy * n + i) * words;
+      image.rgb[3 * first + i] = film_sum_to_float(sums[at], words == 2 ? sums[at + 1] : 0u);
+    }
+    return image;
+  };
+  Means out;
+  out.mean = image_of(0);
+  divide_by(out.mean, spp_);  // (a pixel with an empty half takes this mean: as half_mean's)
+  if (with_half) {
+    const std::vector<uint32_t> h = half_counts();
+    out.half = image_of(1);
+    divide_by(out.half, h);
+    for (size_t p = first; p < end; ++p)
+      if (h[p] == 0)
+        for (int c = 0; c < 3; ++c) out.half.rgb[3 * p + c] = out.mean.rgb[3 * p + c];
+    if (separate_) separate_->add_to(out.half, spp_);
+  }
+  if (separate_ && passes_ > 0) separate_->add_to(out.mean, spp_);
+  return out;
+}
 
 Film::Means Film::summed_means(PixelShare& group, bool with_half) const {
   if (with_half && !options_.half_buffer) throw Error("film: no half buffer was asked for");
@@ -458,28 +470,14 @@ Film::Means Film::summed_means(PixelShare& group, bool with_half) const {
   q.enqueueReadBuffer(accumulated_, CL_TRUE, 0, bytes, words.data());
   if (with_half)
     q.enqueueReadBuffer(accumulated_, CL_TRUE, half_offset_ * kAccumulatedValueBytes, bytes, words.data() + 2 * values);
-  sum_film_sums_to_all(group, words);
-  const auto image_of = [&](size_t first_value) {
-    ImageF image(options_.width, options_.height);
-    for (size_t i = 0; i < values; ++i)
-      image.rgb[i] = film_sum_to_float(words[2 * (first_value + i)], words[2 * (first_value + i) + 1]);
-    return image;
-  };
-  // As mean() and half_mean() from the device's floats.
-  Means out;
-  out.mean = image_of(0);
-  divide_by(out.mean, spp_);  // (a pixel with an empty half takes this mean: as half_mean's)
-  if (with_half) {
-    const std::vector<uint32_t> h = half_counts();
-    out.half = image_of(values);
-    divide_by(out.half, h);
-    for (size_t p = 0; p < h.size(); ++p)
-      if (h[p] == 0)
-        for (int c = 0; c < 3; ++c) out.half.rgb[3 * p + c] = out.mean.rgb[3 * p + c];
-    if (separate_) separate_->add_to(out.half, spp_);
+  if (film_sums_need_128_bits(group, film_low_words_may_overflow(words, group.size()))) {
+    group.sum128_to_all(words);
+    return means_of_sums(words, 2, 0, pixel_count(), with_half);
   }
-  if (separate_ && passes_ > 0) separate_->add_to(out.mean, spp_);
-  return out;
+  std::vector<uint64_t> low(words.size() / 2);
+  for (size_t i = 0; i < low.size(); ++i) low[i] = words[2 * i];
+  group.sum_to_all(low);
+  return means_of_sums(low, 1, 0, pixel_count(), with_half);
 }
 
 Film::Band Film::summed_band(PixelShare& group, bool with_rays) const {
@@ -518,9 +516,7 @@ Film::Band Film::summed_band(PixelShare& group, bool with_rays) const {
   }
   cl_uint any_wide = 0;
   q.enqueueReadBuffer(flag, CL_TRUE, 0, sizeof any_wide, &any_wide);
-  std::vector<uint64_t> wide_flags = {std::getenv("CAUSTICA_TEST_REDUCE128") || any_wide != 0 ? 1u : 0u};
-  group.sum_to_all(wide_flags);
-  const bool wide = wide_flags[0] != 0;
+  const bool wide = film_sums_need_128_bits(group, any_wide != 0);
   const size_t per_value = wide ? 2 : 1;
   // One segment a process, in rank order: its pixels' combined values,
   // then their half's (read straight into place); its pixels' rays.
@@ -550,28 +546,7 @@ Film::Band Film::summed_band(PixelShare& group, bool with_rays) const {
   }
   const std::vector<uint64_t> mine = wide ? group.sum128_scatter(send, counts) : group.sum_scatter(send, counts);
   if (with_rays) out.rays = group.sum_scatter(send_rays, ray_counts);
-  // As summed_means, for the band's pixels (zero elsewhere).
-  const size_t n = 3 * (out.end - out.first);
-  const auto image_of = [&](size_t copy) {
-    ImageF image(options_.width, options_.height);
-    for (size_t i = 0; i < n; ++i) {
-      const size_t at = (copy * n + i) * per_value;
-      image.rgb[3 * out.first + i] = film_sum_to_float(mine[at], wide ? mine[at + 1] : 0u);
-    }
-    return image;
-  };
-  out.means.mean = image_of(0);
-  divide_by(out.means.mean, spp_);
-  const std::vector<uint32_t> h = half_counts();
-  out.means.half = image_of(1);
-  divide_by(out.means.half, h);
-  for (size_t p = out.first; p < out.end; ++p)
-    if (h[p] == 0)
-      for (int c = 0; c < 3; ++c) out.means.half.rgb[3 * p + c] = out.means.mean.rgb[3 * p + c];
-  if (separate_) {
-    separate_->add_to(out.means.half, spp_);
-    if (passes_ > 0) separate_->add_to(out.means.mean, spp_);
-  }
+  out.means = means_of_sums(mine, per_value, out.first, out.end, true);
   return out;
 }
 

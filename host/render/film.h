@@ -111,6 +111,16 @@ class SeparateEstimate {
   virtual void add_variance_to(ImageF& /*variance*/, const std::vector<uint32_t>& /*spp*/) const {}
 };
 
+// Whether the film sums of a group of processes must be added as 128-bit
+// integers (a collective: every process passes whether its own need them):
+// a high word, or a low word above (2^64 - 1) / processes, in any process's
+// sums; otherwise their low words add exactly in 64 bits, half the bytes.
+// CAUSTICA_TEST_REDUCE128 (tests only): always.
+bool film_sums_need_128_bits(PixelShare& group, bool mine);
+// Whether these sums (two words each, low first) need them, in a group of
+// `processes`.
+bool film_low_words_may_overflow(const std::vector<uint64_t>& sums128, int processes);
+
 class Film {
  public:
   Film(Runtime& runtime, const cl::Program& program, const FilmOptions& options);
@@ -266,6 +276,12 @@ class Film {
   // The buffers the stages read from the first uneven wave on.
   void allocate_per_pixel_buffers();
   void divide_by(ImageF& image, const std::vector<uint32_t>& counts) const;
+  // summed_means' and summed_band's images of pixels [first, end) from
+  // their summed colour sums: `sums` holds the combined sum's values of
+  // those pixels, then (with_half) the half's, `words` 64-bit words each
+  // (1: the low word alone, 2: low and high). Full-size images, as mean()
+  // and half_mean() on those pixels, zero elsewhere.
+  Means means_of_sums(const std::vector<uint64_t>& sums, size_t words, size_t first, size_t end, bool with_half) const;
 
   Runtime& runtime_;
   FilmOptions options_;
