@@ -21,15 +21,6 @@
 namespace caustica {
 namespace {
 
-const char* bvh_quality_name(BvhBuildOptions::Quality q) {
-  switch (q) {
-    case BvhBuildOptions::Quality::Fast: return "fast";
-    case BvhBuildOptions::Quality::Sah: return "sah";
-    case BvhBuildOptions::Quality::Spatial: return "spatial";
-  }
-  return "unknown";
-}
-
 // The option that asks for the film's aux passes (albedo, normal, depth).
 std::string aux_pass_option(const RenderArgs& a) {
   return a.denoise ? "--denoise" : !a.aov_dir.empty() ? "--aov-dir" : "an .exr output";
@@ -37,8 +28,9 @@ std::string aux_pass_option(const RenderArgs& a) {
 
 // A state that cannot be read, or is damaged, fails before the scene is read.
 std::optional<RenderState> read_resume_state(RenderArgs& a) {
-  if (a.resume.empty()) return std::nullopt;
-  RenderState state = read_render_state(a.resume);
+  if (a.resume.empty() && !a.resume_state) return std::nullopt;
+  if (a.resume.empty()) a.resume = "the resumed state";
+  RenderState state = a.resume_state ? *a.resume_state : read_render_state(a.resume);
   // A state made with the aux passes resumes with them (whatever this
   // render's outputs); one made without cannot give them.
   for (const auto& [name, value] : state.identity)
@@ -218,18 +210,25 @@ ErrorMonitorOptions error_monitor_options(const RenderArgs& a, RenderPlan& plan)
 }
 
 // One process: after every pass the error monitor decides whether to go on,
-// and the outputs due while rendering are written.
-RenderResult render_in_process(RenderPlan& plan, RenderStats& stats, ProgressReporter& progress,
-                               ErrorMonitor& monitor, RenderOutputs& outputs) {
+// the outputs due while rendering are written, and a caller keeping the
+// render in memory may stop it (RenderArgs::on_wave).
+RenderResult render_in_process(const RenderArgs& a, RenderRun& run, ProgressReporter& progress,
+                               RenderOutputs& outputs) {
   RenderResult result;
+  RenderPlan& plan = run.plan;
+  ErrorMonitor& monitor = *run.monitor;
   Renderer& renderer = *plan.session->renderer;
   result.shown = &renderer;
   result.image = renderer.render(
-      &stats, [&](const PassProgress& p) { progress.update(p); },
+      &run.stats, [&](const PassProgress& p) { progress.update(p); },
       [&](const Film& film, double seconds) {
         result.seconds = seconds;
         const bool go_on = monitor.on_pass(film, seconds);
         outputs.on_pass(renderer, film, seconds);
+        if (go_on && a.on_wave && !a.on_wave(WaveDone{film.passes(), seconds, monitor.estimate()})) {
+          run.stopped_by_caller = true;
+          return false;
+        }
         return go_on;
       },
       plan.resume ? &*plan.resume : nullptr);
@@ -291,23 +290,30 @@ std::optional<RenderResult> render_on_ranks(const RenderArgs& a, RenderPlan& pla
 
 }  // namespace
 
-int run_render(RenderArgs& a) {
+std::unique_ptr<RenderRun> render_scene(RenderArgs& a) {
   check_render_options(a);
-  RenderPlan plan = plan_render(a);
-  RenderStats stats;
+  auto run = std::make_unique<RenderRun>();
+  run->plan = plan_render(a);
+  RenderPlan& plan = run->plan;
   ProgressReporter progress(!a.quiet);
-  ErrorMonitor monitor(error_monitor_options(a, plan));
+  run->monitor = std::make_unique<ErrorMonitor>(error_monitor_options(a, plan));
+  ErrorMonitor& monitor = *run->monitor;
   progress.set_error_monitor(&monitor);
   RenderOutputs outputs(a, plan);
-  const std::optional<RenderResult> result =
-      plan.distributed ? render_on_ranks(a, plan, stats, progress, monitor, outputs)
-                       : render_in_process(plan, stats, progress, monitor, outputs);
-  if (!result) return 0;  // a rank other than 0: rank 0 writes what the ranks rendered
+  run->result = plan.distributed ? render_on_ranks(a, plan, run->stats, progress, monitor, outputs)
+                                 : render_in_process(a, *run, progress, outputs);
+  if (!run->result) return run;  // a rank other than 0: rank 0 writes what the ranks rendered
+  const RenderResult& result = *run->result;
   progress.finish();
-  outputs.write_images(result->image, result->shown->film());
-  if (!a.checkpoint.empty()) outputs.write_checkpoint(*result->shown);
-  monitor.finish(result->shown->film(), result->seconds);
-  report_render(a, plan, stats, *result, monitor);
+  if (a.write_output) outputs.write_images(result.image, result.shown->film());
+  if (!a.checkpoint.empty()) outputs.write_checkpoint(*result.shown);
+  monitor.finish(result.shown->film(), result.seconds);
+  report_render(a, plan, run->stats, result, monitor);
+  return run;
+}
+
+int run_render(RenderArgs& a) {
+  render_scene(a);
   return 0;
 }
 

@@ -9,6 +9,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -17,6 +19,20 @@
 #include "host/app/session.h"
 
 namespace caustica {
+
+struct RenderState;
+
+// Between waves, for a caller that keeps the render in memory (the Python
+// module's callback): the film's samples per pixel, the seconds since the
+// first sample and the latest estimated relMSE (measured after 1, 2, 4, ...
+// passes: host/app/error_monitor.h). Returning false stops the render
+// there, with every wave it finished.
+struct WaveDone {
+  int spp = 0;
+  double seconds = 0.0;
+  std::optional<double> error_estimate;
+};
+using WaveHook = std::function<bool(const WaveDone&)>;
 
 struct RenderArgs {
   SessionOptions session;
@@ -45,6 +61,14 @@ struct RenderArgs {
   // Under mpirun (host/main.cpp): the ranks; nullptr or one rank: a
   // single-process render.
   RankGroup* ranks = nullptr;
+  // A caller that keeps the render in memory (the Python module,
+  // host/app/held_render.h): with write_output false nothing is written at
+  // the end but what an option names (-o given, --checkpoint...); on_wave
+  // runs between waves (one process only); resume_state is resumed instead
+  // of reading --resume's file (`resume` then only names it in messages).
+  bool write_output = true;
+  WaveHook on_wave;
+  std::shared_ptr<const RenderState> resume_state;
 };
 
 inline constexpr double kDefaultCheckpointSeconds = 60.0;

@@ -236,9 +236,9 @@ void print_written(const RenderArgs& a, const RenderPlan& plan, const RenderStat
                 format_error(*monitor.denoised_true_rel_mse());
   std::string resumed;
   if (plan.resume) resumed = ", resumed from " + std::to_string(plan.resumed_passes) + " spp in " + a.resume;
-  std::fprintf(stderr, "[caustica] wrote %s (%dx%d, %d spp%s) in %.2f s%s\n", a.output.c_str(), result.image.width,
-               result.image.height, result.shown->film().passes(), resumed.c_str(), stats.render_ms / 1e3,
-               accuracy.c_str());
+  std::fprintf(stderr, "[caustica] %s%s (%dx%d, %d spp%s) in %.2f s%s\n", a.write_output ? "wrote " : "rendered",
+               a.write_output ? a.output.c_str() : "", result.image.width, result.image.height,
+               result.shown->film().passes(), resumed.c_str(), stats.render_ms / 1e3, accuracy.c_str());
   if (!a.checkpoint.empty())
     std::fprintf(stderr, "[caustica] wrote %s (the render's state at %d spp)\n", a.checkpoint.c_str(),
                  result.shown->film().passes());

@@ -46,6 +46,23 @@ struct RenderResult {
   double seconds = 0.0;              // since the first sample, as the error monitor measured
 };
 
+// A render run to its end (render_scene): what it planned, traced and
+// measured, kept for the caller. `caustica render` lets it go; the Python
+// module holds it as a caustica.Render (host/app/held_render.h).
+struct RenderRun {
+  RenderPlan plan;
+  RenderStats stats;
+  std::unique_ptr<ErrorMonitor> monitor;
+  std::optional<RenderResult> result;  // none on mpirun's ranks other than 0
+  bool stopped_by_caller = false;      // RenderArgs::on_wave returned false
+};
+
+// Everything `caustica render` does, in order: the options checked, the
+// plan, the render (this process or mpirun's ranks), the outputs written
+// (RenderArgs::write_output), the error monitor finished, the report on
+// stderr.
+std::unique_ptr<RenderRun> render_scene(RenderArgs& args);
+
 // Progress on stderr: a rewritten line on a terminal, one line a second
 // otherwise; silent for renders that finish within a second.
 class ProgressReporter {

@@ -34,6 +34,15 @@ BvhBuildOptions::Quality parse_bvh_quality(const std::string& name) {
   throw Error("--bvh " + name + ": expected fast, sah or spatial");
 }
 
+const char* bvh_quality_name(BvhBuildOptions::Quality q) {
+  switch (q) {
+    case BvhBuildOptions::Quality::Fast: return "fast";
+    case BvhBuildOptions::Quality::Sah: return "sah";
+    case BvhBuildOptions::Quality::Spatial: return "spatial";
+  }
+  return "unknown";
+}
+
 void check_image_size_limits(const std::string& what, long long width, long long height) {
   using namespace limits;
   if (width > kMaxImageSide || height > kMaxImageSide ||
@@ -114,7 +123,7 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   LoadOptions load_options;
   load_options.strict = options.strict;
   load_options.gltf_camera = options.gltf_camera;
-  session->scene = load_scene(options.scene_path, load_options);
+  session->scene = options.scene ? *options.scene : load_scene(options.scene_path, load_options);
   session->load_ms = ms_since(t0);
   Scene& scene = session->scene;
   if (options.edit_scene) {

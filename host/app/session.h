@@ -27,6 +27,9 @@ inline constexpr float kPathDisplayGamma = 2.2f;
 
 struct SessionOptions {
   std::string scene_path;
+  // A scene already loaded (the Python module's caustica.load/load_dict):
+  // rendered instead of reading scene_path, which then only names it.
+  std::shared_ptr<const Scene> scene;
   std::optional<RenderMode> mode;  // --mode; default: the scene's rendermode
   int width = 0;                   // 0: from the camera (or derived keeping the aspect)
   int height = 0;
@@ -86,6 +89,7 @@ std::optional<RenderMode> parse_render_mode(const std::string& name);
 
 // --bvh: "fast", "sah" or "spatial"; anything else throws.
 BvhBuildOptions::Quality parse_bvh_quality(const std::string& name);
+const char* bvh_quality_name(BvhBuildOptions::Quality quality);
 
 // Width/height after CLI overrides: one given keeps the camera's aspect.
 // Throws, naming the limit, beyond limits::kMaxImageSide / kMaxImagePixels.

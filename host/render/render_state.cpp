@@ -58,9 +58,11 @@ const char* strategy_name(uint32_t s) {
 
 uint64_t scene_hash(const Scene& scene) {
   uint64_t h = kFnvOffset;
-  const bool gltf = is_gltf_file(scene.source_path);
-  const std::string file = read_input_file(scene.source_path, "scene file",
-                                           gltf ? limits::kMaxMeshFileBytes : limits::kMaxSceneFileBytes);
+  const bool gltf = scene.document.empty() && is_gltf_file(scene.source_path);
+  const std::string file = !scene.document.empty()
+                               ? scene.document
+                               : read_input_file(scene.source_path, "scene file",
+                                                 gltf ? limits::kMaxMeshFileBytes : limits::kMaxSceneFileBytes);
   h = fnv1a(file.data(), file.size(), h);
   // A glTF file holds several cameras and --camera picks one: the camera
   // used is part of what the state is of (a JSON scene's is in its bytes).
@@ -71,6 +73,7 @@ uint64_t scene_hash(const Scene& scene) {
     h = fnv1a(camera, sizeof camera, h);
   }
   for (const Scene::MeshInfo& mesh : scene.meshes) {
+    if (mesh.file.empty()) continue;  // an inline mesh: its vertices are in the scene's document
     const std::string bytes = read_input_file(mesh.file, "mesh file", limits::kMaxMeshFileBytes);
     h = fnv1a(bytes.data(), bytes.size(), h);
   }

@@ -317,4 +317,11 @@ Scene load_scene(const std::string& path, const LoadOptions& options) {
   return parse_scene_text(text, path, dir.empty() ? std::string(".") : dir.string(), options);
 }
 
+Scene load_scene_document(const json& j, const std::string& name, const std::string& base_dir,
+                          const LoadOptions& options) {
+  Scene scene = parse_scene(j, name, base_dir, options);
+  scene.document = j.dump();
+  return scene;
+}
+
 }  // namespace caustica

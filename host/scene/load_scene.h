@@ -51,4 +51,11 @@ Scene parse_scene_text(const std::string& text, const std::string& file_for_mess
 Scene parse_scene(const nlohmann::json& j, const std::string& file_for_messages, const std::string& base_dir,
                   const LoadOptions& options = {});
 
+// A scene given as a document, not a file (the Python module's
+// caustica.load_dict): parse_scene, with the document's text kept as
+// Scene::document (what its identity is hashed from). `name` stands for
+// the file in messages; relative assets resolve against `base_dir`.
+Scene load_scene_document(const nlohmann::json& j, const std::string& name, const std::string& base_dir,
+                          const LoadOptions& options = {});
+
 }  // namespace caustica

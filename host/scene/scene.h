@@ -34,6 +34,11 @@ struct CameraDesc {
 
 struct Scene {
   std::string source_path;  // file the scene came from (for messages)
+  // A scene given as a document rather than a file (load_scene_document:
+  // the Python module's load_dict): its JSON text, which stands for the
+  // file's bytes where the scene's identity is hashed (no file to read
+  // again). Empty for a scene read from a file.
+  std::string document;
   RenderMode mode = RenderMode::Phong;  // the file's "rendermode" (phong when absent)
   int nbounces = 4;
   CameraDesc camera;

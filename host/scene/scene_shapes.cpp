@@ -5,9 +5,11 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "host/error.h"
 #include "host/scene/gltf.h"
+#include "host/scene/mesh_internal.h"
 #include "host/scene/scene_reader.h"
 
 namespace caustica::scene_detail {
@@ -256,17 +258,95 @@ class ShapeReader {
     return k;
   }
 
+  // An inline mesh's arrays (the Python module's load_dict gives NumPy
+  // arrays as these): "vertices" [[x, y, z], ...], "indices" [[a, b, c],
+  // ...] or flat, and per vertex "normals" [[x, y, z], ...] and "uvs"
+  // [[u, v], ...]. Every entry is checked with its JSON pointer.
+  Mesh inline_mesh(const json& s, const std::string& path) const {
+    const std::string vp = path + "/vertices";
+    const json& vertices = r_.array(s.at("vertices"), vp);
+    if (vertices.empty()) r_.fail(vp, "expected at least 3 vertices, got none");
+    std::vector<glm::vec3> positions;
+    positions.reserve(vertices.size());
+    for (size_t i = 0; i < vertices.size(); ++i)
+      positions.push_back(r_.vec3(vertices[i], vp + "/" + std::to_string(i), Range::Coordinate));
+    auto per_vertex = [&](const char* key) -> const json* {
+      const json* v = Reader::find(s, key);
+      if (!v) return nullptr;
+      const std::string kp = path + "/" + key;
+      r_.array(*v, kp);
+      if (v->size() != positions.size())
+        r_.fail(kp, "expected one entry per vertex (" + std::to_string(positions.size()) + "), got " +
+                        std::to_string(v->size()));
+      return v;
+    };
+    const json* normals_json = per_vertex("normals");
+    const json* uvs_json = per_vertex("uvs");
+    std::vector<glm::vec3> normals;
+    std::vector<glm::vec2> uvs;
+    for (size_t i = 0; normals_json && i < positions.size(); ++i)
+      normals.push_back(r_.vec3((*normals_json)[i], path + "/normals/" + std::to_string(i), Range::Any));
+    for (size_t i = 0; uvs_json && i < positions.size(); ++i)
+      uvs.push_back(r_.vec2((*uvs_json)[i], path + "/uvs/" + std::to_string(i), Range::Any));
+    // Indices: triples, or one flat list whose length is a multiple of 3.
+    const std::string ip = path + "/indices";
+    const json* indices_json = Reader::find(s, "indices");
+    if (!indices_json) r_.fail(ip, "required key \"indices\" is missing (expected the triangles' vertex indices, [[a, b, c], ...])");
+    const json& indices = r_.array(*indices_json, ip);
+    const int last = int(std::min<size_t>(positions.size() - 1, size_t(std::numeric_limits<int>::max())));
+    std::vector<uint32_t> corners;
+    const bool flat = !indices.empty() && !indices[0].is_array();
+    if (flat && indices.size() % 3 != 0)
+      r_.fail(ip, "expected a flat list of indices whose length is a multiple of 3, got " +
+                      std::to_string(indices.size()));
+    for (size_t t = 0; t < indices.size(); ++t) {
+      if (flat) {
+        corners.push_back(uint32_t(r_.integer(indices[t], ip + "/" + std::to_string(t), 0, last)));
+        continue;
+      }
+      const std::string tp = ip + "/" + std::to_string(t);
+      const json& triple = r_.array(indices[t], tp);
+      if (triple.size() != 3) r_.fail(tp, "expected 3 vertex indices, got " + std::to_string(triple.size()));
+      for (int k = 0; k < 3; ++k)
+        corners.push_back(uint32_t(r_.integer(triple[size_t(k)], tp + "/" + std::to_string(k), 0, last)));
+    }
+    if (corners.empty()) r_.fail(ip, "expected at least one triangle, got none");
+    Mesh mesh;
+    mesh.source_faces = corners.size() / 3;
+    for (size_t t = 0; t < corners.size(); t += 3) {
+      glm::vec3 p[3], n[3];
+      glm::vec2 uv[3];
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = corners[t + size_t(k)];
+        p[k] = positions[v];
+        if (!normals.empty()) n[k] = normals[v];
+        if (!uvs.empty()) uv[k] = uvs[v];
+      }
+      mesh_internal::add_triangle(mesh, p, normals.empty() ? nullptr : n, uvs.empty() ? nullptr : uv, -1);
+    }
+    return mesh;
+  }
+
   void mesh(const json& s, const std::string& path) {
     r_.check_keys(s, path, {"type", "material", "texture", "file", "filename", "path", "transform", "offset", "scale",
-                            "euler"},
+                            "euler", "vertices", "indices", "normals", "uvs"},
                   kCommonIgnored);
     const char* file_key = nullptr;
     const json* file = Reader::find_any(s, {"file", "filename", "path"}, &file_key);
-    if (!file)
+    const bool inline_data = Reader::find(s, "vertices") != nullptr;
+    if (inline_data && file)
+      r_.fail(path, std::string("expected either \"vertices\" (an inline mesh) or \"") + file_key +
+                        "\" (a mesh file), got both");
+    if (!inline_data)
+      for (const char* key : {"indices", "normals", "uvs"})
+        if (Reader::find(s, key))
+          r_.fail(path + "/" + key, "belongs to an inline mesh, which needs \"vertices\" too");
+    if (!file && !inline_data)
       r_.fail(path + "/file", "required key \"file\" is missing (expected the mesh's .obj, .ply, .gltf or .glb file name; "
-                              "\"filename\" and \"path\" are accepted too)");
-    const std::string file_path = path + "/" + file_key;
-    const std::string written = r_.string(*file, file_path);
+                              "\"filename\" and \"path\" are accepted too; or an inline mesh's \"vertices\" and "
+                              "\"indices\")");
+    const std::string file_path = inline_data ? path + "/vertices" : path + "/" + file_key;
+    const std::string written = inline_data ? "the inline mesh" : r_.string(*file, file_path);
 
     // Transform p' = T R S p: "transform" {translate, rotate, scale} or the
     // PLY variant's offset / euler / scale on the shape itself.
@@ -294,14 +374,17 @@ class ShapeReader {
     const bool mirrored = glm::determinant(linear) < 0.0f;
 
     std::string tried;
-    const std::string resolved = ctx_.assets.find(written, "models", &tried);
-    if (resolved.empty())
+    const std::string resolved = inline_data ? std::string() : ctx_.assets.find(written, "models", &tried);
+    if (!inline_data && resolved.empty())
       r_.fail(file_path, "expected an existing mesh file, got \"" + written + "\" (looked " + tried + ")");
     Scene::MeshInfo info;
-    info.file = resolved;
-    const bool gltf = is_gltf_file(resolved);
-    std::shared_ptr<const Mesh>& cached = ctx_.meshes[resolved];
-    std::shared_ptr<const GltfModel>& model = ctx_.gltf_models[resolved];
+    info.file = resolved;  // "" for an inline mesh (its data is the scene's own)
+    const bool gltf = !inline_data && is_gltf_file(resolved);
+    std::shared_ptr<const Mesh> inline_mesh_data;
+    std::shared_ptr<const GltfModel> no_model;
+    if (inline_data) inline_mesh_data = std::make_shared<const Mesh>(inline_mesh(s, path));
+    std::shared_ptr<const Mesh>& cached = inline_data ? inline_mesh_data : ctx_.meshes[resolved];
+    std::shared_ptr<const GltfModel>& model = inline_data ? no_model : ctx_.gltf_models[resolved];
     if (!cached) {
       const auto t0 = std::chrono::steady_clock::now();
       try {
@@ -331,7 +414,8 @@ class ShapeReader {
     // The shape's own material replaces the file's (MTL) materials.
     const bool override_material = Reader::find(s, "material") != nullptr;
     const cs_uint shape_material = override_material ? material(s, path) : 0;
-    const std::string mesh_dir = std::filesystem::path(resolved).parent_path().string();
+    const std::string mesh_dir =
+        inline_data ? ctx_.dir : std::filesystem::path(resolved).parent_path().string();
     // [0]: triangles without a material
     std::vector<int> mtl_ids((gltf ? model->materials.size() : mesh.materials.size()) + 1, -1);
     auto material_of = [&](int m) -> cs_uint {
