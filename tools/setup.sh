@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages caustica builds and runs with, if missing
+# (the Python module's too: python3-dev, pybind11-dev, python3-numpy, and
+# for its tests and examples python3-pytest and python3-matplotlib)
 # (with --fuzz: those tools/fuzz.sh builds the fuzz targets with; with
 # --oclgrind: those plus the simulator tools/oclgrind.sh runs the tests on).
 # As root it runs apt-get; otherwise it prints the exact command to run.
@@ -12,6 +14,7 @@ packages=(
   gnuplot-nox
   openmpi-bin libopenmpi-dev
   libtbb12
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
 )
 # tools/fuzz.sh: clang with its libFuzzer and sanitizer runtimes (Debian's
 # clang-14; libclang_rt.fuzzer-x86_64.a is in libclang-rt-14-dev).
