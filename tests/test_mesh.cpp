@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "host/error.h"
+#include "host/scene/load_scene.h"
 #include "host/scene/mesh.h"
 #include "tests/support/test_support.h"
 
@@ -477,6 +478,57 @@ TEST(MeshShared, ConferenceSponzaAndCornellBox) {
   bool light = false;
   for (const auto& m : box.mesh.materials) light = light || m.ke == glm::vec3(17, 12, 4);
   EXPECT_TRUE(light);
+}
+
+// An inline mesh (scenes/FORMAT.md: "vertices", "indices", "normals",
+// "uvs"; what the Python module's load_dict gives NumPy arrays as) places
+// the triangles, normals and UVs the same mesh as an OBJ file places, and
+// its errors name the entry.
+TEST(MeshInline, PlacesWhatTheObjFilePlaces) {
+  const std::string dir = test::temp_dir();
+  write_file("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                         "vn 0 0 1\nvn 0 0.6 0.8\nvn 0 0 1\nvn 0.6 0 0.8\nf 1/1/1 2/2/2 3/3/3\nf 1/1/1 3/3/3 4/4/4\n");
+  auto scene_with = [](const std::string& mesh) {
+    return R"({"camera": {"type": "pinhole", "width": 8, "height": 8, "position": [0, 0, -3], "lookAt": [0, 0, 0],
+               "upVector": [0, 1, 0], "fov": 45},
+               "scene": {"lightsources": [{"type": "pointlight", "position": [0, 2, -2], "intensity": [1, 1, 1]}],
+               "shapes": [{"type": "mesh", "transform": {"translate": [0.5, 0, 0], "rotate": [0, 20, 0], "scale": 2}, )" +
+           mesh + "}]}}";
+  };
+  const Scene from_file = parse_scene_text(scene_with(R"("file": "quad.obj")"), "file.json", dir);
+  const Scene from_arrays = parse_scene_text(
+      scene_with(R"("vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]], "indices": [[0, 1, 2], [0, 2, 3]],
+                    "uvs": [[0, 0], [1, 0], [1, 1], [0, 1]],
+                    "normals": [[0, 0, 1], [0, 0.6, 0.8], [0, 0, 1], [0.6, 0, 0.8]])"),
+      "inline.json", dir);
+  ASSERT_EQ(from_file.triangles.size(), 2u);
+  ASSERT_EQ(from_arrays.triangles.size(), 2u);
+  ASSERT_EQ(from_arrays.triangle_shading.size(), 2u);
+  EXPECT_EQ(0, std::memcmp(from_file.triangles.data(), from_arrays.triangles.data(), 2 * sizeof(Triangle)));
+  EXPECT_EQ(0, std::memcmp(from_file.triangle_shading.data(), from_arrays.triangle_shading.data(),
+                           2 * sizeof(TriangleShading)));
+  ASSERT_EQ(from_arrays.meshes.size(), 1u);
+  EXPECT_EQ(from_arrays.meshes[0].file, "");  // no file: the scene's own data (scene_hash skips it)
+  // A flat index list is the same mesh.
+  const Scene flat = parse_scene_text(
+      scene_with(R"("vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]], "indices": [0, 1, 2, 0, 2, 3])"),
+      "flat.json", dir);
+  ASSERT_EQ(flat.triangles.size(), 2u);
+  EXPECT_EQ(0, std::memcmp(&flat.triangles[0].v0, &from_file.triangles[0].v0, 3 * sizeof(flat.triangles[0].v0)));
+
+  const std::string v = R"("vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], )";
+  EXPECT_NE(error_of([&] { parse_scene_text(scene_with(v + R"("indices": [[0, 1, 3]])"), "s.json", dir); })
+                .find("s.json: /scene/shapes/0/indices/0/2: expected an integer in [0, 2], got 3"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { parse_scene_text(scene_with(v + R"("indices": [[0, 1, 2]], "uvs": [[0, 0]])"), "s.json", dir); })
+                .find("/scene/shapes/0/uvs: expected one entry per vertex (3), got 1"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { parse_scene_text(scene_with(R"("indices": [[0, 1, 2]])"), "s.json", dir); })
+                .find("/scene/shapes/0/indices: belongs to an inline mesh"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { parse_scene_text(scene_with(v + R"("file": "quad.obj", "indices": [0, 1, 2])"), "s.json", dir); })
+                .find("expected either \"vertices\" (an inline mesh) or \"file\""),
+            std::string::npos);
 }
 
 }  // namespace

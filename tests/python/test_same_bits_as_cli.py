@@ -36,3 +36,17 @@ def test_exposure_and_denoise_reach_the_image_as_in_the_pfm(tmp_path):
     run_cli("render", path, "--spp", 8, "--width", 48, "--exposure", 1.5, "-o", out, "--quiet")
     r = caustica.render(caustica.load(path), spp=8, width=48, exposure=1.5, quiet=True)
     assert np.array_equal(r.image, read_pfm(out))
+
+
+def test_denoised_image_is_the_cli_denoised_pfm(tmp_path):
+    try:
+        caustica.render(caustica.load(ROOT / "scenes" / "cornell_box.json"), spp=1, width=8, denoise=True, quiet=True)
+    except caustica.Error as e:
+        pytest.skip(f"no denoiser in this build: {e}")
+    path = ROOT / "scenes" / "cornell_box.json"
+    out = tmp_path / "cli.pfm"
+    run_cli("render", path, "--spp", 8, "--width", 48, "--denoise", "-o", out, "--quiet")
+    r = caustica.render(caustica.load(path), spp=8, width=48, denoise=True, quiet=True)
+    assert np.array_equal(r.image, read_pfm(out))
+    assert "beauty" in r.aovs and not np.array_equal(r.aovs["beauty"], r.image)
+    assert caustica.diff(r.image, r.aovs["beauty"]) > 0
