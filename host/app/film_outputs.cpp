@@ -61,16 +61,21 @@ ImageF write_film_outputs(const FilmOutputOptions& options, const Film& film) {
                    !passes.aux ? "none" : guide_mode_name(passes.guides),
                    passes.guide_noise ? std::to_string(*passes.guide_noise).c_str() : "not measured");
   }
-  const ImageF& main_image = options.denoiser ? denoised : passes.colour;
+  write_pass_outputs(options, film.width(), film.height(), passes, film.pixel_spp(),
+                     options.denoiser ? &denoised : nullptr);
+  return options.denoiser ? denoised : passes.colour;
+}
+
+void write_pass_outputs(const FilmOutputOptions& options, int w, int h, const FilmPasses& passes,
+                        const std::vector<uint32_t>& spp, const ImageF* denoised) {
+  const ImageF& main_image = denoised ? *denoised : passes.colour;
   const float scale = options.display.exposure_scale;
   if (lower_extension(options.output) == ".exr")
-    write_exr_planes(options.output, film.width(), film.height(),
-                     film_pass_planes(passes, film.pixel_spp(), scale, options.denoiser ? &denoised : nullptr));
+    write_exr_planes(options.output, w, h, film_pass_planes(passes, spp, scale, denoised));
   else
     write_image(options.output, main_image, options.display);
   if (!options.aov_dir.empty()) {
     const std::filesystem::path dir(options.aov_dir);
-    const int w = film.width(), h = film.height();
     std::vector<ExrPlane> one;
     auto rgb = [&](const char* name, const ImageF& image, float s) {
       one.clear();
@@ -81,7 +86,7 @@ ImageF write_film_outputs(const FilmOutputOptions& options, const Film& film) {
       write_single((dir / name).string(), w, h, {{"Y", std::move(values)}});
     };
     rgb("beauty.exr", passes.colour, scale);
-    if (options.denoiser) rgb("denoised.exr", denoised, scale);
+    if (denoised) rgb("denoised.exr", *denoised, scale);
     if (passes.aux) {
       rgb("albedo.exr", passes.aux->albedo, 1.0f);
       rgb("normal.exr", passes.aux->normal, 1.0f);
@@ -92,10 +97,8 @@ ImageF write_film_outputs(const FilmOutputOptions& options, const Film& film) {
       for (float& x : v) x *= scale * scale;
       grey("variance.exr", std::move(v));
     }
-    const std::vector<uint32_t>& spp = film.pixel_spp();
     grey("spp.exr", std::vector<float>(spp.begin(), spp.end()));
   }
-  return main_image;
 }
 
 }  // namespace caustica

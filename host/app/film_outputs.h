@@ -39,5 +39,10 @@ std::vector<ExrPlane> film_pass_planes(const FilmPasses& passes, const std::vect
                                        float exposure_scale, const ImageF* main_image);
 // Writes the outputs for `film` (path mode); returns the main image.
 ImageF write_film_outputs(const FilmOutputOptions& options, const Film& film);
+// What write_film_outputs writes once the film's passes are read (and,
+// given `denoised`, denoised: options.denoiser is not used here): the
+// Python module's Render.save, which keeps the passes and not the film.
+void write_pass_outputs(const FilmOutputOptions& options, int width, int height, const FilmPasses& passes,
+                        const std::vector<uint32_t>& spp, const ImageF* denoised);
 
 }  // namespace caustica

@@ -1,7 +1,7 @@
 #include "host/app/held_render.h"
 
+#include "host/app/film_outputs.h"
 #include "host/app/render_stages.h"
-#include "host/denoise/film_denoise.h"
 #include "host/error.h"
 #include "host/image/image_io.h"
 #include "host/image/metrics.h"
@@ -18,63 +18,13 @@ ImageF scaled(ImageF image, float scale) {
   return image;
 }
 
-}  // namespace
-
-HeldRender::HeldRender(RenderArgs args) : args_(std::move(args)) {
-  run_ = render_scene(args_);
-  if (!run_->result) throw Error("render: no result on this rank");  // never: the module runs no ranks
-  const RenderResult& result = *run_->result;
-  const Film& film = result.shown->film();
-  const float exposure = run_->plan.display.exposure_scale;
-  if (mode() != RenderMode::Path) {
-    image_ = scaled(result.image, exposure);
-  } else if (run_->plan.denoiser) {
-    // The main image of every output, as write_film_outputs makes it.
-    image_ = scaled(denoise_passes(*run_->plan.denoiser, read_film_passes(film, run_->plan.guides)), exposure);
-  } else {
-    image_ = scaled(film.mean(), exposure);
-  }
-}
-
-HeldRender::~HeldRender() = default;
-
-RenderMode HeldRender::mode() const { return run_->plan.session->mode; }
-
-int HeldRender::spp() const { return mode() == RenderMode::Path ? run_->result->shown->film().passes() : 1; }
-
-std::vector<uint32_t> HeldRender::pixel_spp() const {
-  if (mode() == RenderMode::Path) return run_->result->shown->film().pixel_spp();
-  return std::vector<uint32_t>(image_.pixel_count(), 1u);
-}
-
-HeldPasses HeldRender::passes() const {
-  HeldPasses out;
-  if (mode() != RenderMode::Path) return out;
-  const Film& film = run_->result->shown->film();
-  const FilmPasses passes = read_film_passes(film, run_->plan.guides);
-  const float exposure = run_->plan.display.exposure_scale;
-  if (run_->plan.denoiser) out.beauty = scaled(passes.colour, exposure);
-  if (passes.aux) {
-    out.albedo = passes.aux->albedo;
-    out.normal = passes.aux->normal;
-    out.depth = passes.aux->depth;
-  }
-  out.variance = passes.variance;
-  for (float& v : out.variance) v *= exposure * exposure;
-  return out;
-}
-
-std::optional<double> HeldRender::error_estimate() const { return run_->monitor->estimate(); }
-
-std::vector<double> HeldRender::error_map() const {
-  if (mode() != RenderMode::Path) return {};
-  const Film& film = run_->result->shown->film();
+// Each pixel's estimated relMSE: its channels' share of the film-wide
+// estimate (host/render/error_estimate.h), the photon map's own variance
+// included, averaged over the channels.
+std::vector<double> pixel_error_map(const Film& film, const ImageF& mean) {
   if (!film.has_half_buffer() || film.passes() < 2) return {};
-  const ImageF mean = film.mean();
   const ImageF separate = film.separate_variance();
   std::vector<double> map = pixel_rel_mse(mean, film.half_mean(), film.pixel_spp(), film.half_counts());
-  // The photon map's own variance, as the film-wide estimate adds it
-  // (host/render/error_estimate.h); then the mean over the channels.
   for (size_t p = 0; p < map.size(); ++p) {
     for (size_t i = 3 * p; i < 3 * p + 3; ++i) {
       const double m = mean.rgb[i];
@@ -85,27 +35,68 @@ std::vector<double> HeldRender::error_map() const {
   return map;
 }
 
-const RenderStats& HeldRender::stats() const { return run_->stats; }
-double HeldRender::seconds() const { return run_->result->seconds; }
-bool HeldRender::stopped_by_caller() const { return run_->stopped_by_caller; }
-const ErrorReport& HeldRender::report() const { return run_->monitor->report(); }
+}  // namespace
+
+HeldRender::HeldRender(RenderArgs args) : args_(std::move(args)) {
+  std::unique_ptr<RenderRun> run = render_scene(args_);
+  if (!run->result) throw Error("render: no result on this rank");  // never: the module runs no ranks
+  const RenderResult& result = *run->result;
+  const Session& session = *run->plan.session;
+  const Film& film = result.shown->film();
+  mode_ = session.mode;
+  display_ = run->plan.display;
+  if (mode_ == RenderMode::Path) {
+    passes_ = read_film_passes(film, run->plan.guides);
+    // The main image of every output, as write_film_outputs makes it.
+    if (run->plan.denoiser) denoised_ = denoise_passes(*run->plan.denoiser, passes_);
+    image_ = scaled(denoised_ ? *denoised_ : passes_.colour, display_.exposure_scale);
+    spp_ = film.passes();
+    pixel_spp_ = film.pixel_spp();
+    error_map_ = pixel_error_map(film, passes_.colour);
+    state_ = result.shown->state();
+    state_->identity = render_identity(scene_hash(session.scene), session.mode, session.settings,
+                                       bvh_quality_name(args_.session.bvh_quality));
+  } else {
+    unscaled_ = result.image;
+    image_ = scaled(result.image, display_.exposure_scale);
+    pixel_spp_.assign(image_.pixel_count(), 1u);
+  }
+  error_estimate_ = run->monitor->estimate();
+  stats_ = run->stats;
+  seconds_ = result.seconds;
+  stopped_by_caller_ = run->stopped_by_caller;
+  report_ = run->monitor->report();
+  // `run` goes here: the session's device buffers, scene and film with it.
+}
+
+HeldPasses HeldRender::passes() const {
+  HeldPasses out;
+  if (mode_ != RenderMode::Path) return out;
+  const float exposure = display_.exposure_scale;
+  if (denoised_) out.beauty = scaled(passes_.colour, exposure);
+  if (passes_.aux) {
+    out.albedo = passes_.aux->albedo;
+    out.normal = passes_.aux->normal;
+    out.depth = passes_.aux->depth;
+  }
+  out.variance = passes_.variance;
+  for (float& v : out.variance) v *= exposure * exposure;
+  return out;
+}
 
 void HeldRender::save(const std::string& path) const {
   check_output_image_path(path);
-  RenderArgs as_written = args_;
-  as_written.output = path;
-  RenderOutputs outputs(as_written, run_->plan);
-  outputs.write_images(run_->result->image, run_->result->shown->film());
+  if (mode_ != RenderMode::Path) return write_image(path, unscaled_, display_);
+  FilmOutputOptions options;
+  options.output = path;
+  options.display = display_;
+  write_pass_outputs(options, image_.width, image_.height, passes_, pixel_spp_, denoised_ ? &*denoised_ : nullptr);
 }
 
-RenderState HeldRender::state() const {
-  if (mode() != RenderMode::Path)
+const RenderState& HeldRender::state() const {
+  if (!state_)
     throw Error("state: only path mode renders in passes that a state can hold and resume (binary and phong take one)");
-  const Session& session = *run_->plan.session;
-  RenderState state = run_->result->shown->state();
-  state.identity = render_identity(scene_hash(session.scene), session.mode, session.settings,
-                                   bvh_quality_name(args_.session.bvh_quality));
-  return state;
+  return *state_;
 }
 
 }  // namespace caustica

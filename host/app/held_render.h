@@ -10,23 +10,25 @@
 // Rules: image() has the bits of the .pfm that `caustica render` with the
 // same options writes (the main image, denoised with --denoise, times the
 // exposure scale); error_map() averages to the film's own relMSE
-// estimate; state() is the state file --checkpoint would write.
+// estimate; state() is the state file --checkpoint would write. Once
+// rendered, everything is read back to the host and the session (device
+// buffers, scene, film) is released: a Render holds its images, passes and
+// state (the film's sums, 48 bytes a pixel and value), not a device.
 #pragma once
 
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "host/app/error_report.h"
 #include "host/app/render_command.h"
+#include "host/denoise/film_denoise.h"
+#include "host/image/tonemap.h"
 #include "host/image/image.h"
 #include "host/render/integrator.h"
 #include "host/render/render_state.h"
 
 namespace caustica {
-
-struct RenderRun;
 
 // The film's passes besides the image, as named in an EXR's layers
 // (host/app/film_outputs.h): what the film has, nothing else.
@@ -42,34 +44,43 @@ class HeldRender {
   // Renders `args` (RenderArgs::write_output false unless the caller wants
   // -o written) and keeps the result; throws what `caustica render` throws.
   explicit HeldRender(RenderArgs args);
-  ~HeldRender();
-  HeldRender(const HeldRender&) = delete;
-  HeldRender& operator=(const HeldRender&) = delete;
 
-  RenderMode mode() const;
+  RenderMode mode() const { return mode_; }
   const ImageF& image() const { return image_; }
-  int spp() const;  // the film's passes (binary and phong: 1)
-  std::vector<uint32_t> pixel_spp() const;
+  int spp() const { return spp_; }  // the film's passes (binary and phong: 1)
+  const std::vector<uint32_t>& pixel_spp() const { return pixel_spp_; }
   HeldPasses passes() const;
   // The film's own relMSE estimate (nullopt before 2 passes or without the
   // half buffer) and each pixel's share (their mean is the estimate).
-  std::optional<double> error_estimate() const;
-  std::vector<double> error_map() const;
-  const RenderStats& stats() const;
-  double seconds() const;  // since the first sample
-  bool stopped_by_caller() const;
-  const ErrorReport& report() const;
-  // As `-o path` would have written it (with --denoise, --spp-map as given).
+  const std::optional<double>& error_estimate() const { return error_estimate_; }
+  const std::vector<double>& error_map() const { return error_map_; }
+  const RenderStats& stats() const { return stats_; }
+  double seconds() const { return seconds_; }  // since the first sample
+  bool stopped_by_caller() const { return stopped_by_caller_; }
+  const ErrorReport& report() const { return report_; }
+  // The image as `-o path` writes it (.exr: with the film's passes).
   void save(const std::string& path) const;
   // The state --checkpoint would write (path mode), its identity included.
-  RenderState state() const;
+  const RenderState& state() const;
   const RenderArgs& args() const { return args_; }
-  std::string scene_path() const { return args_.session.scene_path; }
 
  private:
   RenderArgs args_;
-  std::unique_ptr<RenderRun> run_;
-  ImageF image_;
+  RenderMode mode_ = RenderMode::Phong;
+  DisplaySettings display_;
+  ImageF image_;                   // the main image times the exposure
+  ImageF unscaled_;                // binary and phong: the image as rendered
+  FilmPasses passes_;              // path: colour (the film's mean), aux, variance
+  std::optional<ImageF> denoised_;  // path with --denoise: the main image
+  int spp_ = 1;
+  std::vector<uint32_t> pixel_spp_;
+  std::optional<double> error_estimate_;
+  std::vector<double> error_map_;
+  RenderStats stats_;
+  double seconds_ = 0.0;
+  bool stopped_by_caller_ = false;
+  ErrorReport report_;
+  std::optional<RenderState> state_;
 };
 
 }  // namespace caustica

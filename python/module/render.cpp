@@ -30,6 +30,9 @@ struct PyRender {
 // cache are shared (Runtime::shared). A second thread's render waits, with
 // the GIL released.
 std::mutex render_mutex;
+// Set while this thread renders: a callback that starts another render
+// would wait for its own (render_mutex) forever.
+thread_local bool rendering = false;
 
 py::array_t<uint32_t> counts_array(const std::vector<uint32_t>& counts, int width, int height) {
   py::array_t<uint32_t> a({py::ssize_t(height), py::ssize_t(width)});
@@ -109,6 +112,11 @@ py::dict aovs(const HeldRender& r) {
 // raised again once the render has stopped.
 py::tuple render(const PyScene& scene, const std::vector<std::string>& options, const py::object& callback,
                  const py::object& resume, bool write_output) {
+  if (rendering)
+    translate_errors(ErrorKind::Option, [] {
+      throw Error("render: called from a render's callback; renders in one process run one at a time (start it "
+                  "after this render returns)");
+    });
   std::vector<std::string> args{"render", scene.scene->source_path};
   args.insert(args.end(), options.begin(), options.end());
   std::unique_ptr<Cli> cli = parse_command(args);
@@ -139,11 +147,13 @@ py::tuple render(const PyScene& scene, const std::vector<std::string>& options, 
   {
     py::gil_scoped_release release;
     std::lock_guard<std::mutex> lock(render_mutex);
+    rendering = true;
     try {
       held = std::make_shared<HeldRender>(std::move(a));
     } catch (...) {
       failure = std::current_exception();
     }
+    rendering = false;
   }
   if (failure) translate_errors(ErrorKind::Option, [&] { std::rethrow_exception(failure); });
   if (raised && !interrupted) throw std::move(*raised);
@@ -177,8 +187,7 @@ void bind_render(py::module_& m) {
       })
       .def_property_readonly("error_estimate", [](const PyRender& r) { return optional_number(r.held->error_estimate()); })
       .def_property_readonly("error_map", [](const PyRender& r) -> py::object {
-        std::vector<double> map;
-        translate_errors(ErrorKind::Option, [&] { map = r.held->error_map(); });
+        const std::vector<double>& map = r.held->error_map();
         if (map.empty()) return py::none();
         return plane_array(map, r.held->image().width, r.held->image().height);
       })

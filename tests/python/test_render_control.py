@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import caustica
-from conftest import sphere_scene
+from conftest import ROOT, sphere_scene
 
 
 @pytest.fixture(scope="module")
@@ -139,3 +139,27 @@ def test_a_thousand_small_renders_do_not_grow_memory():
     # A leak of one small film (8 x 8 pixels of 128-bit sums, half buffer:
     # ~6 KiB) or session a render would be over 6 MiB in 1000.
     assert grown < 4 * 2**20, f"resident memory grew by {grown / 2**20:.1f} MiB over 1000 renders"
+
+
+def test_renders_from_two_threads_take_turns(scene):
+    alone = caustica.render(scene, spp=16, seed=9, quiet=True).image
+    images = [None, None]
+
+    def work(i):
+        images[i] = caustica.render(scene, spp=16, seed=9, quiet=True).image
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert all(np.array_equal(image, alone) for image in images)
+
+
+def test_a_render_started_from_a_callback_is_refused(scene):
+    def callback(spp, seconds, error):
+        caustica.render(scene, spp=1, quiet=True)
+
+    with pytest.raises(caustica.Error, match="called from a render's callback"):
+        caustica.render(scene, spp=32, callback=callback, quiet=True)
+
