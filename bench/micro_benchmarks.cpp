@@ -12,6 +12,7 @@
 #include <random>
 
 #include "host/accel/bvh.h"
+#include "host/lights/light_tree.h"
 #include "host/accel/bvh_wide.h"
 #include "host/image/tonemap.h"
 #include "host/render/adaptive_sampling.h"
@@ -159,5 +160,27 @@ void BM_AdaptivePlaceWave(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * int64_t(in.spp.size()));
 }
 BENCHMARK(BM_AdaptivePlaceWave)->Arg(128)->Arg(512)->Unit(benchmark::kMillisecond);
+
+// The light tree's build (issue 42; target: 100,000 emissive triangles in
+// 50 ms): triangles of an emissive grid of screens, each light 1 to 1000
+// in power, as build_light_table hands them over.
+static void BM_BuildLightTree(benchmark::State& state) {
+  const int count = int(state.range(0));
+  std::vector<::Light> lights(size_t(count), ::Light{});
+  std::vector<float> power(static_cast<size_t>(count));
+  uint32_t h = 12345u;
+  auto next = [&h] { h = h * 1664525u + 1013904223u; return float(h >> 8) / float(1u << 24); };
+  for (int i = 0; i < count; ++i) {
+    const float x = float(i % 316), y = float((i / 316) % 316), z = 4.0f * next();
+    ::Light& l = lights[size_t(i)];
+    l.kind = LIGHT_TRIANGLE;
+    l.p0 = cs_float4{x, y, z, 0.0f};
+    l.p1 = cs_float4{x + 0.8f, y + 0.1f * next(), z, 0.0f};
+    l.p2 = cs_float4{x, y + 0.8f, z + 0.3f * next(), 0.0f};
+    power[size_t(i)] = 1.0f + 999.0f * next();
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(caustica::build_light_tree(lights, power));
+}
+BENCHMARK(BM_BuildLightTree)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

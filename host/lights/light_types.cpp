@@ -127,4 +127,28 @@ uint32_t add_emissive_material(Scene& scene, const glm::vec3& radiance) {
   return uint32_t(scene.materials.size() - 1);
 }
 
+LightBounds omnidirectional_bounds(const glm::vec3& lo, const glm::vec3& hi) {
+  LightBounds b;
+  b.lo = lo;
+  b.hi = hi;
+  b.cos_o = -1.0f;  // every direction
+  b.cos_e = 0.0f;
+  return b;
+}
+
+LightBounds planar_bounds(const glm::vec3* corners, int count, const glm::vec3& normal, bool two_sided) {
+  LightBounds b;
+  b.lo = b.hi = corners[0];
+  for (int i = 1; i < count; ++i) {
+    b.lo = glm::min(b.lo, corners[i]);
+    b.hi = glm::max(b.hi, corners[i]);
+  }
+  const float length = glm::length(normal);
+  b.axis = length > 0.0f && std::isfinite(length) ? normal / length : glm::vec3(0.0f, 0.0f, 1.0f);
+  b.cos_o = length > 0.0f && std::isfinite(length) ? 1.0f : -1.0f;  // no normal: bound every direction
+  b.cos_e = 0.0f;                                                    // a surface emits over its hemisphere
+  b.two_sided = two_sided;
+  return b;
+}
+
 }  // namespace caustica

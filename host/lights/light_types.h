@@ -25,6 +25,22 @@ namespace scene_detail {
 class Reader;
 }
 
+// What the light tree (host/lights/light_tree.h) knows of a light: the
+// box its emitting points lie in and the cone of its emission, an axis
+// with cos theta_o (how far the normals spread about it) and cos theta_e
+// (how far past a normal it emits: 0 for a surface, pi/2 past it), both
+// sides of it for a two-sided surface. Power is the light table's.
+struct LightBounds {
+  glm::vec3 lo{0.0f}, hi{0.0f};
+  glm::vec3 axis{0.0f, 0.0f, 1.0f};
+  float cos_o = 1.0f, cos_e = 0.0f;
+  bool two_sided = false;
+};
+// An omnidirectional emitter in the box [lo, hi] (point, sphere,
+// cylinder lights) and a one-sided planar one with these corners.
+LightBounds omnidirectional_bounds(const glm::vec3& lo, const glm::vec3& hi);
+LightBounds planar_bounds(const glm::vec3* corners, int count, const glm::vec3& normal, bool two_sided);
+
 struct LightType {
   uint32_t kind = 0;             // the device registry's row (LIGHT_POINT, ...)
   const char* file_type = nullptr;  // "type" in a scene file's lightsources; nullptr: made from shapes only
@@ -50,6 +66,9 @@ struct LightType {
   // which its shadow rays and photons need). nullptr: the light as read.
   // The tables (light_table.cpp) apply it before power and stand-in.
   Light (*in_scene)(const Light& l, const Scene& scene) = nullptr;
+  // The light tree's bounds (LightBounds above); nullptr for lights at
+  // infinity (directional, environment), which the tree leaves out.
+  LightBounds (*tree_bounds)(const Light& l) = nullptr;
 };
 
 const std::vector<LightType>& light_types();  // in kind order

@@ -18,6 +18,9 @@ float point_light_power(const Light& l) { return 4.0f * 3.14159265358979f * lumi
 
 Light itself(const Light& l) { return l; }
 
+// The tree: a point, emitting every way.
+LightBounds point_tree_bounds(const Light& l) { return omnidirectional_bounds(to_vec3(l.p0), to_vec3(l.p0)); }
+
 }  // namespace
 
 LightType point_light_type() {
@@ -27,6 +30,7 @@ LightType point_light_type() {
   t.read = read_point_light;
   t.power = point_light_power;
   t.whitted_stand_in = itself;
+  t.tree_bounds = point_tree_bounds;
   return t;
 }
 

@@ -105,6 +105,14 @@ void add_rect_geometry(Scene& scene, uint32_t light_index) {
   add_triangle(scene, light_index, a, c, d, m);
 }
 
+// The tree: its four corners, emitting on the side of cross(u, v).
+LightBounds rect_tree_bounds(const Light& l) {
+  const glm::vec3 c = to_vec3(l.p0), u = to_vec3(l.p1), v = to_vec3(l.p2);
+  const glm::vec3 corners[4] = {c - 0.5f * u - 0.5f * v, c + 0.5f * u - 0.5f * v, c + 0.5f * u + 0.5f * v,
+                                c - 0.5f * u + 0.5f * v};
+  return planar_bounds(corners, 4, glm::cross(u, v), (l.flags & LIGHT_TWO_SIDED) != 0u);
+}
+
 }  // namespace
 
 LightType rect_light_type() {
@@ -115,6 +123,7 @@ LightType rect_light_type() {
   t.power = area_light_power;
   t.whitted_stand_in = rect_stand_in;
   t.add_geometry = add_rect_geometry;
+  t.tree_bounds = rect_tree_bounds;
   return t;
 }
 

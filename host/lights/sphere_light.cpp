@@ -35,6 +35,12 @@ void add_sphere_geometry(Scene& scene, uint32_t light_index) {
   scene.spheres.push_back(s);
 }
 
+// The tree: its box, emitting every way.
+LightBounds sphere_tree_bounds(const Light& l) {
+  const glm::vec3 c = to_vec3(l.p0), r(l.p0.w);
+  return omnidirectional_bounds(c - r, c + r);
+}
+
 }  // namespace
 
 LightType sphere_light_type() {
@@ -45,6 +51,7 @@ LightType sphere_light_type() {
   t.power = area_light_power;
   t.whitted_stand_in = sphere_stand_in;
   t.add_geometry = add_sphere_geometry;
+  t.tree_bounds = sphere_tree_bounds;
   return t;
 }
 

@@ -45,6 +45,16 @@ float spot_light_power(const Light& l) {
 
 Light itself(const Light& l) { return l; }
 
+// The tree: a point emitting within its outer cone (theta_o, nothing
+// past it).
+LightBounds spot_tree_bounds(const Light& l) {
+  LightBounds b = omnidirectional_bounds(to_vec3(l.p0), to_vec3(l.p0));
+  b.axis = to_vec3(l.p1);
+  b.cos_o = l.p1.w;
+  b.cos_e = 1.0f;
+  return b;
+}
+
 }  // namespace
 
 Light spot_light_at(const glm::vec3& position, const glm::vec3& unit_direction, const glm::vec3& intensity,
@@ -67,6 +77,7 @@ LightType spot_light_type() {
   t.read = read_spot_light;
   t.power = spot_light_power;
   t.whitted_stand_in = itself;
+  t.tree_bounds = spot_tree_bounds;
   return t;
 }
 

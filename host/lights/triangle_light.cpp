@@ -5,6 +5,22 @@
 
 namespace caustica {
 
-LightType triangle_light_type() { return shape_light_type(LIGHT_TRIANGLE); }
+namespace {
+
+// The tree: its corners, emitting on the side of cross(p1 - p0, p2 - p0)
+// (both with LIGHT_TWO_SIDED); an emission texture's mean is in the power.
+LightBounds triangle_tree_bounds(const Light& l) {
+  const glm::vec3 corners[3] = {to_vec3(l.p0), to_vec3(l.p1), to_vec3(l.p2)};
+  return planar_bounds(corners, 3, glm::cross(corners[1] - corners[0], corners[2] - corners[0]),
+                       (l.flags & LIGHT_TWO_SIDED) != 0u);
+}
+
+}  // namespace
+
+LightType triangle_light_type() {
+  LightType t = shape_light_type(LIGHT_TRIANGLE);
+  t.tree_bounds = triangle_tree_bounds;
+  return t;
+}
 
 }  // namespace caustica

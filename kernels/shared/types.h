@@ -220,6 +220,35 @@ typedef struct {
   cs_uint flags; /* LIGHT_TWO_SIDED, LIGHT_EMISSION_TEXTURE */
 } Light; /* 80 bytes */
 
+/* A node of the light tree (issue 42; host/lights/light_tree.h builds it,
+ * lib/light_tree.h traverses it): the bounds of the lights below it, their
+ * power and the cone of their emission (Conty Estevez and Kulla 2018;
+ * pbrt-v4's LightBounds): axis, cos theta_o (the spread of the normals
+ * about it) and cos theta_e (how far past the normals they emit). Nodes
+ * are in depth-first order: an interior node's first child follows it,
+ * `index` is its second; a leaf holds one light, `index` its index in
+ * the light table. */
+#define LIGHT_TREE_LEAF 1u      /* LightTreeNode.flags */
+#define LIGHT_TREE_TWO_SIDED 2u /* every light below emits on both sides of its normal */
+typedef struct {
+  cs_float4 bounds_min; /* xyz; w: power (the lights' summed flux, as the power CDF weighs them) */
+  cs_float4 bounds_max; /* xyz; w: cos theta_o */
+  cs_float4 axis;       /* xyz unit; w: cos theta_e */
+  cs_uint index;        /* interior: the second child's node; leaf: the light */
+  cs_uint flags;        /* LIGHT_TREE_* */
+  cs_uint pad0, pad1;
+} LightTreeNode; /* 64 bytes */
+
+/* Where a light sits in the tree: its path from the root, one bit a level
+ * (1: the second child), the root's first, in `bits` (lo word, then hi),
+ * and the number of levels. The pmf of a light follows it (lib/light_tree.h). */
+typedef struct {
+  cs_uint bits_lo, bits_hi;
+  cs_uint depth;
+  cs_uint pad0;
+} LightTreeTrail; /* 16 bytes */
+#define LIGHT_TREE_MAX_DEPTH 64u
+
 /* Pinhole camera (host: camera_for_image; the ray: shared/camera.h). */
 typedef struct {
   cs_float4 position;
