@@ -141,6 +141,10 @@ void describe_session(const RenderArgs& a, const Session& session) {
   std::fprintf(stderr, "[caustica] device: %s (%s)\n", session.runtime->device_info().name.c_str(),
                session.runtime->device_info().platform_name.c_str());
   if (session.mode == RenderMode::Path)
+    std::fprintf(stderr, "[caustica] light sampler: %s (--light-sampler %s; auto picks the tree above %zu lights)\n",
+                 light_sampler_name(session.settings.light_sampler), light_sampler_name(a.session.light_sampler),
+                 kLightTreeThreshold);
+  if (session.mode == RenderMode::Path)
     std::fprintf(stderr, "[caustica] kernel shape: %s (--kernel-shape %s)\n",
                  kernel_shape_name(session.settings.kernel_shape), kernel_shape_name(a.session.kernel_shape));
   std::fprintf(stderr, "[caustica] kernel build: %.1f ms (%s)\n", session.program.build_ms,

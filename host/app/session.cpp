@@ -161,6 +161,15 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
     }
   }
   const bool path = session->mode == RenderMode::Path;
+  // --light-sampler auto: the light tree where the path tracer's table has
+  // more than a handful of lights (kLightTreeThreshold, measured).
+  if (path) {
+    LightSampler sampler = options.light_sampler;
+    if (sampler == LightSampler::Auto)
+      sampler = build_light_table(scene).lights.size() > kLightTreeThreshold ? LightSampler::Tree : LightSampler::Power;
+    session->settings.light_sampler = sampler;
+    session->features.light_tree = sampler != LightSampler::Power;
+  }
   session->features.check_numerics = path && options.check_numerics;
   session->features.aux_passes = path && options.aux_passes;
   if (options.edit_features) options.edit_features(session->features);

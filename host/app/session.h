@@ -49,6 +49,7 @@ struct SessionOptions {
   CausticsMode caustics = CausticsMode::Auto;  // path: the photon pass
   bool check_numerics = false;  // path: count BSDF weights per bounce (--check-numerics)
   bool aux_passes = false;      // path: the film's albedo, normal and depth passes (--denoise, .exr, --aov-dir)
+  LightSampler light_sampler = LightSampler::Auto;  // path: --light-sampler (auto: the tree above a handful of lights)
   KernelShape kernel_shape = KernelShape::Auto;  // path: --kernel-shape (auto: paths on a CPU device)
   uint32_t photons = 0;         // path: photons per pass; 0: RenderSettings' default
   float caustic_radius = 0.0f;  // path: initial gather radius; 0: from the scene's size

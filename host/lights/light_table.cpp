@@ -143,6 +143,7 @@ LightTable build_light_table(const Scene& scene) {
   if (scene.environment && add(environment_light(scene), glm::vec3(1.0f), "the environment"))
     t.environment = uint32_t(t.lights.size() - 1);
   set_selection(t.lights, power);
+  t.power = power;
   return t;
 }
 

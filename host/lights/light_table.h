@@ -22,6 +22,7 @@ struct LightTable {
   std::vector<uint32_t> light_of_cylinder;  // per cylinder
   std::vector<uint32_t> light_of_triangle;  // per triangle: its light, or LIGHT_NONE
   uint32_t environment = LIGHT_NONE;        // the environment's index (last), if the scene has one that emits
+  std::vector<float> power;                 // per light: the weight it is picked by (the light tree's power)
 };
 
 // The path tracer's lights: the file's (their geometry added first), then

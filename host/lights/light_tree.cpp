@@ -5,6 +5,9 @@
 #include <cmath>
 #include <future>
 #include <limits>
+#include <utility>
+
+#include "host/error.h"
 
 namespace caustica {
 namespace {
@@ -232,12 +235,35 @@ class Builder {
   std::vector<Item> scratch_;    // per item position: the partition's second side, reversed
 };
 
-}  // namespace
 
-LightTree build_light_tree(const std::vector<Light>& lights, const std::vector<float>& power) {
-  const auto t0 = std::chrono::steady_clock::now();
-  LightTree tree;
-  tree.trails.assign(lights.size(), LightTreeTrail{});
+// A balanced subtree over `entries` (light, weight) at `node`, every
+// interior node picking by weight (LIGHT_TREE_BY_POWER); its trails start
+// with (bits, depth).
+void build_by_weight(const std::vector<std::pair<uint32_t, float>>& entries, size_t start, size_t end, uint32_t node,
+                     uint64_t bits, int depth, LightTree& tree) {
+  LightTreeNode& out = tree.nodes[node];
+  out = LightTreeNode{};
+  double weight = 0.0;
+  for (size_t i = start; i < end; ++i) weight += entries[i].second;
+  out.bounds_min.w = float(weight);
+  tree.max_depth = std::max(tree.max_depth, depth);
+  if (end - start == 1) {
+    out.flags = LIGHT_TREE_LEAF;
+    out.index = entries[start].first;
+    LightTreeTrail& trail = tree.trails[entries[start].first];
+    trail.bits_lo = uint32_t(bits);
+    trail.bits_hi = uint32_t(bits >> 32);
+    trail.depth = uint32_t(depth);
+    return;
+  }
+  const size_t mid = start + (end - start) / 2;
+  out.flags = LIGHT_TREE_BY_POWER;
+  out.index = node + uint32_t(2 * (mid - start));
+  build_by_weight(entries, start, mid, node + 1u, bits, depth + 1, tree);
+  build_by_weight(entries, mid, end, out.index, bits | (uint64_t(1) << depth), depth + 1, tree);
+}
+
+std::vector<Item> positioned_items(const std::vector<Light>& lights, const std::vector<float>& power) {
   std::vector<Item> items;
   items.reserve(lights.size());
   for (uint32_t i = 0; i < lights.size(); ++i) {
@@ -251,13 +277,97 @@ LightTree build_light_tree(const std::vector<Light>& lights, const std::vector<f
     item.light = i;
     items.push_back(item);
   }
+  return items;
+}
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+LightSampler parse_light_sampler(const std::string& name) {
+  if (name == "auto") return LightSampler::Auto;
+  if (name == "tree") return LightSampler::Tree;
+  if (name == "power") return LightSampler::Power;
+  if (name == "uniform") return LightSampler::Uniform;
+  throw Error("--light-sampler " + name + ": expected auto, tree, power or uniform");
+}
+
+const char* light_sampler_name(LightSampler sampler) {
+  switch (sampler) {
+    case LightSampler::Auto: return "auto";
+    case LightSampler::Tree: return "tree";
+    case LightSampler::Power: return "power";
+    case LightSampler::Uniform: return "uniform";
+  }
+  return "unknown";
+}
+
+LightTree build_light_tree(const std::vector<Light>& lights, const std::vector<float>& power) {
+  const auto t0 = std::chrono::steady_clock::now();
+  LightTree tree;
+  tree.trails.assign(lights.size(), LightTreeTrail{});
+  std::vector<Item> items = positioned_items(lights, power);
   if (!items.empty()) {
     tree.nodes.resize(2 * items.size() - 1);
     Builder builder(items, tree);
     tree.max_depth = builder.build(0, items.size(), 0u, 0u, 0);
     for (const Item& it : items) tree.lights.push_back(it.light);
   }
-  tree.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  tree.build_ms = ms_since(t0);
+  return tree;
+}
+
+LightTree build_sampling_tree(const std::vector<Light>& lights, const std::vector<float>& power, LightSampler sampler) {
+  const auto t0 = std::chrono::steady_clock::now();
+  LightTree tree;
+  tree.trails.assign(lights.size(), LightTreeTrail{});
+  if (sampler == LightSampler::Uniform) {
+    std::vector<std::pair<uint32_t, float>> all;
+    for (uint32_t i = 0; i < lights.size(); ++i)
+      if (i < power.size() && power[i] > 0.0f) all.emplace_back(i, 1.0f);
+    if (!all.empty()) {
+      tree.nodes.resize(2 * all.size() - 1);
+      build_by_weight(all, 0, all.size(), 0u, 0u, 0, tree);
+      for (const auto& e : all) tree.lights.push_back(e.first);
+    }
+    tree.build_ms = ms_since(t0);
+    return tree;
+  }
+  std::vector<Item> items = positioned_items(lights, power);
+  std::vector<std::pair<uint32_t, float>> distant;
+  for (uint32_t i = 0; i < lights.size(); ++i)
+    if (!light_type(lights[i].kind).tree_bounds && i < power.size() && power[i] > 0.0f)
+      distant.emplace_back(i, power[i]);
+  const size_t count = items.size() + distant.size();
+  if (count == 0) return tree;
+  tree.nodes.resize(2 * count - 1);
+  if (distant.empty() || items.empty()) {
+    if (!items.empty()) {
+      Builder builder(items, tree);
+      tree.max_depth = builder.build(0, items.size(), 0u, 0u, 0);
+    } else {
+      build_by_weight(distant, 0, distant.size(), 0u, 0u, 0, tree);
+    }
+  } else {
+    // The root: the lights at infinity (first) or the positioned lights'
+    // tree (second), by power.
+    double local_power = 0.0, distant_power = 0.0;
+    for (const Item& it : items) local_power += it.power;
+    for (const auto& d : distant) distant_power += d.second;
+    LightTreeNode& root = tree.nodes[0];
+    root = LightTreeNode{};
+    root.flags = LIGHT_TREE_BY_POWER;
+    root.bounds_min.w = float(local_power + distant_power);
+    root.index = uint32_t(2 * distant.size());
+    build_by_weight(distant, 0, distant.size(), 1u, 0u, 1, tree);
+    Builder builder(items, tree);
+    tree.max_depth = std::max(tree.max_depth, builder.build(0, items.size(), root.index, 1u, 1));
+  }
+  for (const auto& d : distant) tree.lights.push_back(d.first);
+  for (const Item& it : items) tree.lights.push_back(it.light);
+  tree.build_ms = ms_since(t0);
   return tree;
 }
 

@@ -16,11 +16,25 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "host/lights/light_types.h"
 
 namespace caustica {
+
+// --light-sampler: how next-event estimation picks a light. Tree: the
+// light tree (the positioned lights', under a root that picks it or the
+// lights at infinity by power); Power: one CDF by power (the photon pass
+// always emits so); Uniform: every light alike (what Mitsuba 3 does by
+// default: comparisons); Auto: the tree where the scene has more than
+// kLightTreeThreshold lights, else power (the session decides).
+enum class LightSampler { Auto, Tree, Power, Uniform };
+LightSampler parse_light_sampler(const std::string& name);  // auto | tree | power | uniform
+const char* light_sampler_name(LightSampler sampler);
+// Measured (docs/many_lights.md): at 1 to 4 lights the tree and the CDF
+// tie within noise; above this many lights the tree is the default.
+inline constexpr size_t kLightTreeThreshold = 8;
 
 struct LightTree {
   std::vector<LightTreeNode> nodes;   // depth first; empty without lights in it
@@ -35,5 +49,12 @@ struct LightTree {
 // mean included); lights whose type has no tree bounds, or no power, are
 // left out.
 LightTree build_light_tree(const std::vector<Light>& lights, const std::vector<float>& power);
+
+// What next-event estimation walks (lib/light_tree.h) for `sampler` (Tree
+// or Uniform): Tree: build_light_tree's tree of the positioned lights, and
+// where the table also has lights at infinity, a root (LIGHT_TREE_BY_POWER)
+// whose first child is theirs (picked by power) and second the tree;
+// Uniform: every light of the table under nodes that pick by count.
+LightTree build_sampling_tree(const std::vector<Light>& lights, const std::vector<float>& power, LightSampler sampler);
 
 }  // namespace caustica

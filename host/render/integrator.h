@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "host/error.h"
+#include "host/lights/light_tree.h"
 #include "host/render/adaptive_sampling.h"
 #include "host/render/film.h"
 #include "host/render/photon_stats.h"
@@ -80,6 +81,10 @@ struct RenderSettings {
   // queues, or whole paths per work-item in one kernel (the CPU's shape).
   // The same bits either way.
   KernelShape kernel_shape = KernelShape::Wavefront;
+  // Path: how next-event estimation picks a light (host/lights/light_tree.h;
+  // resolved by the session: Tree and Uniform need a program built with
+  // -DHAS_LIGHT_TREE=1). The photon pass emits by power whatever it says.
+  LightSampler light_sampler = LightSampler::Power;
 };
 
 struct RenderStats {

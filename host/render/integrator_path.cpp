@@ -272,7 +272,13 @@ PathIntegrator::PathIntegrator(StageLauncher& launcher, const DeviceScene& scene
       shadow_stage_(program, "intersect_shadow") {
   auto& ctx = launcher.runtime().context();
   const LightTable table = build_light_table(scene.scene());
-  lights_ = DeviceLights(ctx, table);
+  // --light-sampler tree or uniform: the tree next-event estimation walks
+  // (the program is built with HAS_LIGHT_TREE; the photon pass emits by
+  // the table's power all the same).
+  LightTree tree;
+  if (settings.light_sampler != LightSampler::Power)
+    tree = build_sampling_tree(table.lights, table.power, settings.light_sampler);
+  lights_ = DeviceLights(ctx, table, tree);
   light_count_ = lights_.count();
   // A wave covers the whole image; settings.chunk_pixels bounds the slots.
   chunk_pixels_ = size_t(settings.width) * size_t(settings.height);

@@ -112,6 +112,10 @@ StateIdentity render_identity(uint64_t scene, RenderMode mode, const RenderSetti
   }
   id.emplace_back("half buffer", settings.half_buffer || settings.adaptive ? "on" : "off");
   id.emplace_back("photon pass", settings.caustics ? "on" : "off");
+  // The light sampler picks other lights for the same samples; named only
+  // when it is not the power CDF, which every state before it used.
+  if (path && settings.light_sampler != LightSampler::Power)
+    id.emplace_back("light sampler", light_sampler_name(settings.light_sampler));
   if (path) id.emplace_back("aux passes", settings.aux_passes ? "on" : "off");
   if (settings.caustics) {
     id.emplace_back("caustics", settings.caustics_auto ? "auto" : "on");

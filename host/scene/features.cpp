@@ -156,6 +156,7 @@ int SceneFeatures::flag_value(FeatureFlag flag) const {
     case FeatureFlag::kHAS_NUMERIC_CHECKS: return path && check_numerics;
     case FeatureFlag::kHAS_ENVIRONMENT: return environment;
     case FeatureFlag::kHAS_AUX_PASSES: return path && aux_passes;
+    case FeatureFlag::kHAS_LIGHT_TREE: return path && light_tree;
   }
   throw Error("unknown feature flag");
 }

@@ -45,6 +45,7 @@ struct SceneFeatures {
   bool check_numerics = false;  // path: --check-numerics counters compiled in (set by the session)
   bool aux_passes = false;      // path: the albedo, normal and depth passes compiled in (set by the session)
   bool environment = false;     // path and phong: the scene's environment map (seen at misses; path: sampled)
+  bool light_tree = false;      // path: NEE picks lights through the light tree (set by the session: --light-sampler)
   bool secondary_rays() const { return reflection || refraction; }
 
   // The value (0 or 1) this scene gives a feature flag.

@@ -41,6 +41,7 @@
 
 #include "integrator/path_stage_data.h"
 #include "lib/caustics.h"
+#include "lib/light_pick.h"
 #include "lib/lights.h"
 #include "lib/material.h"
 #include "lib/rng.h"
@@ -61,13 +62,13 @@ inline float power_heuristic(float a, float b) {
 
 /* The weight of the emission of `light` a path found at its point q,
  * against sampling that light (light_pdf); 1 after a delta lobe. */
-inline float emission_mis_weight(const PathStageData* d, const PathRecord* ray, __global const Light* light,
-                                 float3 q) {
+inline float emission_mis_weight(const PathStageData* d, const PathRecord* ray, uint light_index, float3 q) {
   if (ray->flags & PATH_SPECULAR) return 1.0f;
   if (d->params.strategy == PATH_STRATEGY_NEE) return 0.0f;
   if (d->params.strategy != PATH_STRATEGY_MIS) return 1.0f;
-  return power_heuristic(ray->bsdf_pdf, light_pdf(light, d->scene.environment, light->select_probability,
-                                                  ray->origin.xyz, q, ray->dir.xyz));
+  __global const Light* light = &d->scene.lights[light_index];
+  const float pick = light_pick_probability(&d->scene, light_index, ray->origin.xyz);
+  return power_heuristic(ray->bsdf_pdf, light_pdf(light, d->scene.environment, pick, ray->origin.xyz, q, ray->dir.xyz));
 }
 
 /* Light -> caster+ -> receiver: the photon map's when the pass has one. */
@@ -87,9 +88,8 @@ inline void path_miss(const PathStageData* d, const PathRecord* ray) {
   const float3 dir = ray->dir.xyz;
 #if HAS_ENVIRONMENT
   if (d->params.environment_light != LIGHT_NONE) {
-    __global const Light* sky = &d->scene.lights[d->params.environment_light];
     if (path_is_photon_maps(d, ray)) return;
-    const float weight = emission_mis_weight(d, ray, sky, ray->origin.xyz);
+    const float weight = emission_mis_weight(d, ray, d->params.environment_light, ray->origin.xyz);
     if (weight > 0.0f)
       film_add(FILM_OF(d), ray->pixel, ray->throughput.xyz * environment_radiance(d->scene.environment, dir) * weight);
     return;
@@ -113,7 +113,7 @@ inline void surface_emission(const PathStageData* d, const PathRecord* ray, uint
     /* every light in the table emits photons: its caustics are the map's */
     if (path_is_photon_maps(d, ray)) return;
     __global const Light* light = &d->scene.lights[light_index];
-    const float weight = emission_mis_weight(d, ray, light, sp->position);
+    const float weight = emission_mis_weight(d, ray, light_index, sp->position);
     if (weight > 0.0f)
       film_add(FILM_OF(d), ray->pixel,
                ray->throughput.xyz * light->emitted.xyz *
@@ -125,16 +125,18 @@ inline void surface_emission(const PathStageData* d, const PathRecord* ray, uint
   }
 }
 
-/* Next-event estimation toward one light, picked by power: its unoccluded
+/* Next-event estimation toward one light (picked by power, or by the light
+ * tree from this point: lib/light_pick.h): its unoccluded
  * contribution as a shadow ray (pixel SHADOW_SLOT_EMPTY: none). */
 inline void surface_direct_light(const PathStageData* d, const PathRecord* ray, const SurfacePoint* sp,
                                  const Bsdf* bsdf, const ShadingFrame* frame, float3 wo, float2 u_light,
                                  float u_pick, ShadowRecord* shadow) {
   const SceneBuffers* s = &d->scene;
-  const uint li = pick_light(s->lights, d->params.light_count, u_pick);
+  float pick;
+  const uint li = pick_light_at(s, d->params.light_count, sp->position, u_pick, &pick);
   __global const Light* light = &s->lights[li];
   LightSample ls;
-  if (!sample_light(light, s->environment, light->select_probability, sp->position, u_light, &ls)) return;
+  if (!sample_light(light, s->environment, pick, sp->position, u_light, &ls)) return;
   ls.radiance *= light_emission_texel(light, s->triangle_shading, s->textures, s->texels, u_light); /* same pdf */
   const float3 wi = frame_to_local(ls.wi, frame->t, frame->b, frame->n);
   if (bsdf->kind != BSDF_DIELECTRIC && !(dot(ls.wi, frame->ng) > 0.0f)) return; /* below an opaque surface */

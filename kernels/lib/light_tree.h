@@ -15,7 +15,10 @@
  * is the exact probability that light_tree_sample picks it from (p, n):
  * MIS reads it for BSDF-sampled hits. Where neither child can light the
  * point the walk goes on by power: every light's pmf is above 0 and they
- * sum to 1. Compiled as C++ too (host tests). */
+ * sum to 1. Nodes flagged LIGHT_TREE_BY_POWER pick by power alone: lights
+ * at infinity, which have no position, hang under a root that picks them
+ * or the positioned lights' tree by power (as Cycles does). Compiled as
+ * C++ too (host tests). */
 #ifndef CAUSTICA_LIB_LIGHT_TREE_H
 #define CAUSTICA_LIB_LIGHT_TREE_H
 
@@ -76,6 +79,7 @@ inline float light_tree_importance(__global const LightTreeNode* node, float3 p,
 inline float light_tree_first_child_probability(__global const LightTreeNode* nodes, uint node, float3 p, float3 n) {
   __global const LightTreeNode* first = &nodes[node + 1u];
   __global const LightTreeNode* second = &nodes[nodes[node].index];
+  if (nodes[node].flags & LIGHT_TREE_BY_POWER) return first->bounds_min.w / (first->bounds_min.w + second->bounds_min.w);
   const float i0 = light_tree_importance(first, p, n), i1 = light_tree_importance(second, p, n);
   if (i0 + i1 > 0.0f) return i0 / (i0 + i1);
   return first->bounds_min.w / (first->bounds_min.w + second->bounds_min.w);

@@ -35,16 +35,21 @@ typedef struct {
   __global const uint* light_of_sphere;
   __global const uint* light_of_cylinder;
   __global const uint* light_of_triangle;
+  /* the light tree next-event estimation walks (HAS_LIGHT_TREE; lib/light_tree.h) */
+  __global const LightTreeNode* light_tree_nodes;
+  __global const LightTreeTrail* light_tree_trails;
 } SceneBuffers;
 
 #define SCENE_BUFFERS_PARAMS                                                                                  \
   __global const BvhNode8 *restrict bvh_nodes, __global const TriangleBlock4 *restrict tri_blocks,           \
       __global const uint *restrict prim_refs, SCENE_SURFACE_PARAMS, __global const Light *restrict lights,  \
       __global const uint *restrict light_of_sphere, __global const uint *restrict light_of_cylinder,         \
-      __global const uint *restrict light_of_triangle
+      __global const uint *restrict light_of_triangle, __global const LightTreeNode *restrict light_tree_nodes, \
+      __global const LightTreeTrail *restrict light_tree_trails
 #define SCENE_BUFFERS_FROM_PARAMS                                                                                  \
   {bvh_nodes, tri_blocks, prim_refs,   spheres, cylinders,       triangles,         triangle_shading, materials, \
-   textures,  texels,     environment, lights,  light_of_sphere, light_of_cylinder, light_of_triangle}
+   textures,  texels,     environment, lights,  light_of_sphere, light_of_cylinder, light_of_triangle, \
+   light_tree_nodes, light_tree_trails}
 
 #define SCENE_GEOMETRY_OF(s) (s)->bvh_nodes, (s)->tri_blocks, (s)->prim_refs, (s)->spheres, (s)->cylinders, (s)->triangles
 #define SCENE_SURFACE_OF(s)                                                                                    \

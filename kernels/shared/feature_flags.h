@@ -37,7 +37,8 @@
   X(HAS_CAUSTICS, 0, "photon-pass", "the photon pass: photon stages, grid and caustic gathers")             \
   X(HAS_NUMERIC_CHECKS, 0, "numeric-checks", "path: the --check-numerics BSDF weight counters")               \
   X(HAS_ENVIRONMENT, 0, "environment", "the environment map: seen at misses, sampled, emitting photons")      \
-  X(HAS_AUX_PASSES, 0, "aux-passes", "path: the albedo, normal and depth passes (denoiser, compositors)")
+  X(HAS_AUX_PASSES, 0, "aux-passes", "path: the albedo, normal and depth passes (denoiser, compositors)")          \
+  X(HAS_LIGHT_TREE, 0, "light-tree", "path: next-event estimation picks lights through the light tree")
 
 /* The defaults, for code that is not built by the runtime: the kernel library
  * compiled as C++ on the host (shared/compat.h includes this), or an OpenCL
@@ -82,6 +83,9 @@
 
 #ifndef HAS_ENVIRONMENT
 #define HAS_ENVIRONMENT 0
+#endif
+#ifndef HAS_LIGHT_TREE
+#define HAS_LIGHT_TREE 0
 #endif
 #ifndef HAS_AUX_PASSES
 #define HAS_AUX_PASSES 0

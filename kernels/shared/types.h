@@ -230,6 +230,8 @@ typedef struct {
  * the light table. */
 #define LIGHT_TREE_LEAF 1u      /* LightTreeNode.flags */
 #define LIGHT_TREE_TWO_SIDED 2u /* every light below emits on both sides of its normal */
+#define LIGHT_TREE_BY_POWER 4u  /* an interior node whose children are picked by power alone (lights at
+                                 * infinity, the choice between them and the rest, --light-sampler uniform) */
 typedef struct {
   cs_float4 bounds_min; /* xyz; w: power (the lights' summed flux, as the power CDF weighs them) */
   cs_float4 bounds_max; /* xyz; w: cos theta_o */

@@ -80,7 +80,7 @@ _VALUE_OPTIONS = {
     "denoise_quality": "--denoise-quality", "denoise_guides": "--denoise-guides", "output": "-o",
     "report": "--report", "reference": "--reference", "plot": "--plot", "spp_map": "--spp-map",
     "write_every": "--write-every", "checkpoint": "--checkpoint", "checkpoint_every": "--checkpoint-every",
-    "aov_dir": "--aov-dir", "passes": "--passes",
+    "aov_dir": "--aov-dir", "passes": "--passes", "light_sampler": "--light-sampler",
 }
 _FLAGS = {"denoise": "--denoise", "verbose": "--verbose", "quiet": "--quiet", "check_numerics": "--check-numerics"}
 _NEGATABLE = {"adaptive": ("--adaptive", "--no-adaptive"), "error_estimate": (None, "--no-error-estimate"),
@@ -240,6 +240,7 @@ def render(scene: Union[Scene, PathLike], *, mode: Optional[str] = None, spp: Op
            tonemap: Optional[str] = None, exposure: Optional[float] = None, gamma: Optional[float] = None,
            sampler: Optional[str] = None, error_estimate: Optional[bool] = None, photons: Optional[int] = None,
            caustic_radius: Optional[float] = None, kernel_shape: Optional[str] = None, bvh: Optional[str] = None,
+           light_sampler: Optional[str] = None,
            denoise_quality: Optional[str] = None, denoise_guides: Optional[str] = None,
            check_numerics: Optional[bool] = None, output: Optional[PathLike] = None,
            report: Optional[PathLike] = None, reference: Optional[PathLike] = None, plot: Optional[PathLike] = None,
@@ -256,6 +257,7 @@ def render(scene: Union[Scene, PathLike], *, mode: Optional[str] = None, spp: Op
     seed: the sample sequences' seed (default 0)
     adaptive: adaptive sampling (default True); False samples every pixel alike
     caustics: "auto" (default), "on"/True, "off"/False: the photon pass
+    light_sampler: "auto" (default: the light tree above 8 lights), "tree", "power", "uniform"
     device: an OpenCL device index, name substring, "cpu" or "gpu" (see devices())
     width, height: the image size (one keeps the camera's aspect)
     target_error: stop when the estimated relMSE reaches it

@@ -37,6 +37,7 @@ struct PathRenderOptions {
   bool aux_passes = false;  // the film's albedo, normal and depth passes (host/render/film.h)
   int width = 0, height = 0;  // 0: the scene camera's
   KernelShape kernel_shape = KernelShape::Auto;  // auto: the device's (paths on a CPU)
+  LightSampler light_sampler = LightSampler::Auto;  // auto: the product's default (the tree above 8 lights)
   std::function<void(const Film&)> inspect;  // called with the film after the render
 };
 
@@ -52,6 +53,7 @@ inline PathRender render_path(const std::string& scene, int spp, const PathRende
   o.width = options.width;
   o.height = options.height;
   o.kernel_shape = options.kernel_shape;
+  o.light_sampler = options.light_sampler;
   // At least 2^14 photons a pass by default whatever the image size: 1024
   // on Oclgrind, whose tests render a few hundred pixels.
   if (on_simulator()) o.photons = 1024;
