@@ -130,6 +130,7 @@ class Builder {
     }
     out.bounds_min = to_float4(lo, float(power));
     out.bounds_max = to_float4(hi, cos_o);
+    out.sin_o = float(std::sqrt(std::max(0.0, 1.0 - double(cos_o) * double(cos_o))));
     out.axis = to_float4(axis, cos_e);
     out.flags = two_sided ? LIGHT_TREE_TWO_SIDED : 0u;
     if (end - start == 1) {

@@ -50,6 +50,11 @@ inline float light_tree_importance(__global const LightTreeNode* node, float3 p,
   /* Inside the box's sphere every direction is possible; the distance is
    * at least its radius, so a node's importance is invariant to scale. */
   if (!(dist2 > radius2)) return power / fmax(radius2, 1e-30f);
+  const float cos_o = node->bounds_max.w;
+  /* Lights that emit every way (points, spheres, cylinders, and any node
+   * over them): nothing narrows the cone, and the general form below gives
+   * exactly this (cos_p = 1). */
+  if (cos_o <= -1.0f && !(dot(n, n) > 0.0f)) return power / dist2;
   const float dist = sqrt(dist2);
   const float3 wi = to_p / dist;
   float cos_w = dot(node->axis.xyz, wi);
@@ -57,7 +62,7 @@ inline float light_tree_importance(__global const LightTreeNode* node, float3 p,
   const float sin_w = sqrt(fmax(0.0f, 1.0f - cos_w * cos_w));
   const float sin_b2 = radius2 / dist2;
   const float cos_b = sqrt(fmax(0.0f, 1.0f - sin_b2)), sin_b = sqrt(sin_b2);
-  const float cos_o = node->bounds_max.w, sin_o = sqrt(fmax(0.0f, 1.0f - cos_o * cos_o));
+  const float sin_o = node->sin_o;
   const float cos_x = light_tree_cos_sub_clamped(sin_w, cos_w, sin_o, cos_o);
   const float sin_x = light_tree_sin_sub_clamped(sin_w, cos_w, sin_o, cos_o);
   const float cos_p = light_tree_cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);

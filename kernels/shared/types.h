@@ -238,7 +238,8 @@ typedef struct {
   cs_float4 axis;       /* xyz unit; w: cos theta_e */
   cs_uint index;        /* interior: the second child's node; leaf: the light */
   cs_uint flags;        /* LIGHT_TREE_* */
-  cs_uint pad0, pad1;
+  float sin_o;          /* sin theta_o (from the host in double: the walk takes no square root for it) */
+  cs_uint pad0;
 } LightTreeNode; /* 64 bytes */
 
 /* Where a light sits in the tree: its path from the root, one bit a level
