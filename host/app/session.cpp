@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "host/error.h"
 #include "host/limits.h"
@@ -149,24 +150,30 @@ std::unique_ptr<Session> prepare_session(const SessionOptions& options) {
   if (session->mode == RenderMode::Path) add_light_geometry(scene);
 
   session->features = analyse_scene(scene, session->mode, options.caustics);
+  const bool path = session->mode == RenderMode::Path;
+  // The path tracer's light table, built at most once here, for what needs
+  // its size: the photon pass and --light-sampler auto.
+  std::optional<size_t> path_lights;
+  const auto path_light_count = [&] {
+    if (!path_lights) path_lights = build_light_table(scene).lights.size();
+    return *path_lights;
+  };
   // The photon pass needs a light that emits photons: its program and its
   // integrator decide alike (a light whose power overflows is refused here,
   // before anything is built).
   if (session->features.caustics) {
-    const bool emitters = session->mode == RenderMode::Path ? !build_light_table(scene).lights.empty()
-                                                            : !phong_photon_lights(scene).empty();
+    const bool emitters = path ? path_light_count() > 0 : !phong_photon_lights(scene).empty();
     if (!emitters) {
       session->features.caustics = false;
       session->features.caustics_reason = "no light emits photons";
     }
   }
-  const bool path = session->mode == RenderMode::Path;
   // --light-sampler auto: the light tree where the path tracer's table has
   // more than a handful of lights (kLightTreeThreshold, measured).
   if (path) {
     LightSampler sampler = options.light_sampler;
     if (sampler == LightSampler::Auto)
-      sampler = build_light_table(scene).lights.size() > kLightTreeThreshold ? LightSampler::Tree : LightSampler::Power;
+      sampler = path_light_count() > kLightTreeThreshold ? LightSampler::Tree : LightSampler::Power;
     session->settings.light_sampler = sampler;
     session->features.light_tree = sampler != LightSampler::Power;
   }

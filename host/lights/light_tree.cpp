@@ -63,6 +63,14 @@ double surface_area(const glm::vec3& lo, const glm::vec3& hi) {
   return 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
 }
 
+// Where a leaf's light sits: its path from the root and the levels to it.
+void set_trail(LightTree& tree, uint32_t light, uint64_t bits, int depth) {
+  LightTreeTrail& trail = tree.trails[light];
+  trail.bits_lo = uint32_t(bits);
+  trail.bits_hi = uint32_t(bits >> 32);
+  trail.depth = uint32_t(depth);
+}
+
 // A union of lights (a bucket, a side of a split): box, power, the cone's
 // cosines about the node's axis, sidedness.
 struct Union {
@@ -136,10 +144,7 @@ class Builder {
     if (end - start == 1) {
       out.flags |= LIGHT_TREE_LEAF;
       out.index = items_[start].light;
-      LightTreeTrail& trail = tree_.trails[items_[start].light];
-      trail.bits_lo = uint32_t(bits);
-      trail.bits_hi = uint32_t(bits >> 32);
-      trail.depth = uint32_t(depth);
+      set_trail(tree_, items_[start].light, bits, depth);
       return depth;
     }
     const size_t mid = split(start, end, lo, hi, centroid_lo, centroid_hi, depth);
@@ -251,10 +256,7 @@ void build_by_weight(const std::vector<std::pair<uint32_t, float>>& entries, siz
   if (end - start == 1) {
     out.flags = LIGHT_TREE_LEAF;
     out.index = entries[start].first;
-    LightTreeTrail& trail = tree.trails[entries[start].first];
-    trail.bits_lo = uint32_t(bits);
-    trail.bits_hi = uint32_t(bits >> 32);
-    trail.depth = uint32_t(depth);
+    set_trail(tree, entries[start].first, bits, depth);
     return;
   }
   const size_t mid = start + (end - start) / 2;
