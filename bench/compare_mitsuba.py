@@ -161,7 +161,7 @@ sys.modules.setdefault("compare_mitsuba", sys.modules[__name__])
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-CONVERTER_VERSION = "3"  # part of the reference cache key: bump when the conversion changes
+CONVERTER_VERSION = "4"  # part of the reference cache key: bump when the conversion changes
 DEFAULT_SCENES = ["scenes/cornell_box.json", "scenes/caustics.json", "scenes/showcase_path.json"]
 SAMPLERS = ["independent", "stratified", "multijitter", "ldsampler", "orthogonal"]
 GGX_ALPHA_MIN = 1e-3
@@ -380,6 +380,10 @@ class Converter:
         self.shapes = {}
         self.textures = {}
         self.fits = {}
+        # Each emitter's power (W, the mean of its RGB), for
+        # --mitsuba-emitter-weights power: shape name -> power.
+        self.emitter_power = {}
+        self.emitter_weights = "uniform"
 
     def note(self, text, approximate=False):
         if text not in self.notes:
@@ -548,7 +552,10 @@ class Converter:
             e = self.emitter_of(m, "sphere")
             if e:
                 d["emitter"] = e
-        self.shapes["sphere%d" % len(self.shapes)] = d
+        name = "sphere%d" % len(self.shapes)
+        if "emitter" in d:
+            self.emitter_power[name] = mean(d["emitter"]["radiance"]["value"]) * math.pi * 4 * math.pi * r * r
+        self.shapes[name] = d
 
     def add_cylinder(self, s, m, base):
         mi = self.mi
@@ -565,15 +572,21 @@ class Converter:
             b = cross(n, t)
             m4 = [[t[i] * r, b[i] * r, n[i], centre[i]] for i in range(3)] + [[0, 0, 0, 1]]
             parts.append({"type": "disk", "to_world": mi.ScalarTransform4f(m4)})
-        for p in parts:
+        for k, p in enumerate(parts):
             p["bsdf"] = bsdf
+            name = "cylinder%d" % len(self.shapes)
             if e:
                 p["emitter"] = e
-            self.shapes["cylinder%d" % len(self.shapes)] = p
+                area = 4 * math.pi * r * half if k == 0 else math.pi * r * r
+                self.emitter_power[name] = mean(e["radiance"]["value"]) * math.pi * area
+            self.shapes[name] = p
 
     def add_mesh(self, s, m_override):
         t = s.get("transform", {}) if s["type"] == "mesh" else {
             "translate": s.get("offset", [0, 0, 0]), "rotate": s.get("euler", [0, 0, 0]), "scale": s.get("scale", 1)}
+        if "vertices" in s and s["type"] == "mesh":
+            self.add_inline_mesh(s, t, m_override)
+            return
         _, f = find_any(s, ["file", "filename", "path"])
         path = self.find_asset(str(f), self.dir, "models/")
         if not path.lower().endswith(".obj"):
@@ -635,6 +648,25 @@ class Converter:
                 n = [xn(vns[i[2]]) for i in tri] if all(i[2] is not None for i in tri) else None
                 self.add_triangle(p, m, uv, n)
 
+    def add_inline_mesh(self, s, t, m_override):
+        """A mesh given in the scene (vertices, indices, optional normals and
+        uvs: scenes/FORMAT.md), placed by its transform as a file's."""
+        scale = t.get("scale", 1.0)
+        scale = [float(scale)] * 3 if not isinstance(scale, list) else [float(v) for v in scale]
+        rot = rotation_xyz(t.get("rotate", [0, 0, 0]))
+        tr = [float(v) for v in t.get("translate", [0, 0, 0])]
+        mirror = scale[0] * scale[1] * scale[2] < 0
+        vs = [add(matvec(rot, [p[0] * scale[0], p[1] * scale[1], p[2] * scale[2]]), tr) for p in s["vertices"]]
+        ns = [normalize(matvec(rot, [n[0] / scale[0], n[1] / scale[1], n[2] / scale[2]])) for n in s["normals"]] \
+            if "normals" in s else None
+        uvs = s.get("uvs")
+        flat = [int(i) for tri in s["indices"] for i in (tri if isinstance(tri, list) else [tri])]
+        m = m_override if m_override is not None else read_material({})
+        for k in range(0, len(flat) - 2, 3):
+            tri = [flat[k], flat[k + 2], flat[k + 1]] if mirror else flat[k:k + 3]
+            self.add_triangle([vs[i] for i in tri], m, [uvs[i] for i in tri] if uvs else None,
+                              [ns[i] for i in tri] if ns else None)
+
     def add_shapes(self):
         """The file's shapes as this converter's triangles, spheres and meshes
         (compare_cycles.py's converter inherits it)."""
@@ -689,6 +721,7 @@ class Converter:
             if t == "pointlight":
                 self.shapes["light%d" % i] = {"type": "point", "position": [float(v) for v in l["position"]],
                                               "intensity": {"type": "rgb", "value": l["intensity"]}}
+                self.emitter_power["light%d" % i] = 4 * math.pi * mean([float(v) for v in l["intensity"]])
             elif t == "spherelight":
                 self.add_sphere(l["position"], l["radius"], None, self.dir,
                                 emitter={"type": "area", "radiance": {"type": "rgb", "value": l["intensity"]}})
@@ -745,9 +778,12 @@ class Converter:
                 shape["bsdf"] = {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0, 0, 0]}}
             else:
                 shape["bsdf"] = self.shape_bsdf(m, self.dir, "triangle")
+            name = "mesh%d" % len(self.shapes)
             if e:
                 shape["emitter"] = e
-            self.shapes["mesh%d" % len(self.shapes)] = shape
+                area = sum(0.5 * length(cross(sub(p[1], p[0]), sub(p[2], p[0]))) for p, _, _ in tris)
+                self.emitter_power[name] = mean(e["radiance"]["value"]) * math.pi * area
+            self.shapes[name] = shape
         if not self.approximate:
             self.notes.insert(0, "faithful conversion")
         return self
@@ -779,6 +815,17 @@ class Converter:
         d = {"type": "scene", "integrator": {"type": "path", "max_depth": int(self.scene.get("nbounces", 4)) + 1},
              "sensor": sensor}
         d.update(self.shapes)
+        if self.emitter_weights == "power":
+            # Mitsuba picks an emitter in proportion to its sampling_weight
+            # (1 by default: uniform); by power, as caustica's CDF does. An
+            # emitter without a known power (the background) keeps 1.
+            for name, power in self.emitter_power.items():
+                shape = dict(d[name])
+                if "emitter" in shape:
+                    shape["emitter"] = dict(shape["emitter"], sampling_weight=max(power, 1e-12))
+                else:
+                    shape["sampling_weight"] = max(power, 1e-12)
+                d[name] = shape
         return d
 
 
@@ -1261,7 +1308,8 @@ def compare_scene(args, ms, cy, scene, w, h):
         rate0 = 4 / max(t - jit, 1e-3)
         jit_seen = jit  # the longest compilation seen for this scene
         rows = []
-        for sampler in args.samplers:
+        for sampler, weights in [(s_, w_) for w_ in args.mitsuba_emitter_weights for s_ in args.samplers]:
+            conv.emitter_weights = weights
             probe_s = min(max(0.1 * S, 0.2), 2.0)
             p = ms.admissible(sampler, max(1, rate0 * probe_s))
             _, pt, pjit, pran = ms.render(conv, w, h, sampler, p, 11, folder)
@@ -1292,7 +1340,8 @@ def compare_scene(args, ms, cy, scene, w, h):
                 log("%s: Mitsuba %s: %d spp took %.2f s (JIT %.2f s): again with %d spp"
                     % (stem, sampler, ran, wall, jit, again))
                 spp = again
-            row = {"sampler": sampler, "requested_spp": target, "spp": ran, "wall_s": wall, "jit_s": jit,
+            row = {"sampler": sampler if weights == "uniform" else "%s, emitters by power" % sampler,
+                   "emitter_weights": weights, "requested_spp": target, "spp": ran, "wall_s": wall, "jit_s": jit,
                    "samples_per_s": w * h * ran / wall, "attempts": attempts,
                    "probe": {"spp": pran, "wall_s": pt, "jit_s": pjit, "spp_per_s": pran / max(pt - pjit, 1e-3)}}
             score(row, values, refs, main, own, "mitsuba")
@@ -1559,6 +1608,9 @@ def main():
     ap.add_argument("--samplers", default=",".join(SAMPLERS), help="Mitsuba samplers (default: all five)")
     ap.add_argument("--variant", default="", help="Mitsuba variant (default: llvm_ad_rgb if it runs, else scalar_rgb)")
     ap.add_argument("--no-cycles", action="store_true", help="leave out Cycles")
+    ap.add_argument("--mitsuba-emitter-weights", default="uniform",
+                    help="Mitsuba's emitter choice, comma-separated: uniform (its default: every emitter's "
+                         "sampling_weight 1) and/or power (sampling_weight = the emitter's power); a row each")
     ap.add_argument("--check-orientation", action="store_true",
                     help="only check the mirror image: an asymmetric scene through all three renderers")
     ap.add_argument("--orientation-spp", type=int, default=1024, help="spp of --check-orientation's renders")
@@ -1568,6 +1620,10 @@ def main():
     ap.add_argument("--caustica", default=os.path.join(ROOT, "build", "caustica"))
     args = ap.parse_args()
     args.samplers = [s.strip() for s in args.samplers.split(",") if s.strip()]
+    args.mitsuba_emitter_weights = [s.strip() for s in args.mitsuba_emitter_weights.split(",") if s.strip()]
+    for s in args.mitsuba_emitter_weights:
+        if s not in ("uniform", "power"):
+            sys.exit("--mitsuba-emitter-weights: %r: expected uniform and/or power" % s)
     for s in args.samplers:
         if s not in SAMPLERS:
             sys.exit("unknown sampler %r (one of %s)" % (s, ", ".join(SAMPLERS)))

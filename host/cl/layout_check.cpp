@@ -50,7 +50,8 @@ static_assert(sizeof(FilmAccumulate) == 32 && offsetof(FilmAccumulate, pass_coun
 static_assert(sizeof(PathRecord) == 80 && offsetof(PathRecord, throughput) == 32 && offsetof(PathRecord, pixel) == 48 &&
                   offsetof(PathRecord, depth) == 52 && offsetof(PathRecord, bsdf_pdf) == 56 &&
                   offsetof(PathRecord, flags) == 60 && offsetof(PathRecord, sample) == 64 &&
-                  offsetof(PathRecord, cone_width) == 68 && offsetof(PathRecord, cone_spread) == 72,
+                  offsetof(PathRecord, cone_width) == 68 && offsetof(PathRecord, cone_spread) == 72 &&
+                  offsetof(PathRecord, light_normal) == 76,
               "PathRecord layout");
 static_assert(sizeof(PhotonRecord) == 64 && offsetof(PhotonRecord, power) == 32 && offsetof(PhotonRecord, index) == 48 &&
                   offsetof(PhotonRecord, depth) == 52 && offsetof(PhotonRecord, path_length) == 56 &&

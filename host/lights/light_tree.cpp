@@ -72,21 +72,35 @@ void set_trail(LightTree& tree, uint32_t light, uint64_t bits, int depth) {
 }
 
 // A union of lights (a bucket, a side of a split): box, power, the cone's
-// cosines about the node's axis, sidedness.
+// cosines about the node's axis, sidedness. Only `count` is set up front:
+// the first light added sets the rest. (A node's 36 buckets are most of
+// the work of the many nodes with few lights.)
 struct Union {
-  glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
-  float power = 0.0f;  // enough to compare splits by
-  float cos_o = 1.0f, cos_e = 1.0f;
+  glm::vec3 lo, hi;
+  float power, cos_o, cos_e;  // power: enough to compare splits by
   int count = 0;
   void add(const Item& item, float cone_cos) {
-    lo = glm::min(lo, item.bounds.lo);
-    hi = glm::max(hi, item.bounds.hi);
-    power += item.power;
-    cos_o = std::min(cos_o, cone_cos);
-    cos_e = std::min(cos_e, item.bounds.cos_e);
+    if (count == 0) {
+      lo = item.bounds.lo;
+      hi = item.bounds.hi;
+      power = item.power;
+      cos_o = cone_cos;
+      cos_e = item.bounds.cos_e;
+    } else {
+      lo = glm::min(lo, item.bounds.lo);
+      hi = glm::max(hi, item.bounds.hi);
+      power += item.power;
+      cos_o = std::min(cos_o, cone_cos);
+      cos_e = std::min(cos_e, item.bounds.cos_e);
+    }
     ++count;
   }
   void add(const Union& u) {
+    if (u.count == 0) return;
+    if (count == 0) {
+      *this = u;
+      return;
+    }
     lo = glm::min(lo, u.lo);
     hi = glm::max(hi, u.hi);
     power += u.power;
@@ -100,109 +114,136 @@ struct Union {
   }
 };
 
+// What a node's build needs of its lights before it looks at them one by
+// one: everything but the cone about its axis (which is the mean of theirs).
+// The root's is summed in a pass of its own; every other node's while its
+// parent's split moves its lights (one pass over a node's lights fewer:
+// the build is bound by memory traffic).
+struct Summary {
+  glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+  glm::vec3 centroid_lo = lo, centroid_hi = hi, axis_sum{0.0f};
+  double power = 0.0;
+  float cos_e = 1.0f;
+  bool two_sided = false, omni = false;
+  void add(const Item& it) {
+    lo = glm::min(lo, it.bounds.lo);
+    hi = glm::max(hi, it.bounds.hi);
+    centroid_lo = glm::min(centroid_lo, it.centroid);
+    centroid_hi = glm::max(centroid_hi, it.centroid);
+    axis_sum += it.bounds.axis;
+    power += it.power;
+    cos_e = std::min(cos_e, it.bounds.cos_e);
+    two_sided = two_sided || it.bounds.two_sided;
+    omni = omni || it.bounds.cos_o <= -1.0f;
+  }
+};
+
 class Builder {
  public:
   Builder(std::vector<Item>& items, LightTree& tree)
-      : items_(items), tree_(tree), cone_cos_(items.size()), scratch_(items.size()) {}
+      : items_(items), tree_(tree), scratch_(items.size()) {}
 
-  // Builds the subtree of items [start, end) at `node`, whose trail is
-  // (bits, depth); returns the deepest level below.
-  int build(size_t start, size_t end, uint32_t node, uint64_t bits, int depth) {
+  // The whole tree at `node` with trail (bits, depth); returns its depth.
+  int build_root(uint32_t node, uint64_t bits, int depth) {
+    Summary all;
+    for (const Item& it : items_) all.add(it);
+    return build(0, items_.size(), all, node, bits, depth);
+  }
+
+ private:
+  // Builds the subtree of items [start, end) (summed up in `sum`) at
+  // `node`, whose trail is (bits, depth); returns the deepest level below.
+  int build(size_t start, size_t end, const Summary& sum, uint32_t node, uint64_t bits, int depth) {
     LightTreeNode& out = tree_.nodes[node];
     out = LightTreeNode{};
-    // The node's bounds: box, power, sidedness, and the cone about its
-    // lights' mean axis.
-    glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-    glm::vec3 centroid_lo = lo, centroid_hi = hi, axis_sum(0.0f);
-    double power = 0.0;
-    float cos_e = 1.0f;
-    bool two_sided = false, omni = false;
-    for (size_t i = start; i < end; ++i) {
-      const Item& it = items_[i];
-      lo = glm::min(lo, it.bounds.lo);
-      hi = glm::max(hi, it.bounds.hi);
-      centroid_lo = glm::min(centroid_lo, it.centroid);
-      centroid_hi = glm::max(centroid_hi, it.centroid);
-      axis_sum += it.bounds.axis;
-      power += it.power;
-      cos_e = std::min(cos_e, it.bounds.cos_e);
-      two_sided = two_sided || it.bounds.two_sided;
-      omni = omni || it.bounds.cos_o <= -1.0f;
-    }
-    const float axis_length = glm::length(axis_sum);
-    const glm::vec3 axis = axis_length > 1e-6f ? axis_sum / axis_length : glm::vec3(0.0f, 0.0f, 1.0f);
-    float cos_o = omni || !(axis_length > 1e-6f) ? -1.0f : 1.0f;
-    for (size_t i = start; i < end; ++i) {
-      cone_cos_[i] = cone_cos_about(axis, items_[i]);
-      cos_o = std::min(cos_o, cone_cos_[i]);
-    }
-    out.bounds_min = to_float4(lo, float(power));
-    out.bounds_max = to_float4(hi, cos_o);
-    out.sin_o = float(std::sqrt(std::max(0.0, 1.0 - double(cos_o) * double(cos_o))));
-    out.axis = to_float4(axis, cos_e);
-    out.flags = two_sided ? LIGHT_TREE_TWO_SIDED : 0u;
+    const float axis_length = glm::length(sum.axis_sum);
+    const glm::vec3 axis = axis_length > 1e-6f ? sum.axis_sum / axis_length : glm::vec3(0.0f, 0.0f, 1.0f);
+    const bool cone = !(sum.omni || !(axis_length > 1e-6f));
+    out.bounds_min = to_float4(sum.lo, float(sum.power));
+    out.axis = to_float4(axis, sum.cos_e);
+    out.flags = sum.two_sided ? LIGHT_TREE_TWO_SIDED : 0u;
     if (end - start == 1) {
+      const Item& it = items_[start];
+      const float cos_o = cone ? cone_cos_about(axis, it) : -1.0f;
+      out.bounds_max = to_float4(sum.hi, cos_o);
+      out.sin_o = float(std::sqrt(std::max(0.0, 1.0 - double(cos_o) * double(cos_o))));
       out.flags |= LIGHT_TREE_LEAF;
-      out.index = items_[start].light;
-      set_trail(tree_, items_[start].light, bits, depth);
+      out.index = it.light;
+      set_trail(tree_, it.light, bits, depth);
       return depth;
     }
-    const size_t mid = split(start, end, lo, hi, centroid_lo, centroid_hi, depth);
+    Summary first_sum, second_sum;
+    float cos_o = 1.0f;
+    const size_t mid = split(start, end, sum, axis, cone, depth, &cos_o, &first_sum, &second_sum);
+    out.bounds_max = to_float4(sum.hi, cos_o);
+    out.sin_o = float(std::sqrt(std::max(0.0, 1.0 - double(cos_o) * double(cos_o))));
     const uint32_t first = node + 1u, second = node + uint32_t(2 * (mid - start));
     out.index = second;
     const uint64_t second_bits = bits | (uint64_t(1) << depth);
     // The top levels' second subtrees on another thread: each subtree
     // writes only its own nodes, items and trails, so the tree is the same.
     if (depth < 2 && end - start > 4096) {
-      auto other = std::async(std::launch::async,
-                              [&, second_bits] { return build(mid, end, second, second_bits, depth + 1); });
-      const int a = build(start, mid, first, bits, depth + 1);
+      auto other = std::async(std::launch::async, [&, second_bits] {
+        return build(mid, end, second_sum, second, second_bits, depth + 1);
+      });
+      const int a = build(start, mid, first_sum, first, bits, depth + 1);
       return std::max(a, other.get());
     }
-    const int a = build(start, mid, first, bits, depth + 1);
-    return std::max(a, build(mid, end, second, second_bits, depth + 1));
+    const int a = build(start, mid, first_sum, first, bits, depth + 1);
+    return std::max(a, build(mid, end, second_sum, second, second_bits, depth + 1));
   }
 
- private:
   // Where items [start, end) split: the cheapest bucket boundary, or half
   // by count where the centroids coincide, no boundary separates them, or
-  // the tree is deep (kCountSplitDepth).
-  size_t split(size_t start, size_t end, const glm::vec3& lo, const glm::vec3& hi, const glm::vec3& centroid_lo,
-               const glm::vec3& centroid_hi, int depth) {
+  // the tree is deep (kCountSplitDepth). One pass takes each light's cone
+  // about the node's axis (*cos_o: the node's, their least) and bins it on
+  // every axis; a second moves the lights to their sides and sums up each
+  // side (*first_sum, *second_sum).
+  size_t split(size_t start, size_t end, const Summary& sum, const glm::vec3& axis, bool cone, int depth,
+               float* cos_o, Summary* first_sum, Summary* second_sum) {
     const size_t half = start + (end - start) / 2;
-    if (depth >= kCountSplitDepth) return half;
-    const glm::vec3 extent = hi - lo, centroid_extent = centroid_hi - centroid_lo;
+    const glm::vec3 extent = sum.hi - sum.lo, centroid_extent = sum.centroid_hi - sum.centroid_lo;
     const float longest = std::max({extent.x, extent.y, extent.z});
-    double best_cost = std::numeric_limits<double>::infinity();
-    int best_dim = -1, best_bucket = -1;
-    // Every axis's buckets in one pass over the items.
+    const bool by_count = depth >= kCountSplitDepth;
     Union bucket_sets[3][kBuckets];
     bool split_dim[3];
     float scales[3];
     for (int dim = 0; dim < 3; ++dim) {
-      split_dim[dim] = centroid_extent[dim] > 0.0f;
+      split_dim[dim] = !by_count && centroid_extent[dim] > 0.0f;
       scales[dim] = split_dim[dim] ? kBuckets / centroid_extent[dim] : 0.0f;
     }
-    for (size_t i = start; i < end; ++i)
+    if (end - start == 2 && !by_count) return split_pair(start, sum, axis, cone, cos_o, first_sum, second_sum);
+    float least = 1.0f;
+    for (size_t i = start; i < end; ++i) {
+      const Item& it = items_[i];
+      const float c = cone_cos_about(axis, it);  // the buckets' cones too where the node's is whole
+      least = std::min(least, c);
       for (int dim = 0; dim < 3; ++dim)
-        if (split_dim[dim])
-          bucket_sets[dim][bucket_of(items_[i].centroid[dim], centroid_lo[dim], scales[dim])].add(items_[i],
-                                                                                                   cone_cos_[i]);
+        if (split_dim[dim]) bucket_sets[dim][bucket_of(it.centroid[dim], sum.centroid_lo[dim], scales[dim])].add(it, c);
+    }
+    *cos_o = cone ? least : -1.0f;
+    double best_cost = std::numeric_limits<double>::infinity();
+    int best_dim = -1, best_bucket = -1;
     for (int dim = 0; dim < 3; ++dim) {
       if (!split_dim[dim]) continue;
       const Union* buckets = bucket_sets[dim];
-      Union above[kBuckets];
-      for (int b = kBuckets - 1; b > 0; --b) {
-        above[b] = buckets[b];
-        if (b + 1 < kBuckets) above[b].add(above[b + 1]);
-      }
       const double aspect = extent[dim] > 0.0f ? longest / extent[dim] : 1.0;
+      // The cost of the lights above each boundary, from the top down.
+      double above_cost[kBuckets];
+      int above_count[kBuckets];
+      Union above;
+      for (int b = kBuckets - 1; b > 0; --b) {
+        above.add(buckets[b]);
+        above_count[b] = above.count;
+        // Only boundaries after a nonempty bucket are weighed (below).
+        above_cost[b] = above.count > 0 && buckets[b - 1].count > 0 ? above.cost(aspect) : 0.0;
+      }
       Union below;
       for (int b = 0; b + 1 < kBuckets; ++b) {
         below.add(buckets[b]);
         // An empty bucket repeats the split before it.
-        if (buckets[b].count == 0 || below.count == 0 || above[b + 1].count == 0) continue;
-        const double cost = below.cost(aspect) + above[b + 1].cost(aspect);
+        if (buckets[b].count == 0 || below.count == 0 || above_count[b + 1] == 0) continue;
+        const double cost = below.cost(aspect) + above_cost[b + 1];
         if (cost < best_cost) {
           best_cost = cost;
           best_dim = dim;
@@ -210,25 +251,51 @@ class Builder {
         }
       }
     }
-    if (best_dim < 0) return half;
-    const float scale = kBuckets / centroid_extent[best_dim];
-    const float origin = centroid_lo[best_dim];
+    if (best_dim < 0) {
+      for (size_t i = start; i < half; ++i) first_sum->add(items_[i]);
+      for (size_t i = half; i < end; ++i) second_sum->add(items_[i]);
+      return half;
+    }
+    const float scale = scales[best_dim];
+    const float origin = sum.centroid_lo[best_dim];
     // A stable partition through the scratch copy (std::stable_partition
-    // would allocate a buffer at every node).
+    // would allocate a buffer at every node); both sides are nonempty (the
+    // chosen boundary has lights on either side).
     size_t mid = start, back = end;
     for (size_t i = start; i < end; ++i) {
-      if (bucket_of(items_[i].centroid[best_dim], origin, scale) <= best_bucket) items_[mid++] = items_[i];
-      else scratch_[--back] = items_[i];
-    }
-    if (mid == start || mid == end) {  // cannot happen (both sides counted items); kept whole
-      std::reverse(scratch_.begin() + std::ptrdiff_t(back), scratch_.begin() + std::ptrdiff_t(end));
-      std::copy(scratch_.begin() + std::ptrdiff_t(back), scratch_.begin() + std::ptrdiff_t(end),
-                items_.begin() + std::ptrdiff_t(mid));
-      return half;
+      const Item& it = items_[i];
+      if (bucket_of(it.centroid[best_dim], origin, scale) <= best_bucket) {
+        first_sum->add(it);
+        items_[mid++] = it;
+      } else {
+        second_sum->add(it);
+        scratch_[--back] = it;
+      }
     }
     std::reverse_copy(scratch_.begin() + std::ptrdiff_t(back), scratch_.begin() + std::ptrdiff_t(end),
                       items_.begin() + std::ptrdiff_t(mid));
     return mid;
+  }
+
+  // split() for two lights (half the nodes with children), without the
+  // buckets, to the same result: every boundary between them costs the two
+  // lights alike but for the aspect, so the split is along the longest
+  // axis of the node's box (the first of equals) on which their centroids
+  // differ, the lower centroid first; halves where they coincide.
+  size_t split_pair(size_t start, const Summary& sum, const glm::vec3& axis, bool cone, float* cos_o,
+                    Summary* first_sum, Summary* second_sum) {
+    const float least = std::min(cone_cos_about(axis, items_[start]), cone_cos_about(axis, items_[start + 1]));
+    *cos_o = cone ? least : -1.0f;
+    const glm::vec3 extent = sum.hi - sum.lo;
+    int best_dim = -1;
+    for (int dim = 0; dim < 3; ++dim)
+      if (sum.centroid_hi[dim] - sum.centroid_lo[dim] > 0.0f && (best_dim < 0 || extent[dim] > extent[best_dim]))
+        best_dim = dim;
+    if (best_dim >= 0 && items_[start + 1].centroid[best_dim] < items_[start].centroid[best_dim])
+      std::swap(items_[start], items_[start + 1]);
+    first_sum->add(items_[start]);
+    second_sum->add(items_[start + 1]);
+    return start + 1;
   }
 
   static int bucket_of(float x, float origin, float scale) {
@@ -237,8 +304,7 @@ class Builder {
 
   std::vector<Item>& items_;
   LightTree& tree_;
-  std::vector<float> cone_cos_;  // per item position: its cone's cosine about its current node's axis
-  std::vector<Item> scratch_;    // per item position: the partition's second side, reversed
+  std::vector<Item> scratch_;  // per item position: the partition's second side, reversed
 };
 
 
@@ -315,7 +381,7 @@ LightTree build_light_tree(const std::vector<Light>& lights, const std::vector<f
   if (!items.empty()) {
     tree.nodes.resize(2 * items.size() - 1);
     Builder builder(items, tree);
-    tree.max_depth = builder.build(0, items.size(), 0u, 0u, 0);
+    tree.max_depth = builder.build_root(0u, 0u, 0);
     for (const Item& it : items) tree.lights.push_back(it.light);
   }
   tree.build_ms = ms_since(t0);
@@ -349,7 +415,7 @@ LightTree build_sampling_tree(const std::vector<Light>& lights, const std::vecto
   if (distant.empty() || items.empty()) {
     if (!items.empty()) {
       Builder builder(items, tree);
-      tree.max_depth = builder.build(0, items.size(), 0u, 0u, 0);
+      tree.max_depth = builder.build_root(0u, 0u, 0);
     } else {
       build_by_weight(distant, 0, distant.size(), 0u, 0u, 0, tree);
     }
@@ -366,7 +432,7 @@ LightTree build_sampling_tree(const std::vector<Light>& lights, const std::vecto
     root.index = uint32_t(2 * distant.size());
     build_by_weight(distant, 0, distant.size(), 1u, 0u, 1, tree);
     Builder builder(items, tree);
-    tree.max_depth = std::max(tree.max_depth, builder.build(0, items.size(), root.index, 1u, 1));
+    tree.max_depth = std::max(tree.max_depth, builder.build_root(root.index, 1u, 1));
   }
   for (const auto& d : distant) tree.lights.push_back(d.first);
   for (const Item& it : items) tree.lights.push_back(it.light);

@@ -67,7 +67,7 @@ inline float emission_mis_weight(const PathStageData* d, const PathRecord* ray, 
   if (d->params.strategy == PATH_STRATEGY_NEE) return 0.0f;
   if (d->params.strategy != PATH_STRATEGY_MIS) return 1.0f;
   __global const Light* light = &d->scene.lights[light_index];
-  const float pick = light_pick_probability(&d->scene, light_index, ray->origin.xyz);
+  const float pick = light_pick_probability(&d->scene, light_index, ray->origin.xyz, ray->light_normal);
   return power_heuristic(ray->bsdf_pdf, light_pdf(light, d->scene.environment, pick, ray->origin.xyz, q, ray->dir.xyz));
 }
 
@@ -129,11 +129,11 @@ inline void surface_emission(const PathStageData* d, const PathRecord* ray, uint
  * tree from this point: lib/light_pick.h): its unoccluded
  * contribution as a shadow ray (pixel SHADOW_SLOT_EMPTY: none). */
 inline void surface_direct_light(const PathStageData* d, const PathRecord* ray, const SurfacePoint* sp,
-                                 const Bsdf* bsdf, const ShadingFrame* frame, float3 wo, float2 u_light,
-                                 float u_pick, ShadowRecord* shadow) {
+                                 const Bsdf* bsdf, const ShadingFrame* frame, uint light_normal, float3 wo,
+                                 float2 u_light, float u_pick, ShadowRecord* shadow) {
   const SceneBuffers* s = &d->scene;
   float pick;
-  const uint li = pick_light_at(s, d->params.light_count, sp->position, u_pick, &pick);
+  const uint li = pick_light_at(s, d->params.light_count, sp->position, light_normal, u_pick, &pick);
   __global const Light* light = &s->lights[li];
   LightSample ls;
   if (!sample_light(light, s->environment, pick, sp->position, u_light, &ls)) return;
@@ -172,8 +172,8 @@ inline void count_bsdf_weight(volatile __global ulong* numerics, uint depth, flo
  * vertex (only the photon pass reads it); true with *child when the path
  * goes on. */
 inline bool surface_bounce(const PathStageData* d, const PathRecord* ray, uint prim, const SurfacePoint* sp,
-                           const Bsdf* bsdf, const ShadingFrame* frame, float3 wo, float3 u_bsdf, float cone_width,
-                           PathRecord* child) {
+                           const Bsdf* bsdf, const ShadingFrame* frame, uint light_normal, float3 wo, float3 u_bsdf,
+                           float cone_width, PathRecord* child) {
   float3 wi_local, weight;
   float pdf;
   uint flags;
@@ -214,6 +214,7 @@ inline bool surface_bounce(const PathStageData* d, const PathRecord* ray, uint p
   child->flags = (flags & BSDF_SAMPLED_SPECULAR) ? PATH_SPECULAR : 0u;
   child->cone_width = cone_width;
   child->cone_spread = spread;
+  child->light_normal = light_normal; /* what MIS asks the light tree with where this ray ends */
   return true;
 }
 
@@ -257,10 +258,12 @@ inline bool shade_path_vertex(const PathStageData* d, const PathRecord ray, cons
   /* Light reaching a caster that leads back to a receiver is the photon map's. */
   const bool nee_is_photon_maps = caster && (ray.flags & PATH_AFTER_RECEIVER);
   const bool delta_only = bsdf_is_smooth(bsdf) && bsdf.kind != BSDF_PLASTIC;
+  const uint light_normal = light_tree_normal_at(&bsdf, &frame);
   if (d->params.light_count > 0u && d->params.strategy != PATH_STRATEGY_BSDF && !delta_only && !nee_is_photon_maps)
-    surface_direct_light(d, &ray, &sp, &bsdf, &frame, wo, u_light, picks.x, shadow);
+    surface_direct_light(d, &ray, &sp, &bsdf, &frame, light_normal, wo, u_light, picks.x, shadow);
 
-  if (!surface_bounce(d, &ray, hit.prim, &sp, &bsdf, &frame, wo, (float3)(u_dir, picks.y), cone_width, child))
+  if (!surface_bounce(d, &ray, hit.prim, &sp, &bsdf, &frame, light_normal, wo, (float3)(u_dir, picks.y), cone_width,
+                      child))
     return false;
   child->flags |= path_feature_flags_after(&ray, *aux_open, caster);
   return true;

@@ -86,6 +86,7 @@ inline void push_specular(PATH_QUEUE_PARAMS(next), uint capacity, float min_weig
   child.flags = PATH_SPECULAR;
   child.cone_width = 0.0f; /* Whitted rays keep no cone */
   child.cone_spread = 0.0f;
+  child.light_normal = LIGHT_NORMAL_NONE;
   path_push(PATH_QUEUE_ARGS(next), capacity, child);
 }
 

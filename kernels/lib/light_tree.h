@@ -9,8 +9,9 @@
  * Rules: the importance of a node at point p with normal n bounds what its
  * lights can send there: power / distance^2, times the cosine of the
  * smallest angle between the direction to p and the emission cone (widened
- * by the cone the node's box subtends from p), times the smallest angle to
- * the normal (either side: glass takes light from both). A light's pmf
+ * by the cone the node's box subtends from p), times the cosine of the
+ * smallest angle between the normal and that box's cone, on the side the
+ * normal faces (lib/light_pick.h says which normal). A light's pmf
  * (light_tree_pmf) repeats the sampling's arithmetic along its trail, so it
  * is the exact probability that light_tree_sample picks it from (p, n):
  * MIS reads it for BSDF-sampled hits. Where neither child can light the
@@ -51,27 +52,36 @@ inline float light_tree_importance(__global const LightTreeNode* node, float3 p,
    * at least its radius, so a node's importance is invariant to scale. */
   if (!(dist2 > radius2)) return power / fmax(radius2, 1e-30f);
   const float cos_o = node->bounds_max.w;
+  const bool has_normal = dot(n, n) > 0.0f;
   /* Lights that emit every way (points, spheres, cylinders, and any node
-   * over them): nothing narrows the cone, and the general form below gives
-   * exactly this (cos_p = 1). */
-  if (cos_o <= -1.0f && !(dot(n, n) > 0.0f)) return power / dist2;
+   * over them): nothing narrows the emission cone (the general form below
+   * gives cos_p = 1). */
+  if (cos_o <= -1.0f && !has_normal) return power / dist2;
   const float dist = sqrt(dist2);
   const float3 wi = to_p / dist;
-  float cos_w = dot(node->axis.xyz, wi);
-  if (node->flags & LIGHT_TREE_TWO_SIDED) cos_w = fabs(cos_w);
-  const float sin_w = sqrt(fmax(0.0f, 1.0f - cos_w * cos_w));
   const float sin_b2 = radius2 / dist2;
   const float cos_b = sqrt(fmax(0.0f, 1.0f - sin_b2)), sin_b = sqrt(sin_b2);
-  const float sin_o = node->sin_o;
-  const float cos_x = light_tree_cos_sub_clamped(sin_w, cos_w, sin_o, cos_o);
-  const float sin_x = light_tree_sin_sub_clamped(sin_w, cos_w, sin_o, cos_o);
-  const float cos_p = light_tree_cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
-  /* Beyond theta_o + theta_e nothing reaches p (strictly: a spot light's
-   * theta_e is 0, and inside its cone cos_p is 1). */
-  if (cos_p < node->axis.w) return 0.0f;
-  float importance = power * cos_p / dist2;
-  if (dot(n, n) > 0.0f) {
-    const float cos_i = fabs(dot(wi, n)), sin_i = sqrt(fmax(0.0f, 1.0f - cos_i * cos_i));
+  float importance = power / dist2;
+  if (cos_o > -1.0f) {
+    float cos_w = dot(node->axis.xyz, wi);
+    if (node->flags & LIGHT_TREE_TWO_SIDED) cos_w = fabs(cos_w);
+    const float sin_w = sqrt(fmax(0.0f, 1.0f - cos_w * cos_w));
+    const float sin_o = node->sin_o;
+    const float cos_x = light_tree_cos_sub_clamped(sin_w, cos_w, sin_o, cos_o);
+    const float sin_x = light_tree_sin_sub_clamped(sin_w, cos_w, sin_o, cos_o);
+    const float cos_p = light_tree_cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
+    /* Beyond theta_o + theta_e nothing reaches p (strictly: a spot light's
+     * theta_e is 0, and inside its cone cos_p is 1). */
+    if (cos_p < node->axis.w) return 0.0f;
+    importance *= cos_p;
+  }
+  if (has_normal) {
+    /* One-sided: the receiving surface takes light from the side n faces
+     * (the direction to the node is -wi). The smallest angle between n and
+     * the box's cone, less 1e-3 radians for the packed normal's rounding
+     * (lib/light_pick.h): a node wholly below the surface gets nothing. */
+    const float cos_n = clamp(-dot(wi, n), -1.0f, 1.0f), sin_n = sqrt(fmax(0.0f, 1.0f - cos_n * cos_n));
+    const float cos_i = cos_n * 0.9999995f + sin_n * 1e-3f, sin_i = sqrt(fmax(0.0f, 1.0f - cos_i * cos_i));
     importance *= light_tree_cos_sub_clamped(sin_i, cos_i, sin_b, cos_b);
   }
   return fmax(importance, 0.0f);

@@ -44,7 +44,7 @@ inline uint queue_reserve(volatile __global uint* counter, uint capacity) {
 /* A path as the camera starts it: full throughput, no scattering yet,
  * counted as arriving by a delta lobe (emission seen directly is not
  * MIS-weighted), a cone of width 0 and no spread (the path tracer's camera
- * sets the spread, lib/camera_sample.h). */
+ * sets the spread, lib/camera_sample.h), no normal for the light tree. */
 inline PathRecord camera_path(float3 origin, float3 dir, uint pixel, uint sample) {
   PathRecord ray;
   ray.origin = (float4)(origin, 0.0f);
@@ -57,21 +57,34 @@ inline PathRecord camera_path(float3 origin, float3 dir, uint pixel, uint sample
   ray.sample = sample;
   ray.cone_width = 0.0f;
   ray.cone_spread = 0.0f;
+  ray.light_normal = LIGHT_NORMAL_NONE;
   return ray;
 }
 
 /* The ray cone is read only with the photon pass (HAS_CAUSTICS, a
- * -D of the whole program): every other program (path tracing without it,
- * Whitted, binary) moves only the ray's own fields, so the cone costs them
- * no memory traffic, and its loads read 0. */
-#if HAS_CAUSTICS
-#define PATH_MOVED_FIELDS PATH_RECORD_FIELDS
-#define PATH_UNMOVED_ZERO(record)
-#else
-#define PATH_MOVED_FIELDS PATH_RAY_FIELDS
+ * -D of the whole program), the light tree's normal only with the tree
+ * (HAS_LIGHT_TREE): every other program (path tracing without them,
+ * Whitted, binary) moves only the ray's own fields, so those cost it no
+ * memory traffic, and their loads read 0. */
 #define QUEUE_FIELD_ZERO(q, type, name) record.name = 0;
-#define PATH_UNMOVED_ZERO(record) PATH_CONE_FIELDS(QUEUE_FIELD_ZERO, _)
+#define QUEUE_FIELDS_NONE(F, q)
+#if HAS_CAUSTICS
+#define PATH_MOVED_CONE_FIELDS PATH_CONE_FIELDS
+#define PATH_UNMOVED_CONE_FIELDS QUEUE_FIELDS_NONE
+#else
+#define PATH_MOVED_CONE_FIELDS QUEUE_FIELDS_NONE
+#define PATH_UNMOVED_CONE_FIELDS PATH_CONE_FIELDS
 #endif
+#if HAS_LIGHT_TREE
+#define PATH_MOVED_LIGHT_TREE_FIELDS PATH_LIGHT_TREE_FIELDS
+#define PATH_UNMOVED_LIGHT_TREE_FIELDS QUEUE_FIELDS_NONE
+#else
+#define PATH_MOVED_LIGHT_TREE_FIELDS QUEUE_FIELDS_NONE
+#define PATH_UNMOVED_LIGHT_TREE_FIELDS PATH_LIGHT_TREE_FIELDS
+#endif
+#define PATH_MOVED_FIELDS(F, q) PATH_RAY_FIELDS(F, q) PATH_MOVED_CONE_FIELDS(F, q) PATH_MOVED_LIGHT_TREE_FIELDS(F, q)
+#define PATH_UNMOVED_ZERO(record) \
+  PATH_UNMOVED_CONE_FIELDS(QUEUE_FIELD_ZERO, _) PATH_UNMOVED_LIGHT_TREE_FIELDS(QUEUE_FIELD_ZERO, _)
 
 #define QUEUE_NOTHING_TO_ZERO(record)
 

@@ -30,9 +30,11 @@
 
 /* A ray on its way: camera rays and every ray a shade stage spawns (path
  * tracer, Whitted and binary modes alike), with its ray cone (Amanatides
- * 1984: shade_surface_path), which only the path tracer's photon pass reads:
- * programs without it neither store nor load those two fields (queue.h). */
-#define PATH_RECORD_FIELDS(F, q) PATH_RAY_FIELDS(F, q) PATH_CONE_FIELDS(F, q)
+ * 1984: shade_surface_path), which only the path tracer's photon pass reads,
+ * and the normal the light tree weighed lights with where the ray left,
+ * which only programs with the tree read: programs without them neither
+ * store nor load those fields (queue.h). */
+#define PATH_RECORD_FIELDS(F, q) PATH_RAY_FIELDS(F, q) PATH_CONE_FIELDS(F, q) PATH_LIGHT_TREE_FIELDS(F, q)
 #define PATH_RAY_FIELDS(F, q)                                                \
   F(q, cs_float4, origin)     /* xyz; w unused */                            \
   F(q, cs_float4, dir)        /* xyz unit direction; w unused */             \
@@ -45,6 +47,8 @@
 #define PATH_CONE_FIELDS(F, q)                                               \
   F(q, float, cone_width)     /* the ray cone's footprint width at origin */ \
   F(q, float, cone_spread)    /* the ray cone's spread angle (radians) */
+#define PATH_LIGHT_TREE_FIELDS(F, q)                                         \
+  F(q, cs_uint, light_normal) /* the normal next-event estimation gave the light tree at origin, packed (lib/light_pick.h) */
 
 /* PathRecord.flags: F(name, bit), each a distinct bit (layout_check.cpp). */
 #define PATH_FLAGS(F)                                                                                \
@@ -79,6 +83,10 @@
   F(q, cs_uint, pixel)          /* film pixel, or SHADOW_SLOT_EMPTY (lib/queue.h) */ \
   F(q, float, tmax)             /* where the segment ends (short of the light) */
 
+/* PathRecord.light_normal when the light tree weighed no normal (camera
+ * rays, rays that left glass): no packed normal has this value. */
+#define LIGHT_NORMAL_NONE 0xFFFFFFFFu
+
 /* The flag constants, from the lists above. */
 #define RECORD_FLAG_CONSTANT(name, bit) name = 1u << (bit),
 enum { PATH_FLAGS(RECORD_FLAG_CONSTANT) };
@@ -88,7 +96,7 @@ enum { PHOTON_FLAGS(RECORD_FLAG_CONSTANT) };
 #define RECORD_STRUCT_MEMBER(q, type, name) type name;
 typedef struct {
   PATH_RECORD_FIELDS(RECORD_STRUCT_MEMBER, _)
-} PathRecord; /* 76 bytes of fields (what a queue slot holds: queues are SoA; 68 moved without the photon pass), 80 with the struct's float4 alignment */
+} PathRecord; /* 80 bytes of fields (what a queue slot holds: queues are SoA; 68 moved without the photon pass and the light tree) */
 
 typedef struct {
   PHOTON_RECORD_FIELDS(RECORD_STRUCT_MEMBER, _)

@@ -9,8 +9,10 @@
 //   the pmf it returns with each light is light_tree_pmf's, bit for bit.
 // - The pmf of every light from a point sums to 1.
 // - Conservative: a light that can light the point (in front of a
-//   one-sided surface, inside a spot's cone, any omnidirectional light) has
-//   a pmf above 0.
+//   one-sided surface, inside a spot's cone, any omnidirectional light),
+//   some of which is in front of the receiving surface, has a pmf above 0.
+// - The packed normal the path carries for MIS: unit length, within 1e-4
+//   radians of the normal packed.
 // - Deterministic: the same lights give the same tree, node for node,
 //   however many threads built it; trails stay within 64 levels.
 #include <gtest/gtest.h>
@@ -24,6 +26,7 @@
 
 #include "host/lights/light_tree.h"
 #include "host/scene/scene.h"
+#include "lib/light_normal.h"
 #include "lib/light_tree.h"
 #include "tests/support/chi_square.h"
 
@@ -123,6 +126,30 @@ bool can_light(const Light& l, const glm::vec3& p) {
   }
 }
 
+// Is some point of light `l` in front of the surface at p with normal n
+// (zero n: no surface)? A light wholly behind it lights nothing there.
+bool in_front(const Light& l, const glm::vec3& p, const glm::vec3& n) {
+  if (glm::dot(n, n) == 0.0f) return true;
+  const auto front = [&](const glm::vec3& q, float slack) { return glm::dot(q - p, n) > -slack + 1e-3f * glm::length(q - p); };
+  const glm::vec3 c = to_vec3(l.p0);
+  switch (l.kind) {
+    case LIGHT_RECT: {
+      const glm::vec3 u = 0.5f * to_vec3(l.p1), v = 0.5f * to_vec3(l.p2);
+      return front(c - u - v, 0.0f) || front(c + u - v, 0.0f) || front(c + u + v, 0.0f) || front(c - u + v, 0.0f);
+    }
+    case LIGHT_TRIANGLE:
+      return front(c, 0.0f) || front(to_vec3(l.p1), 0.0f) || front(to_vec3(l.p2), 0.0f);
+    case LIGHT_SPHERE:
+      return front(c, l.p0.w);
+    case LIGHT_CYLINDER: {
+      const glm::vec3 a = l.p1.w * to_vec3(l.p1);
+      return front(c - a, l.p0.w) || front(c + a, l.p0.w);
+    }
+    default:
+      return front(c, 0.0f);
+  }
+}
+
 TEST(LightTree, PmfsSumToOneAndNeverRuleOutALightThatCanLightThePoint) {
   for (uint32_t seed = 1; seed <= 4; ++seed) {
     const RandomLights r = random_lights(300, 10.0f, seed);
@@ -138,7 +165,7 @@ TEST(LightTree, PmfsSumToOneAndNeverRuleOutALightThatCanLightThePoint) {
         const float pmf = pmf_of(tree, i, p, n);
         ASSERT_TRUE(std::isfinite(pmf) && pmf >= 0.0f);
         sum += pmf;
-        if (can_light(r.lights[i], p))
+        if (can_light(r.lights[i], p) && in_front(r.lights[i], p, n))
           EXPECT_GT(pmf, 0.0f) << "light " << i << " (kind " << r.lights[i].kind << ") ruled out at point " << k;
       }
       EXPECT_NEAR(sum, 1.0, 1e-4) << "seed " << seed << ", point " << k;
@@ -179,6 +206,25 @@ TEST(LightTree, SamplesFollowThePmfChiSquare) {
     }
   }
   EXPECT_EQ(tests, 3 * points);
+}
+
+TEST(LightTree, PackedNormalsStayWithinTheTreesSlack) {
+  std::mt19937 rng(5);
+  float worst = 0.0f;
+  for (int k = 0; k < 200000; ++k) {
+    glm::vec3 n = random_unit(rng);
+    if (k < 6) n = glm::vec3(k % 3 == 0, k % 3 == 1, k % 3 == 2) * (k < 3 ? 1.0f : -1.0f);  // the axes
+    const uint32_t packed = light_normal_pack(make_float3(n.x, n.y, n.z));
+    ASSERT_NE(packed, LIGHT_NORMAL_NONE);
+    const float3 m = light_normal_unpack(packed);
+    ASSERT_NEAR(m.x * m.x + m.y * m.y + m.z * m.z, 1.0f, 1e-6f);
+    // The angle from |cross| in double: a float dot product cannot resolve 1e-4 radians.
+    const glm::dvec3 a(n), b(m.x, m.y, m.z);
+    worst = std::max(worst, float(std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b))));
+  }
+  EXPECT_LT(worst, 1e-4f);  // the importance allows 1e-3 radians
+  const float3 none = light_normal_unpack(LIGHT_NORMAL_NONE);
+  EXPECT_EQ(none.x * none.x + none.y * none.y + none.z * none.z, 0.0f);
 }
 
 TEST(LightTree, ASingleLightAndLightsAtInfinity) {

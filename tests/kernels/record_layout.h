@@ -17,7 +17,7 @@
   X(__builtin_offsetof(ShadowRecord, contribution)) X(__builtin_offsetof(ShadowRecord, pixel))              \
   X(sizeof(FilmAccumulate)) X(__builtin_offsetof(FilmAccumulate, pass_index))                               \
   X(__builtin_offsetof(FilmAccumulate, per_pixel)) X(__builtin_offsetof(FilmAccumulate, pass_count)) X(__builtin_offsetof(FilmAccumulate, colour_values))      \
-  X(__builtin_offsetof(PathRecord, flags))                                                                  \
+  X(__builtin_offsetof(PathRecord, flags)) X(__builtin_offsetof(PathRecord, light_normal))                  \
   X(sizeof(ShadeParams)) X(__builtin_offsetof(ShadeParams, light_count))                                    \
   X(__builtin_offsetof(ShadeParams, min_weight))                                                            \
   X(sizeof(CameraGPU)) X(__builtin_offsetof(CameraGPU, lens)) X(__builtin_offsetof(CameraGPU, width))        \
