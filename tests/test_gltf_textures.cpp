@@ -137,6 +137,76 @@ TEST(GltfTextures, AnImageUsedForColourAndDataIsStoredBothWays) {
   EXPECT_NEAR(g_of(m.roughness_texture), 204 / 255.0, 1e-3);
 }
 
+// A sampler's wrap modes and filter, and KHR_texture_transform, become the
+// texture record's sampling (lib/texture.h), the transform carried into
+// this format's uv (v up); a use without them reads the same texels
+// plainly; bad values are errors naming their pointer.
+Doc sampled_doc(const json& sampler, const json& transform) {
+  Doc d;
+  d.mesh({1, 0, 0, 0, 1, 0, 0, 0, 1});
+  d.node({{"mesh", 0}});
+  d.j["extensionsUsed"] = {"KHR_texture_transform"};
+  d.j["images"] = {{{"bufferView", d.view(ppm({204, 0, 77, 255}))}, {"mimeType", "image/png"}}};
+  d.j["samplers"] = {sampler};
+  d.j["textures"] = {{{"source", 0}, {"sampler", 0}}};
+  d.j["materials"] = {{{"pbrMetallicRoughness",
+                        {{"baseColorTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", transform}}}}}}},
+                       {"emissiveFactor", {1, 1, 1}},
+                       {"emissiveTexture", {{"index", 0}}}}};
+  d.j["meshes"][0]["primitives"][0]["material"] = 0;
+  return d;
+}
+
+TEST(GltfTextures, SamplersAndTextureTransformsBecomeTheRecordsSampling) {
+  const double pi = 3.14159265358979;
+  Doc d = sampled_doc({{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}},
+                      {{"offset", {0.25, 0.5}}, {"rotation", pi / 2}, {"scale", {2.0, 3.0}}});
+  Scene scene;
+  TextureLibrary textures(scene);
+  const GltfModel g = import_gltf_bytes("sampled.gltf", d.text(), ".", textures, /*allow_files=*/false);
+  for (const std::string& w : g.warnings) ADD_FAILURE() << "unexpected warning: " << w;
+  const Material& m = g.materials[0];
+  ASSERT_GE(m.texture, 0);
+  ASSERT_GE(m.emission_texture, 0);
+  const Texture& t = scene.textures[size_t(m.texture)];
+  const Texture& plain = scene.textures[size_t(m.emission_texture)];
+  EXPECT_EQ(t.sampling, TEXTURE_CLAMP_U | TEXTURE_MIRROR_V | TEXTURE_NEAREST | TEXTURE_TRANSFORMED);
+  EXPECT_EQ(plain.sampling, TEXTURE_CLAMP_U | TEXTURE_MIRROR_V | TEXTURE_NEAREST);  // the sampler, no transform
+  EXPECT_EQ(t.offset, plain.offset);  // the same texels
+  // A point of glTF's uv, (0.2, 0.3), maps to R S uv + offset =
+  // (-3 * 0.3 + 0.25, 2 * 0.2 + 0.5) = (-0.65, 0.9); in ours (v up) the
+  // point is (0.2, 0.7) and its image (-0.65, 0.1).
+  const glm::vec3 u(t.uv_u.x, t.uv_u.y, t.uv_u.z), v(t.uv_v.x, t.uv_v.y, t.uv_v.z);
+  const glm::vec3 ours(0.2f, 0.7f, 1.0f);
+  EXPECT_NEAR(glm::dot(u, ours), -0.65f, 1e-6f);
+  EXPECT_NEAR(glm::dot(v, ours), 0.1f, 1e-6f);
+  // No transform and repeat: the decoded image as it is.
+  Doc repeat = sampled_doc({{"wrapS", 10497}}, {{"offset", {0.0, 0.0}}});
+  Scene scene2;
+  TextureLibrary textures2(scene2);
+  const GltfModel g2 = import_gltf_bytes("plain.gltf", repeat.text(), ".", textures2, false);
+  EXPECT_EQ(g2.materials[0].texture, g2.materials[0].emission_texture);
+  EXPECT_EQ(scene2.textures[size_t(g2.materials[0].texture)].sampling, 0u);
+}
+
+TEST(GltfTextures, BadSamplersAndTransformsNameTheirPointer) {
+  auto error = [](Doc d) {
+    return test::error_of([&] {
+      Scene scene;
+      TextureLibrary textures(scene);
+      import_gltf_bytes("bad.gltf", d.text(), ".", textures, false);
+    });
+  };
+  EXPECT_TRUE(test::Contains(error(sampled_doc({{"wrapS", 1234}}, json::object())),
+                             {"bad.gltf: /samplers/0/wrapS: expected 10497 (REPEAT), 33071 (CLAMP_TO_EDGE) or 33648",
+                              "got 1234"}));
+  EXPECT_TRUE(test::Contains(error(sampled_doc(json::object(), {{"offset", {1.0}}})),
+                             {"/materials/0/pbrMetallicRoughness/baseColorTexture/extensions/KHR_texture_transform/"
+                              "offset: expected an array of 2 finite numbers"}));
+  EXPECT_TRUE(test::Contains(error(sampled_doc(json::object(), {{"texCoord", -1}})),
+                             {"KHR_texture_transform/texCoord"}));
+}
+
 // The photon pass's split (host/scene/features.cpp): a material whose
 // texture reaches a smooth metallic texel casts, one whose texture reaches
 // a rough or dielectric texel receives; both at once here.
@@ -168,6 +238,71 @@ TEST(GltfTextures, APerTexelFloorRendersAsTwoConstantMaterials) {
       test::render_path(floor_scene("mr_const", floor_file(kRoughPlasticAndGlossyMetal, false)), spp, o);
   const int w = textured.image.width;
   // Columns clear of the seam (x = 0 is the image's centre column).
+  auto left = [&](int x, int) { return x < w / 2 - 2; };
+  auto right = [&](int x, int) { return x >= w / 2 + 2; };
+  const test::Mean tl = test::mean_over(textured, left), tr = test::mean_over(textured, right);
+  const test::Mean cl = test::mean_over(constant, left), cr = test::mean_over(constant, right);
+  std::printf("left  textured %.5f +- %.5f  constant %.5f +- %.5f\n", tl.mean, tl.se, cl.mean, cl.se);
+  std::printf("right textured %.5f +- %.5f  constant %.5f +- %.5f\n", tr.mean, tr.se, cr.mean, cr.se);
+  EXPECT_NEAR(tl.mean, cl.mean, 4.0 * std::hypot(tl.se, cl.se));
+  EXPECT_NEAR(tr.mean, cr.mean, 4.0 * std::hypot(tr.se, cr.se));
+  EXPECT_GT(std::fabs(tl.mean - tr.mean), 10.0 * std::hypot(tl.se, tr.se)) << "the two texels look alike";
+}
+
+// glTF multiplies baseColorFactor by baseColorTexture (the coursework
+// format's texture replaces the colour): the floor textured with two
+// colour texels under a factor renders as two constant materials of factor
+// x texel (sRGB-decoded), within noise.
+std::string base_colour_floor(const Texels& t, bool textured) {
+  Doc d;
+  const std::vector<float> pos = {-1, 0, -1, -1, 0, 1, 0, 0, 1, 0, 0, -1, 0, 0, -1, 0, 0, 1, 1, 0, 1, 1, 0, -1};
+  const std::vector<float> uv = {0.1f, 0, 0.1f, 1, 0.4f, 1, 0.4f, 0, 0.6f, 0, 0.6f, 1, 0.9f, 1, 0.9f, 0};
+  const std::vector<uint16_t> left = {0, 1, 2, 0, 2, 3}, right = {4, 5, 6, 4, 6, 7};
+  const int p = d.floats(pos, "VEC3", 3), u = d.floats(uv, "VEC2", 2);
+  auto prim = [&](const std::vector<uint16_t>& idx, int material) {
+    return json{{"attributes", {{"POSITION", p}, {"TEXCOORD_0", u}}},
+                {"indices", d.accessor(d.view(Doc::bytes(idx)), 5123, idx.size(), "SCALAR")},
+                {"material", material}};
+  };
+  const glm::vec3 factor(0.9f, 0.5f, 0.7f);
+  auto material = [&](glm::vec3 colour) {
+    return json{{"pbrMetallicRoughness", {{"baseColorFactor", {colour.x, colour.y, colour.z, 1.0}},
+                                          {"metallicFactor", 0.0}, {"roughnessFactor", 0.6}}}};
+  };
+  if (textured) {
+    d.j["images"] = {{{"bufferView", d.view(ppm(t))}, {"mimeType", "image/png"}}};
+    d.j["textures"] = {{{"source", 0}}};
+    json m = material(factor);
+    m["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    d.j["materials"] = {m};
+    d.j["meshes"] = {{{"primitives", {prim(left, 0), prim(right, 0)}}}};
+  } else {
+    auto texel = [&](int g, int b) {
+      return factor * glm::vec3(0.0f, srgb_byte_to_linear(uint8_t(g)), srgb_byte_to_linear(uint8_t(b)));
+    };
+    d.j["materials"] = {material(texel(t.g_a, t.b_a)), material(texel(t.g_b, t.b_b))};
+    d.j["meshes"] = {{{"primitives", {prim(left, 0), prim(right, 1)}}}};
+  }
+  d.node({{"mesh", 0}});
+  return d.text();
+}
+
+TEST(GltfTextures, BaseColourIsTheFactorTimesTheTexture) {
+  const Texels texels = {230, 60, 40, 200};
+  std::vector<std::string> warnings;
+  LoadOptions lo;
+  lo.warnings = &warnings;
+  const Scene s = load_scene(floor_scene("bc_import", base_colour_floor(texels, true)), lo);
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_TRUE(s.materials[0].flags & MATERIAL_TEXTURE_SCALES);
+  const int spp = int(test::sized(64, 8));
+  test::PathRenderOptions o;
+  o.caustics = CausticsMode::Off;
+  const test::PathRender textured = test::render_path(floor_scene("bc_tex", base_colour_floor(texels, true)), spp, o);
+  o.seed = 7;
+  const test::PathRender constant =
+      test::render_path(floor_scene("bc_const", base_colour_floor(texels, false)), spp, o);
+  const int w = textured.image.width;
   auto left = [&](int x, int) { return x < w / 2 - 2; };
   auto right = [&](int x, int) { return x >= w / 2 + 2; };
   const test::Mean tl = test::mean_over(textured, left), tr = test::mean_over(textured, right);

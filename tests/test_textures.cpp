@@ -372,6 +372,60 @@ TEST_P(Textures, BilinearSamplingWrapsAroundTheBorders) {
   EXPECT_EQ(p[std::size(cases) + 1], vec3(7, 8, 9));
 }
 
+// Wrap modes, the nearest-texel filter and the affine uv map (glTF's
+// sampler and KHR_texture_transform; lib/texture.h), on the same 3x2 image.
+TEST_P(Textures, WrapModesNearestFilterAndUvTransform) {
+  Scene s = sampling_scene();
+  auto with = [&](cs_uint sampling, vec3 uv_u = vec3(1, 0, 0), vec3 uv_v = vec3(0, 1, 0)) {
+    Texture t = s.textures[1];
+    t.sampling = sampling;
+    t.uv_u = to_float4(uv_u);
+    t.uv_v = to_float4(uv_v);
+    s.textures.push_back(t);
+    return int(s.textures.size() - 1);
+  };
+  const int clamp = with(TEXTURE_CLAMP_U | TEXTURE_CLAMP_V), mirror = with(TEXTURE_MIRROR_U | TEXTURE_MIRROR_V);
+  const int nearest = with(TEXTURE_NEAREST);
+  const int swapped = with(TEXTURE_TRANSFORMED, vec3(0, 1, 0), vec3(1, 0, 0));       // u' = v, v' = u
+  const int shifted = with(TEXTURE_TRANSFORMED, vec3(1, 0, 1.0f / 3), vec3(0, 1, 0));  // u' = u + 1/3
+  const int shifted_clamped = with(TEXTURE_TRANSFORMED | TEXTURE_CLAMP_U, vec3(1, 0, 1.0f / 3), vec3(0, 1, 0));
+  const float c0 = 1.0f / 6, c1 = 0.5f, c2 = 5.0f / 6, top = 0.75f, bottom = 0.25f;
+  struct Case {
+    int texture;
+    vec2 uv;
+    vec3 expected;
+    const char* what;
+  };
+  const Case cases[] = {
+      {clamp, {-0.5f, top}, texel(0, 0), "clamp: left of the image reads the left column"},
+      {clamp, {1.5f, top}, texel(2, 0), "clamp: right of it, the right column"},
+      {clamp, {0.0f, top}, texel(0, 0), "clamp: u = 0 does not reach across to the right column"},
+      {clamp, {c1, -0.3f}, texel(1, 1), "clamp: below the image, the bottom row"},
+      {clamp, {c1, 7.0f}, texel(1, 0), "clamp: above it, the top row"},
+      {clamp, {c0, 0.5f}, 0.5f * (texel(0, 0) + texel(0, 1)), "clamp: inside, bilinear as ever"},
+      {mirror, {-c0, top}, texel(0, 0), "mirror: -1/6 is 1/6"},
+      {mirror, {1.0f + c0, top}, texel(2, 0), "mirror: 7/6 is 5/6"},
+      {mirror, {2.0f + c0, top}, texel(0, 0), "mirror: period 2"},
+      {mirror, {1.0f, top}, texel(2, 0), "mirror: the right edge meets its mirror image"},
+      {mirror, {c1, -bottom}, texel(1, 1), "mirror in v"},
+      {nearest, {1.0f / 3 - 0.01f, top}, texel(0, 0), "nearest: just left of the column border"},
+      {nearest, {1.0f / 3 + 0.01f, top}, texel(1, 0), "nearest: just right of it"},
+      {nearest, {0.999f, 0.001f}, texel(2, 1), "nearest: the bottom-right corner"},
+      {nearest, {1.001f, top}, texel(0, 0), "nearest: repeat past u = 1"},
+      {swapped, {top, c0}, texel(0, 0), "transform: uv swapped"},
+      {swapped, {bottom, c2}, texel(2, 1), "transform: uv swapped, the other corner"},
+      {shifted, {c0, top}, texel(1, 0), "transform: u + 1/3 moves one column right"},
+      {shifted, {c2, top}, texel(0, 0), "transform: and wraps"},
+      {shifted_clamped, {c2, top}, texel(2, 0), "transform, then clamp"},
+  };
+  std::vector<std::pair<int, vec2>> lookups;
+  for (const Case& k : cases) lookups.push_back({k.texture, k.uv});
+  const auto p = sample(s, lookups);
+  for (size_t i = 0; i < std::size(cases); ++i)
+    EXPECT_LT(glm::length(p[i] - cases[i].expected), 2e-4f)
+        << cases[i].what << ": got " << str(p[i]) << " expected " << str(cases[i].expected);
+}
+
 TEST_P(Textures, CheckerPattern) {
   const Scene s = sampling_scene();
   const vec3 even(1, 0, 0), odd(0, 0, 1);

@@ -17,7 +17,8 @@ static_assert(sizeof(Triangle) == 64 && offsetof(Triangle, v1) == 16 && offsetof
 static_assert(sizeof(TriangleShading) == 80 && offsetof(TriangleShading, n2) == 32 &&
                   offsetof(TriangleShading, u0) == 48 && offsetof(TriangleShading, u2) == 64,
               "TriangleShading layout");
-static_assert(sizeof(Texture) == 64 && offsetof(Texture, kind) == 32 && offsetof(Texture, scale) == 48,
+static_assert(sizeof(Texture) == 96 && offsetof(Texture, kind) == 64 && offsetof(Texture, scale) == 80 &&
+                  offsetof(Texture, sampling) == 84,
               "Texture layout");
 static_assert(sizeof(BvhNode8) == 256 && offsetof(BvhNode8, hi_x) == 32 && offsetof(BvhNode8, lo_y) == 64 &&
                   offsetof(BvhNode8, hi_z) == 160 && offsetof(BvhNode8, child) == 192 &&

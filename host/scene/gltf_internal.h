@@ -104,7 +104,11 @@ void convert_materials(Context& ctx);
 // metallicRoughnessTexture) the texels hold the 8-bit codes / 255 as they
 // are, not sRGB-decoded, and an unreadable image gives -1 (the factors
 // alone, with a warning): a checker would be read as roughness.
+// The textureInfo's KHR_texture_transform and its texture's sampler (wrap
+// modes, magnification filter) give the record its sampling (lib/texture.h).
 int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::string& pointer,
                   bool linear_data = false);
+// /textures/<t>'s image as decoded (repeat, bilinear, untransformed).
+int decoded_texture(Context& ctx, size_t t, const std::string& pointer, bool linear_data);
 
 }  // namespace caustica::gltf_detail

@@ -65,6 +65,7 @@ class MaterialMapper {
     // Phong's exponent for the same lobe width (material.h's inverse map).
     out.specular_exponent = alpha > 0.0f ? std::min(2.0f / (alpha * alpha) - 2.0f, 1e4f) : 1e4f;
     out.diffuse = to_float4(glm::vec3(base), 1.0f);
+    if (out.texture >= 0) out.flags |= MATERIAL_TEXTURE_SCALES;  // factor x texture, as glTF multiplies them
     if (base.w < 1.0f || in.alphaMode != "OPAQUE")
       ctx_.warn_once("alpha", mp + "/alphaMode", "transparency by alpha (alphaMode " + in.alphaMode +
                                                      ", base colour alpha) is not supported; rendered opaque");

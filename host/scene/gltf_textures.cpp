@@ -2,8 +2,10 @@
 // data URI, or an external file tinygltf read through our bounded callbacks)
 // stay encoded until a material uses them, then decode through the same
 // checked decoder as every texture (textures.cpp: sizes against host/limits.h
-// before any pixel is allocated). Samplers other than repeat, and texture
-// coordinate sets other than TEXCOORD_0, are named in warnings.
+// before any pixel is allocated). A sampler's wrap modes and magnification
+// filter, and a use's KHR_texture_transform, become the Texture record's
+// sampling (lib/texture.h), one record per distinct way an image is read.
+// Texture coordinate sets other than TEXCOORD_0 are named in warnings.
 #include <cmath>
 
 #include "host/scene/gltf_internal.h"
@@ -45,6 +47,56 @@ std::string decode(Context& ctx, size_t t, const std::string& pointer, LinearIma
   return why.empty() ? why : ip + ": " + why;
 }
 
+// A sampler's wrap mode as Texture.sampling's bits for one axis.
+cs_uint wrap_bits(const Context& ctx, int mode, cs_uint clamp_bit, cs_uint mirror_bit, const std::string& pointer) {
+  switch (mode) {
+    case TINYGLTF_TEXTURE_WRAP_REPEAT: return 0u;
+    case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return clamp_bit;
+    case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return mirror_bit;
+    default:
+      ctx.fail(pointer, "expected 10497 (REPEAT), 33071 (CLAMP_TO_EDGE) or 33648 (MIRRORED_REPEAT), got " +
+                            std::to_string(mode));
+  }
+}
+
+// `count` finite numbers of a KHR_texture_transform property.
+std::vector<double> transform_numbers(const Context& ctx, const tinygltf::Value& ext, const char* key, size_t count,
+                                      std::vector<double> fallback, const std::string& pointer) {
+  if (!ext.Has(key)) return fallback;
+  const tinygltf::Value& v = ext.Get(key);
+  const std::string p = pointer + "/" + key;
+  const std::string expected = count == 1 ? "a finite number" : "an array of " + std::to_string(count) + " finite numbers";
+  if (count == 1) {
+    if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble())) ctx.fail(p, "expected " + expected);
+    return {v.GetNumberAsDouble()};
+  }
+  if (!v.IsArray() || v.ArrayLen() != count) ctx.fail(p, "expected " + expected);
+  std::vector<double> out;
+  for (size_t i = 0; i < count; ++i) {
+    const tinygltf::Value& e = v.Get(int(i));
+    if (!e.IsNumber() || !std::isfinite(e.GetNumberAsDouble())) ctx.fail(p + "/" + std::to_string(i), "expected a finite number");
+    out.push_back(e.GetNumberAsDouble());
+  }
+  return out;
+}
+
+// KHR_texture_transform's map in this format's uv. The extension's is
+// uv' = T(offset) R(rotation) S(scale) uv in glTF's uv, whose v runs down
+// the image (R = [cos -sin; sin cos], as its GLSL writes it column by
+// column); ours has v' = 1 - v on both sides, so with glTF's rows (a b c),
+// (d e f): u' = a u - b v + (b + c), v' = -d u + e v + (1 - e - f).
+void texture_transform(const Context& ctx, const tinygltf::Value& ext, const std::string& pointer, glm::vec3* uv_u,
+                       glm::vec3* uv_v) {
+  if (!ext.IsObject()) ctx.fail(pointer, "expected an object");
+  const std::vector<double> offset = transform_numbers(ctx, ext, "offset", 2, {0.0, 0.0}, pointer);
+  const double rotation = transform_numbers(ctx, ext, "rotation", 1, {0.0}, pointer)[0];
+  const std::vector<double> scale = transform_numbers(ctx, ext, "scale", 2, {1.0, 1.0}, pointer);
+  const double c = std::cos(rotation), s = std::sin(rotation);
+  const double a = c * scale[0], b = -s * scale[1], d = s * scale[0], e = c * scale[1];
+  *uv_u = glm::vec3(float(a), float(-b), float(b + offset[0]));
+  *uv_v = glm::vec3(float(-d), float(e), float(1.0 - e - offset[1]));
+}
+
 double srgb_encode(double linear) {
   return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
 }
@@ -53,21 +105,38 @@ double srgb_encode(double linear) {
 
 int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::string& pointer, bool linear_data) {
   const size_t t = checked_index(ctx, info.index, ctx.model.textures.size(), pointer + "/index", "textures");
-  if (info.texCoord != 0)
+  int tex_coord = info.texCoord;
+  cs_uint sampling = 0u;
+  glm::vec3 uv_u(1.0f, 0.0f, 0.0f), uv_v(0.0f, 1.0f, 0.0f);
+  if (auto it = info.extensions.find("KHR_texture_transform"); it != info.extensions.end()) {
+    const std::string tp = pointer + "/extensions/KHR_texture_transform";
+    texture_transform(ctx, it->second, tp, &uv_u, &uv_v);
+    if (uv_u != glm::vec3(1.0f, 0.0f, 0.0f) || uv_v != glm::vec3(0.0f, 1.0f, 0.0f)) sampling |= TEXTURE_TRANSFORMED;
+    if (it->second.Has("texCoord")) {
+      const tinygltf::Value& v = it->second.Get("texCoord");
+      if (!v.IsInt() || v.Get<int>() < 0) ctx.fail(tp + "/texCoord", "expected a non-negative integer");
+      tex_coord = v.Get<int>();  // overrides the textureInfo's (the extension says)
+    }
+  }
+  if (tex_coord != 0)
     ctx.warn_once("texCoord", pointer + "/texCoord", "texture coordinate sets other than TEXCOORD_0 are not "
                                                      "supported; TEXCOORD_0 is used");
-  if (info.extensions.count("KHR_texture_transform"))
-    ctx.warn_once("texture transform", pointer + "/extensions/KHR_texture_transform",
-                  "KHR_texture_transform is not supported; the texture is applied untransformed");
   const tinygltf::Texture& tex = ctx.model.textures[t];
   if (tex.sampler >= 0) {
     const size_t s = checked_index(ctx, tex.sampler, ctx.model.samplers.size(),
                                    "/textures/" + std::to_string(t) + "/sampler", "samplers");
     const tinygltf::Sampler& sampler = ctx.model.samplers[s];
-    if (sampler.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT || sampler.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT)
-      ctx.warn_once("wrap", "/samplers/" + std::to_string(s),
-                    "clamped and mirrored texture wrapping are not supported; textures repeat");
+    const std::string sp = "/samplers/" + std::to_string(s);
+    sampling |= wrap_bits(ctx, sampler.wrapS, TEXTURE_CLAMP_U, TEXTURE_MIRROR_U, sp + "/wrapS");
+    sampling |= wrap_bits(ctx, sampler.wrapT, TEXTURE_CLAMP_V, TEXTURE_MIRROR_V, sp + "/wrapT");
+    // Magnification decides: no mip-maps here, and a path tracer's texels
+    // are mostly seen up close (FORMAT.md).
+    if (sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST) sampling |= TEXTURE_NEAREST;
   }
+  return ctx.textures.sampled(decoded_texture(ctx, t, pointer, linear_data), sampling, uv_u, uv_v);
+}
+
+int decoded_texture(Context& ctx, size_t t, const std::string& pointer, bool linear_data) {
   // Decoded once per texture and use (colour or data) however many
   // materials use it.
   const std::pair<size_t, bool> key(t, linear_data);

@@ -404,6 +404,20 @@ std::string TextureLibrary::add_image(const std::string& key, const LinearImage&
   return "";
 }
 
+int TextureLibrary::sampled(int base, cs_uint sampling, const glm::vec3& uv_u, const glm::vec3& uv_v) {
+  if (sampling == 0u || base < 0 || scene_.textures[size_t(base)].kind != TEXTURE_IMAGE) return base;
+  const std::vector<float> key = {float(base), float(sampling), uv_u.x, uv_u.y, uv_u.z, uv_v.x, uv_v.y, uv_v.z};
+  if (auto it = sampled_.find(key); it != sampled_.end()) return it->second;
+  Texture tex = scene_.textures[size_t(base)];
+  tex.sampling = sampling;
+  if (sampling & TEXTURE_TRANSFORMED) {
+    tex.uv_u = to_float4(uv_u);
+    tex.uv_v = to_float4(uv_v);
+  }
+  scene_.textures.push_back(tex);
+  return sampled_[key] = static_cast<int>(scene_.textures.size() - 1);
+}
+
 int TextureLibrary::checker(const glm::vec3& color1, const glm::vec3& color2, float scale) {
   Texture tex{};
   tex.kind = TEXTURE_CHECKER;

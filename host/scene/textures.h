@@ -65,12 +65,18 @@ class TextureLibrary {
   std::string add_image(const std::string& key, const LinearImage& image, int* index);
   // The visible stand-in for a texture that cannot be read: a magenta/black checker.
   int fallback();
+  // Image texture `base` read another way (Texture.sampling bits, and with
+  // TEXTURE_TRANSFORMED the affine uv map whose rows are uv_u, uv_v): a
+  // record sharing its texels, once per distinct way. A checker is
+  // returned as it is.
+  int sampled(int base, cs_uint sampling, const glm::vec3& uv_u, const glm::vec3& uv_v);
 
  private:
   Scene& scene_;
   std::map<std::string, int> by_path_;
   std::map<std::string, std::string> failed_;  // resolved path -> why it could not be read
   int fallback_ = -1;
+  std::map<std::vector<float>, int> sampled_;  // (base, sampling, uv_u, uv_v) -> index
 };
 
 }  // namespace caustica

@@ -83,9 +83,12 @@ inline float3 material_texel_or(__global const Texture* textures, __global const
 }
 
 /* m's diffuse colour at uv: its texture's texel (an image or checker
- * texture replaces the colour), else its own. */
+ * texture replaces the colour; with MATERIAL_TEXTURE_SCALES, as glTF's
+ * base colour, it scales it), else its own. */
 inline float3 material_diffuse_colour(__global const Material* m, __global const Texture* textures,
                                       __global const ushort* texels, float2 uv) {
+  if (m->flags & MATERIAL_TEXTURE_SCALES)
+    return m->diffuse.xyz * material_texel_or(textures, texels, m->texture, uv, splat_float3(1.0f));
   return material_texel_or(textures, texels, m->texture, uv, m->diffuse.xyz);
 }
 

@@ -108,18 +108,33 @@ typedef struct {
 #define TEXTURE_IMAGE 0u
 #define TEXTURE_CHECKER 1u
 
+/* Texture.sampling: how uv become texels (lib/texture.h; zero is what the
+ * coursework format means: repeat both ways, bilinear, uv as they are).
+ * Wrap modes per axis (glTF sampler's wrapS / wrapT): repeat (no bit),
+ * clamp to edge, mirrored repeat. */
+#define TEXTURE_CLAMP_U 1u
+#define TEXTURE_MIRROR_U 2u
+#define TEXTURE_CLAMP_V 4u
+#define TEXTURE_MIRROR_V 8u
+#define TEXTURE_NEAREST 16u     /* the nearest texel (glTF magFilter NEAREST) instead of bilinear */
+#define TEXTURE_TRANSFORMED 32u /* uv pass through the affine map uv_u, uv_v first (KHR_texture_transform) */
+
 /* One texture of the scene. Image texels of every texture live in one buffer
  * of linear-RGB half floats (4 halves a texel, alpha unused), row-major from
- * the top row, texture i starting at texel `offset`. */
+ * the top row, texture i starting at texel `offset`. Several Texture records
+ * may share texels (one image under different samplers or transforms). */
 typedef struct {
   cs_float4 color1; /* checker: colour of even squares (linear rgb) */
   cs_float4 color2; /* checker: colour of odd squares */
+  cs_float4 uv_u;   /* TEXTURE_TRANSFORMED: u' = uv_u.x u + uv_u.y v + uv_u.z (in this format's uv: v up); w unused */
+  cs_float4 uv_v;   /* TEXTURE_TRANSFORMED: v' = uv_v.x u + uv_v.y v + uv_v.z; w unused */
   cs_uint kind;     /* TEXTURE_IMAGE or TEXTURE_CHECKER */
   cs_uint offset;   /* image: first texel */
   cs_uint width, height;
-  float scale; /* checker: squares per unit of u and v */
-  cs_uint pad0, pad1, pad2;
-} Texture; /* 64 bytes */
+  float scale;      /* checker: squares per unit of u and v */
+  cs_uint sampling; /* TEXTURE_* bits above */
+  cs_uint pad0, pad1;
+} Texture; /* 96 bytes */
 
 /* 8-wide BVH, the layout the kernels traverse (host/accel/bvh_wide.cpp
  * collapses the BVH2 above into it; kernels/lib/bvh_traverse.h). Child
@@ -168,6 +183,9 @@ typedef struct {
 #define MATERIAL_REFLECTIVE 1u
 #define MATERIAL_REFRACTIVE 2u
 #define MATERIAL_TWO_SIDED 4u /* path mode: emission leaves both sides ("twosided") */
+/* the texture's texel scales the diffuse colour (glTF: baseColorFactor x
+ * baseColorTexture) instead of replacing it (the coursework format's textures) */
+#define MATERIAL_TEXTURE_SCALES 8u
 
 typedef struct {
   cs_float4 diffuse;  /* rgb diffuse colour, w = kd */

@@ -26,7 +26,7 @@
   X(sizeof(Material)) X(__builtin_offsetof(Material, specular_exponent))                                   \
   X(__builtin_offsetof(Material, texture)) X(sizeof(Sphere)) X(sizeof(Cylinder))    \
   X(sizeof(Triangle)) X(sizeof(TriangleShading)) X(__builtin_offsetof(TriangleShading, u2))               \
-  X(sizeof(Texture)) X(__builtin_offsetof(Texture, scale)) X(sizeof(BvhNode8))                             \
+  X(sizeof(Texture)) X(__builtin_offsetof(Texture, scale)) X(__builtin_offsetof(Texture, sampling)) X(__builtin_offsetof(Texture, uv_v)) X(sizeof(BvhNode8))                             \
   X(__builtin_offsetof(BvhNode8, child)) X(__builtin_offsetof(BvhNode8, height)) X(sizeof(TriangleBlock4)) \
   X(__builtin_offsetof(TriangleBlock4, ref)) X(sizeof(Photon)) X(__builtin_offsetof(Photon, wi))               \
   X(__builtin_offsetof(Photon, power)) X(sizeof(PhotonGridParams))                                           \
