@@ -9,9 +9,10 @@
  * Rules: the importance of a node at point p with normal n bounds what its
  * lights can send there: power / distance^2, times the cosine of the
  * smallest angle between the direction to p and the emission cone (widened
- * by the cone the node's box subtends from p), times the cosine of the
- * smallest angle between the normal and that box's cone, on the side the
- * normal faces (lib/light_pick.h says which normal). A light's pmf
+ * by the cone the node's box subtends from p), times how far the box's
+ * sphere rises above the receiving surface, cos(angle to the normal) +
+ * sin(the sphere's half-angle), on the side the normal faces
+ * (lib/light_pick.h says which normal). A light's pmf
  * (light_tree_pmf) repeats the sampling's arithmetic along its trail, so it
  * is the exact probability that light_tree_sample picks it from (p, n):
  * MIS reads it for BSDF-sampled hits. Where neither child can light the
@@ -58,11 +59,23 @@ inline float light_tree_importance(__global const LightTreeNode* node, float3 p,
    * gives cos_p = 1). */
   if (cos_o <= -1.0f && !has_normal) return power / dist2;
   const float dist = sqrt(dist2);
-  const float3 wi = to_p / dist;
-  const float sin_b2 = radius2 / dist2;
-  const float cos_b = sqrt(fmax(0.0f, 1.0f - sin_b2)), sin_b = sqrt(sin_b2);
   float importance = power / dist2;
+  if (has_normal) {
+    /* One-sided: the receiving surface takes light from the side n faces.
+     * cos(angle to n) + sin(the box's half-angle) = (-p.n + r) / d is
+     * above 0 exactly where some of the box's sphere is above the surface
+     * (where cos(max(0, theta - theta_b)) is), for one square root where
+     * that form takes four; 1e-3 of slack (about as many radians at the
+     * horizon) for the packed normal's rounding (lib/light_pick.h). A node
+     * wholly below the surface gets nothing. */
+    const float radius = sqrt(radius2);
+    importance *= clamp((radius - dot(to_p, n)) / dist + 1e-3f, 0.0f, 1.0f);
+    if (!(importance > 0.0f)) return 0.0f;
+  }
   if (cos_o > -1.0f) {
+    const float3 wi = to_p / dist;
+    const float sin_b2 = radius2 / dist2;
+    const float cos_b = sqrt(fmax(0.0f, 1.0f - sin_b2)), sin_b = sqrt(sin_b2);
     float cos_w = dot(node->axis.xyz, wi);
     if (node->flags & LIGHT_TREE_TWO_SIDED) cos_w = fabs(cos_w);
     const float sin_w = sqrt(fmax(0.0f, 1.0f - cos_w * cos_w));
@@ -74,15 +87,6 @@ inline float light_tree_importance(__global const LightTreeNode* node, float3 p,
      * theta_e is 0, and inside its cone cos_p is 1). */
     if (cos_p < node->axis.w) return 0.0f;
     importance *= cos_p;
-  }
-  if (has_normal) {
-    /* One-sided: the receiving surface takes light from the side n faces
-     * (the direction to the node is -wi). The smallest angle between n and
-     * the box's cone, less 1e-3 radians for the packed normal's rounding
-     * (lib/light_pick.h): a node wholly below the surface gets nothing. */
-    const float cos_n = clamp(-dot(wi, n), -1.0f, 1.0f), sin_n = sqrt(fmax(0.0f, 1.0f - cos_n * cos_n));
-    const float cos_i = cos_n * 0.9999995f + sin_n * 1e-3f, sin_i = sqrt(fmax(0.0f, 1.0f - cos_i * cos_i));
-    importance *= light_tree_cos_sub_clamped(sin_i, cos_i, sin_b, cos_b);
   }
   return fmax(importance, 0.0f);
 }
