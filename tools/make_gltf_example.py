@@ -5,7 +5,8 @@ copied from anywhere: the example scene scenes/gltf_example.gltf (rendered by
 fuzz target, fuzz/corpus/fuzz_gltf/ (small valid .gltf and .glb files that
 reach every part of the importer: indices of each type, interleaved views,
 strips and fans, TRS and matrix nodes, cameras, the three punctual lights,
-every material extension we read, an embedded PNG texture).
+every material extension we read, an embedded PNG texture, samplers and
+texture transforms).
     tools/make_gltf_example.py            # rewrites both
 Deterministic: the same files on every run."""
 import base64, json, math, os, struct, zlib
@@ -235,6 +236,20 @@ def seeds():
         b.node({"translation": [0, 2, i], "extensions": {"KHR_lights_punctual": {"light": i}}})
     out["materials_lights.gltf"] = b.gltf([0, 1, 2, 3])
     out["materials_lights.glb"] = b.glb([0, 1, 2, 3])
+    # Samplers (clamp, mirror, nearest) and KHR_texture_transform on the
+    # base colour and emissive textures of one image.
+    b = Builder()
+    b.doc["extensionsUsed"] = ["KHR_texture_transform"]
+    b.doc["images"] = [{"bufferView": b.view(png_checker(4)), "mimeType": "image/png"}]
+    b.doc["samplers"] = [{"wrapS": 33071, "wrapT": 33648, "magFilter": 9728}, {"wrapS": 33648, "minFilter": 9987}]
+    b.doc["textures"] = [{"source": 0, "sampler": 0}, {"source": 0, "sampler": 1}]
+    transform = {"KHR_texture_transform": {"offset": [0.25, -0.5], "rotation": 0.4, "scale": [2, -1], "texCoord": 0}}
+    b.doc["materials"] = [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.5, 0.3, 1],
+                                                    "baseColorTexture": {"index": 0, "extensions": transform}},
+                           "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 1}}]
+    b.mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 0, 1]] * 3, [[0, 0], [3, 0], [0, -2]], [0, 1, 2], 0)
+    b.node({"mesh": 0})
+    out["samplers_transform.gltf"] = b.gltf([0])
     return out
 
 
