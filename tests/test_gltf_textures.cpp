@@ -179,13 +179,15 @@ TEST(GltfTextures, SamplersAndTextureTransformsBecomeTheRecordsSampling) {
   EXPECT_EQ(t.sampling, TEXTURE_CLAMP_U | TEXTURE_MIRROR_V | TEXTURE_NEAREST | TEXTURE_TRANSFORMED);
   EXPECT_EQ(plain.sampling, TEXTURE_CLAMP_U | TEXTURE_MIRROR_V | TEXTURE_NEAREST);  // the sampler, no transform
   EXPECT_EQ(t.offset, plain.offset);  // the same texels
-  // A point of glTF's uv, (0.2, 0.3), maps to R S uv + offset =
-  // (-3 * 0.3 + 0.25, 2 * 0.2 + 0.5) = (-0.65, 0.9); in ours (v up) the
-  // point is (0.2, 0.7) and its image (-0.65, 0.1).
+  // A point of glTF's uv, (0.2, 0.3), maps to R S uv + offset with R =
+  // [cos sin; -sin cos] at a quarter turn: (3 * 0.3 + 0.25, -2 * 0.2 +
+  // 0.5) = (1.15, 0.1); in ours (v up) the point is (0.2, 0.7) and its
+  // image (1.15, 0.9). (The direction is the extension's test model's:
+  // docs/gltf.md.)
   const glm::vec3 u(t.uv_u.x, t.uv_u.y, t.uv_u.z), v(t.uv_v.x, t.uv_v.y, t.uv_v.z);
   const glm::vec3 ours(0.2f, 0.7f, 1.0f);
-  EXPECT_NEAR(glm::dot(u, ours), -0.65f, 1e-6f);
-  EXPECT_NEAR(glm::dot(v, ours), 0.1f, 1e-6f);
+  EXPECT_NEAR(glm::dot(u, ours), 1.15f, 1e-6f);
+  EXPECT_NEAR(glm::dot(v, ours), 0.9f, 1e-6f);
   // No transform and repeat: the decoded image as it is.
   Doc repeat = sampled_doc({{"wrapS", 10497}}, {{"offset", {0.0, 0.0}}});
   Scene scene2;

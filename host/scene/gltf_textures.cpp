@@ -82,9 +82,12 @@ std::vector<double> transform_numbers(const Context& ctx, const tinygltf::Value&
 
 // KHR_texture_transform's map in this format's uv. The extension's is
 // uv' = T(offset) R(rotation) S(scale) uv in glTF's uv, whose v runs down
-// the image (R = [cos -sin; sin cos], as its GLSL writes it column by
-// column); ours has v' = 1 - v on both sides, so with glTF's rows (a b c),
-// (d e f): u' = a u - b v + (b + c), v' = -d u + e v + (1 - e - f).
+// the image, with R = [cos sin; -sin cos]: what the extension's own test
+// model (TextureTransformTest: the arrow must point at the green marker,
+// not the red one) shows as correct; its README's GLSL, read column by
+// column, turns the other way. Ours has v' = 1 - v on both sides, so with
+// glTF's rows (a b c), (d e f): u' = a u - b v + (b + c),
+// v' = -d u + e v + (1 - e - f).
 void texture_transform(const Context& ctx, const tinygltf::Value& ext, const std::string& pointer, glm::vec3* uv_u,
                        glm::vec3* uv_v) {
   if (!ext.IsObject()) ctx.fail(pointer, "expected an object");
@@ -92,7 +95,7 @@ void texture_transform(const Context& ctx, const tinygltf::Value& ext, const std
   const double rotation = transform_numbers(ctx, ext, "rotation", 1, {0.0}, pointer)[0];
   const std::vector<double> scale = transform_numbers(ctx, ext, "scale", 2, {1.0, 1.0}, pointer);
   const double c = std::cos(rotation), s = std::sin(rotation);
-  const double a = c * scale[0], b = -s * scale[1], d = s * scale[0], e = c * scale[1];
+  const double a = c * scale[0], b = s * scale[1], d = -s * scale[0], e = c * scale[1];
   *uv_u = glm::vec3(float(a), float(-b), float(b + offset[0]));
   *uv_v = glm::vec3(float(-d), float(e), float(1.0 - e - offset[1]));
 }
