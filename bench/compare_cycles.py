@@ -462,6 +462,7 @@ def build_blender_scene(bpy, scene, desc, job):
     cy.sample_clamp_direct = 0.0
     cy.sample_clamp_indirect = 0.0
     cy.light_sampling_threshold = 0.0
+    cy.use_light_tree = True  # its default since Blender 3.5, set so that the comparison says it
     cy.blur_glossy = 0.0
     cy.caustics_reflective = True
     cy.caustics_refractive = True

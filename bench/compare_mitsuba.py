@@ -1071,7 +1071,7 @@ def cycles_row(args, cy, desc, w, h, folder, stem):
            "probe": {"time_limit_s": probe_s, "wall_s": p["wall_s"], "spp": p.get("samples"),
                      "sync_s": p.get("sync_s"), "after_s": p.get("after_s")},
            "settings": "CPU, %d threads, time_limit %.2f s, samples 2^24, adaptive sampling off, denoising off, "
-                       "clamping off, light threshold 0, blur_glossy 0, box filter 1 px, seed %d"
+                       "clamping off, light tree on, light threshold 0, blur_glossy 0, box filter 1 px, seed %d"
                        % (args.threads, limit, cy.args.seed)}
     log("%s: Cycles: %s spp in %.2f s" % (stem, spp, info["wall_s"]))
     return values, row
