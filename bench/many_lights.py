@@ -238,12 +238,14 @@ def scenes(width, height, out_dir):
 def measure(name, d, args):
     scene = caustica.load(d) if isinstance(d, pathlib.Path) else caustica.load_dict(d, name=name)
     counts = scene.counts
-    reference = caustica.render(scene, light_sampler="tree", time=args.reference_seconds, seed=1000, quiet=True)
+    # The size given (a glTF file's own camera would make its image 800 px wide).
+    size = dict(width=args.width, height=args.height)
+    reference = caustica.render(scene, light_sampler="tree", time=args.reference_seconds, seed=1000, quiet=True, **size)
     rows = []
     for sampler in ("tree", "power", "uniform"):
         errors, spps = [], []
         for seed in range(args.seeds):
-            r = caustica.render(scene, light_sampler=sampler, time=args.seconds, seed=seed, quiet=True)
+            r = caustica.render(scene, light_sampler=sampler, time=args.seconds, seed=seed, quiet=True, **size)
             errors.append(caustica.diff(r, reference))
             spps.append(r.spp)
             if seed == 0:

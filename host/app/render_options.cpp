@@ -175,7 +175,7 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
       "over queues) or paths (whole paths per work-item, one kernel); the same image either way");
   render_cmd->add_option_function<std::string>(
       "--light-sampler", [&a](const std::string& s) { a.session.light_sampler = parse_light_sampler(s); },
-      "path: how next-event estimation picks a light: auto (default: the light tree above 8 lights), tree, power "
+      "path: how next-event estimation picks a light: auto (default: the light tree above 3 lights), tree, power "
       "(one CDF by power) or uniform");
   render_cmd->add_flag("--check-numerics", a.session.check_numerics,
                        "path: count NaN/Inf and negative samples and the BSDF weights of every bounce (energy gain), "

@@ -257,7 +257,7 @@ def render(scene: Union[Scene, PathLike], *, mode: Optional[str] = None, spp: Op
     seed: the sample sequences' seed (default 0)
     adaptive: adaptive sampling (default True); False samples every pixel alike
     caustics: "auto" (default), "on"/True, "off"/False: the photon pass
-    light_sampler: "auto" (default: the light tree above 8 lights), "tree", "power", "uniform"
+    light_sampler: "auto" (default: the light tree above 3 lights), "tree", "power", "uniform"
     device: an OpenCL device index, name substring, "cpu" or "gpu" (see devices())
     width, height: the image size (one keeps the camera's aspect)
     target_error: stop when the estimated relMSE reaches it

@@ -37,7 +37,7 @@ struct PathRenderOptions {
   bool aux_passes = false;  // the film's albedo, normal and depth passes (host/render/film.h)
   int width = 0, height = 0;  // 0: the scene camera's
   KernelShape kernel_shape = KernelShape::Auto;  // auto: the device's (paths on a CPU)
-  LightSampler light_sampler = LightSampler::Auto;  // auto: the product's default (the tree above 8 lights)
+  LightSampler light_sampler = LightSampler::Auto;  // auto: the product's default (the tree above 3 lights)
   std::function<void(const Film&)> inspect;  // called with the film after the render
 };
 
