@@ -108,7 +108,5 @@ void convert_materials(Context& ctx);
 // modes, magnification filter) give the record its sampling (lib/texture.h).
 int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::string& pointer,
                   bool linear_data = false);
-// /textures/<t>'s image as decoded (repeat, bilinear, untransformed).
-int decoded_texture(Context& ctx, size_t t, const std::string& pointer, bool linear_data);
 
 }  // namespace caustica::gltf_detail

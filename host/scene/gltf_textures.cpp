@@ -104,6 +104,36 @@ double srgb_encode(double linear) {
   return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
 }
 
+// /textures/<t>'s image as decoded (repeat, bilinear, untransformed): the
+// record image_texture reads another way where a sampler or transform asks.
+int decoded_texture(Context& ctx, size_t t, const std::string& pointer, bool linear_data) {
+  // Decoded once per texture and use (colour or data) however many
+  // materials use it.
+  const std::pair<size_t, bool> key(t, linear_data);
+  if (auto it = ctx.texture_indices.find(key); it != ctx.texture_indices.end()) return it->second;
+  LinearImage img;
+  size_t image_index = 0;
+  std::string why = decode(ctx, t, pointer, img, &image_index);
+  int index = -1;
+  if (why.empty()) {
+    // The decoder turned 8-bit codes into linear light; data textures mean
+    // the codes themselves.
+    if (linear_data)
+      for (float& v : img.rgb) v = static_cast<float>(srgb_encode(v));
+    why = ctx.textures.add_image(ctx.file + "#image" + std::to_string(image_index) + (linear_data ? "#linear" : ""),
+                                 img, &index);
+  }
+  if (why.empty()) return ctx.texture_indices[key] = index;
+  if (linear_data) {
+    ctx.warn(pointer,
+             "texture /textures/" + std::to_string(t) + " cannot be read: " + why + "; its factors are used alone");
+    return ctx.texture_indices[key] = -1;
+  }
+  ctx.warn(pointer, "texture /textures/" + std::to_string(t) + " cannot be read: " + why +
+                        "; using a magenta/black checker");
+  return ctx.texture_indices[key] = ctx.textures.fallback();
+}
+
 }  // namespace
 
 int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::string& pointer, bool linear_data) {
@@ -137,34 +167,6 @@ int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::st
     if (sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST) sampling |= TEXTURE_NEAREST;
   }
   return ctx.textures.sampled(decoded_texture(ctx, t, pointer, linear_data), sampling, uv_u, uv_v);
-}
-
-int decoded_texture(Context& ctx, size_t t, const std::string& pointer, bool linear_data) {
-  // Decoded once per texture and use (colour or data) however many
-  // materials use it.
-  const std::pair<size_t, bool> key(t, linear_data);
-  if (auto it = ctx.texture_indices.find(key); it != ctx.texture_indices.end()) return it->second;
-  LinearImage img;
-  size_t image_index = 0;
-  std::string why = decode(ctx, t, pointer, img, &image_index);
-  int index = -1;
-  if (why.empty()) {
-    // The decoder turned 8-bit codes into linear light; data textures mean
-    // the codes themselves.
-    if (linear_data)
-      for (float& v : img.rgb) v = static_cast<float>(srgb_encode(v));
-    why = ctx.textures.add_image(ctx.file + "#image" + std::to_string(image_index) + (linear_data ? "#linear" : ""),
-                                 img, &index);
-  }
-  if (why.empty()) return ctx.texture_indices[key] = index;
-  if (linear_data) {
-    ctx.warn(pointer,
-             "texture /textures/" + std::to_string(t) + " cannot be read: " + why + "; its factors are used alone");
-    return ctx.texture_indices[key] = -1;
-  }
-  ctx.warn(pointer, "texture /textures/" + std::to_string(t) + " cannot be read: " + why +
-                        "; using a magenta/black checker");
-  return ctx.texture_indices[key] = ctx.textures.fallback();
 }
 
 }  // namespace caustica::gltf_detail
