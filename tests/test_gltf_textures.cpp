@@ -45,13 +45,19 @@ std::string ppm(const Texels& t) {
 // A 2 x 2 floor in y = 0 made of two quads, x < 0 and x > 0, whose u covers
 // [0.1, 0.4] and [0.6, 0.9]: one texel each; the quads' materials are
 // left_material and right_material. Adds the mesh and its node to d.
-void add_floor(Doc& d, int left_material, int right_material) {
+// With `colours` (8 x 4 bytes), a COLOR_0 of normalized unsigned bytes.
+void add_floor(Doc& d, int left_material, int right_material, const std::vector<uint8_t>& colours = {}) {
   const std::vector<float> pos = {-1, 0, -1, -1, 0, 1, 0, 0, 1, 0, 0, -1, 0, 0, -1, 0, 0, 1, 1, 0, 1, 1, 0, -1};
   const std::vector<float> uv = {0.1f, 0, 0.1f, 1, 0.4f, 1, 0.4f, 0, 0.6f, 0, 0.6f, 1, 0.9f, 1, 0.9f, 0};
   const std::vector<uint16_t> left = {0, 1, 2, 0, 2, 3}, right = {4, 5, 6, 4, 6, 7};
   const int p = d.floats(pos, "VEC3", 3), u = d.floats(uv, "VEC2", 2);
+  json attributes = {{"POSITION", p}, {"TEXCOORD_0", u}};
+  if (!colours.empty()) {
+    attributes["COLOR_0"] = d.accessor(d.view(Doc::bytes(colours)), 5121, 8, "VEC4");
+    d.j["accessors"].back()["normalized"] = true;
+  }
   auto prim = [&](const std::vector<uint16_t>& idx, int material) {
-    return json{{"attributes", {{"POSITION", p}, {"TEXCOORD_0", u}}},
+    return json{{"attributes", attributes},
                 {"indices", d.accessor(d.view(Doc::bytes(idx)), 5123, idx.size(), "SCALAR")},
                 {"material", material}};
   };
@@ -307,6 +313,54 @@ TEST(GltfTextures, BaseColourIsTheFactorTimesTheTexture) {
   const test::PathRender constant =
       test::render_path(floor_scene("bc_const", base_colour_floor(texels, false)), spp, o);
   expect_halves_alike(textured, constant);
+}
+
+// COLOR_0 multiplies the base colour (glTF 2.0, 3.7.2.1): a floor whose
+// halves carry two vertex colours under one factor renders as two constant
+// materials of factor x colour, within noise; the import reads them
+// without a warning and the program gets them only where some mesh has them.
+std::string vertex_colour_floor(bool coloured) {
+  Doc d;
+  const glm::vec3 factor(0.9f, 0.8f, 0.7f);
+  const glm::ivec3 a(255, 64, 32), b(32, 128, 255);
+  auto material = [&](glm::vec3 colour) {
+    return json{{"pbrMetallicRoughness", {{"baseColorFactor", {colour.x, colour.y, colour.z, 1.0}},
+                                          {"metallicFactor", 0.0}, {"roughnessFactor", 0.6}}}};
+  };
+  if (coloured) {
+    std::vector<uint8_t> colours;
+    for (int v = 0; v < 8; ++v) {
+      const glm::ivec3 c = v < 4 ? a : b;
+      colours.insert(colours.end(), {uint8_t(c.x), uint8_t(c.y), uint8_t(c.z), 255});
+    }
+    d.j["materials"] = {material(factor)};
+    add_floor(d, 0, 0, colours);
+  } else {
+    d.j["materials"] = {material(factor * glm::vec3(a) / 255.0f), material(factor * glm::vec3(b) / 255.0f)};
+    add_floor(d, 0, 1);
+  }
+  return d.text();
+}
+
+TEST(GltfTextures, VertexColoursMultiplyTheBaseColour) {
+  std::vector<std::string> warnings;
+  LoadOptions lo;
+  lo.warnings = &warnings;
+  const Scene s = load_scene(floor_scene("vc_import", vertex_colour_floor(true)), lo);
+  for (const std::string& w : warnings) ADD_FAILURE() << "unexpected warning: " << w;
+  ASSERT_EQ(s.triangle_colours.size(), s.triangles.size());
+  EXPECT_TRUE(analyse_scene(s, RenderMode::Path).vertex_colours);
+  EXPECT_NEAR(glm::unpackHalf1x16(s.triangle_colours[0].rgba[1]), 64 / 255.0, 1e-3);
+  const Scene plain = load_scene(floor_scene("vc_plain", vertex_colour_floor(false)));
+  EXPECT_TRUE(plain.triangle_colours.empty());
+  EXPECT_FALSE(analyse_scene(plain, RenderMode::Path).vertex_colours);
+  const int spp = int(test::sized(64, 8));
+  test::PathRenderOptions o;
+  o.caustics = CausticsMode::Off;
+  const test::PathRender coloured = test::render_path(floor_scene("vc_col", vertex_colour_floor(true)), spp, o);
+  o.seed = 7;
+  const test::PathRender constant = test::render_path(floor_scene("vc_const", vertex_colour_floor(false)), spp, o);
+  expect_halves_alike(coloured, constant);
 }
 
 }  // namespace

@@ -17,6 +17,8 @@ static_assert(sizeof(Triangle) == 64 && offsetof(Triangle, v1) == 16 && offsetof
 static_assert(sizeof(TriangleShading) == 80 && offsetof(TriangleShading, n2) == 32 &&
                   offsetof(TriangleShading, u0) == 48 && offsetof(TriangleShading, u2) == 64,
               "TriangleShading layout");
+static_assert(sizeof(TriangleTangents) == 48 && offsetof(TriangleTangents, t2) == 32, "TriangleTangents layout");
+static_assert(sizeof(TriangleColours) == 24, "TriangleColours layout");
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, kind) == 64 && offsetof(Texture, scale) == 80 &&
                   offsetof(Texture, sampling) == 84,
               "Texture layout");
@@ -29,7 +31,8 @@ static_assert(sizeof(Material) == 96 && offsetof(Material, specular) == 16 && of
                   offsetof(Material, specular_exponent) == 48 && offsetof(Material, ka) == 60 &&
                   offsetof(Material, flags) == 64 && offsetof(Material, texture) == 68 &&
                   offsetof(Material, roughness) == 72 && offsetof(Material, metallic) == 76 &&
-                  offsetof(Material, roughness_texture) == 80 && offsetof(Material, emission_texture) == 84,
+                  offsetof(Material, roughness_texture) == 80 && offsetof(Material, emission_texture) == 84 &&
+                  offsetof(Material, normal_texture) == 88 && offsetof(Material, normal_scale) == 92,
               "Material layout");
 static_assert(sizeof(Light) == 80 && offsetof(Light, emitted) == 48 && offsetof(Light, kind) == 64 &&
                   offsetof(Light, select_cdf) == 72,

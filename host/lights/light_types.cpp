@@ -122,6 +122,8 @@ uint32_t add_emissive_material(Scene& scene, const glm::vec3& radiance) {
   m.texture = -1;
   m.roughness_texture = -1;
   m.emission_texture = -1;
+  m.normal_texture = -1;
+  m.normal_scale = 1.0f;
   m.roughness = -1.0f;
   scene.materials.push_back(m);
   return uint32_t(scene.materials.size() - 1);

@@ -92,6 +92,9 @@ void add_triangle(Scene& scene, uint32_t light_index, glm::vec3 a, glm::vec3 b, 
     s.v2 = 1.0f;
     scene.triangle_shading.push_back(s);
   }
+  // The other parallel arrays: no tangents (no normal map), white.
+  if (!scene.triangle_tangents.empty()) scene.triangle_tangents.push_back(TriangleTangents{});
+  if (!scene.triangle_colours.empty()) scene.triangle_colours.push_back(vertex_colours(nullptr));
 }
 
 // Two triangles, counter-clockwise about cross(u, v): the emitting side.

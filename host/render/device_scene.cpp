@@ -23,6 +23,10 @@ DeviceScene::DeviceScene(cl::Context& context, const Scene& scene, const WideBvh
   static const std::vector<uint16_t> no_texels;
   static const std::vector<Material> no_materials;
   add("triangle_shading", features.triangle_shading ? scene.triangle_shading : no_shading);
+  static const std::vector<TriangleTangents> no_tangents;
+  static const std::vector<TriangleColours> no_colours;
+  add("triangle_tangents", features.normal_maps ? scene.triangle_tangents : no_tangents);
+  add("triangle_colours", features.vertex_colours ? scene.triangle_colours : no_colours);
   add("materials", features.materials ? scene.materials : no_materials);
   add("textures", features.textures ? scene.textures : no_textures);
   add("texels", features.textures ? scene.texels : no_texels);
@@ -44,7 +48,8 @@ KernelArgs& DeviceScene::bind_geometry(KernelArgs& args) const {
 
 KernelArgs& DeviceScene::bind_surfaces(KernelArgs& args) const {
   return bind(args,
-              {"spheres", "cylinders", "triangles", "triangle_shading", "materials", "textures", "texels", "environment"});
+              {"spheres", "cylinders", "triangles", "triangle_shading", "triangle_tangents", "triangle_colours",
+               "materials", "textures", "texels", "environment"});
 }
 
 KernelArgs& DeviceScene::bind_scene(KernelArgs& args) const {

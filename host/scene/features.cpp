@@ -85,6 +85,7 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
   f.environment = scene.environment.has_value();
   f.materials = true;
   f.triangle_shading = f.triangles && !scene.triangle_shading.empty();
+  f.vertex_colours = f.triangles && scene.triangle_colours.size() == scene.triangles.size();
 
   f.lights = scene.light_count() > 0;
   // Only materials that some primitive actually uses count.
@@ -103,6 +104,10 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
       f.reflection = true;
     if (std::max(m.emission.x, std::max(m.emission.y, m.emission.z)) > 0.0f) f.area_lights = true;
     if (m.roughness_texture >= 0 || m.emission_texture >= 0) f.textures = true;
+    // Tangents come with normal-mapped glTF materials; a normal map without
+    // them (a hand-made Material) would have no frame to be read in.
+    if (m.normal_texture >= 0 && f.triangle_shading && scene.triangle_tangents.size() == scene.triangles.size())
+      f.normal_maps = f.textures = true;
     casters = casters || material_casts_caustics(scene, m);
     receivers = receivers || material_receives_caustics(scene, m);
   }
@@ -157,6 +162,8 @@ int SceneFeatures::flag_value(FeatureFlag flag) const {
     case FeatureFlag::kHAS_ENVIRONMENT: return environment;
     case FeatureFlag::kHAS_AUX_PASSES: return path && aux_passes;
     case FeatureFlag::kHAS_LIGHT_TREE: return path && light_tree;
+    case FeatureFlag::kHAS_NORMAL_MAPS: return normal_maps;
+    case FeatureFlag::kHAS_VERTEX_COLOURS: return vertex_colours;
   }
   throw Error("unknown feature flag");
 }

@@ -40,6 +40,8 @@ struct SceneFeatures {
   bool textures = false;    // some used material has a texture
   bool area_lights = false; // path: rectangle, sphere or emissive-shape lights are sampled
   bool triangle_shading = false;  // vertex normals / texture coordinates on triangles
+  bool normal_maps = false;       // a used material's normal map, on triangles with tangents
+  bool vertex_colours = false;    // triangles' vertex colours (glTF COLOR_0)
   bool caustics = false;  // path: the photon pass (kernels compiled, buffers allocated, stages launched)
   std::string caustics_reason;  // why it is or is not there, for --verbose
   bool check_numerics = false;  // path: --check-numerics counters compiled in (set by the session)

@@ -160,6 +160,45 @@ std::vector<glm::vec2> read_texcoord_accessor(const Context& ctx, int accessor, 
   return out;
 }
 
+std::vector<glm::vec4> read_tangent_accessor(const Context& ctx, int accessor, const std::string& used_at) {
+  const View v = checked_view(ctx, accessor, used_at);
+  require_type(ctx, v, 4, "VEC4", used_at);
+  if (v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT)
+    ctx.fail(v.pointer + "/componentType", "expected float tangents (used at " + used_at + "), got " +
+                                               component_name(v.component_type));
+  std::vector<glm::vec4> out(v.count);
+  for (size_t e = 0; e < v.count; ++e) {
+    for (size_t c = 0; c < 4; ++c) out[e][int(c)] = static_cast<float>(component(v, e, c));
+    if (!std::isfinite(out[e].x + out[e].y + out[e].z + out[e].w))
+      ctx.fail(v.pointer, "element " + std::to_string(e) + " is not finite, used at " + used_at);
+  }
+  return out;
+}
+
+std::vector<glm::vec4> read_colour_accessor(const Context& ctx, int accessor, const std::string& used_at) {
+  const View v = checked_view(ctx, accessor, used_at);
+  if (v.components != 3 && v.components != 4)
+    ctx.fail(v.pointer + "/type", "expected VEC3 or VEC4 for its use at " + used_at);
+  const bool normalized_int = v.normalized && (v.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                               v.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+  if (v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT && !normalized_int)
+    ctx.fail(v.pointer + "/componentType", std::string("expected float, or normalized unsigned byte or short, for "
+                                                       "vertex colours (used at ") +
+                                               used_at + "), got " + (v.normalized ? "normalized " : "") +
+                                               component_name(v.component_type));
+  std::vector<glm::vec4> out(v.count, glm::vec4(1.0f));
+  for (size_t e = 0; e < v.count; ++e)
+    for (size_t c = 0; c < v.components; ++c) {
+      const double value = component(v, e, c);
+      // Linear colours in [0, 1] (the specification's range for COLOR_n).
+      if (!(value >= 0.0 && value <= 1.0))
+        ctx.fail(v.pointer, "element " + std::to_string(e) + " has component " + std::to_string(value) +
+                                ", expected a colour in [0, 1], used at " + used_at);
+      out[e][int(c)] = static_cast<float>(value);
+    }
+  return out;
+}
+
 std::vector<uint32_t> read_index_accessor(const Context& ctx, int accessor, size_t vertex_count,
                                           const std::string& used_at) {
   const View v = checked_view(ctx, accessor, used_at);

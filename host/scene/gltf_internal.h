@@ -22,6 +22,10 @@ struct DecodedPrimitive {
   int material = -1;
   std::vector<glm::vec3> p, n;  // n: empty or one per position
   std::vector<glm::vec2> uv;    // empty or one per position
+  std::vector<glm::vec4> colours;  // COLOR_0: empty or one per position
+  // Empty, or one per corner where the material has a normal map: the
+  // TANGENT attribute's, or MikkTSpace's (host/scene/mesh_tangents.h).
+  std::vector<glm::vec4> corner_tangents;
   std::vector<uint32_t> corners;  // three per triangle, into p
 };
 
@@ -74,6 +78,11 @@ bool extension_needed_for_geometry(const std::string& ext);
 std::vector<glm::vec3> read_vec3_accessor(const Context& ctx, int accessor, const std::string& used_at);
 // TEXCOORD_n: float, or normalized unsigned byte/short.
 std::vector<glm::vec2> read_texcoord_accessor(const Context& ctx, int accessor, const std::string& used_at);
+// TANGENT: float VEC4 (xyz direction, w the bitangent sign), finite.
+std::vector<glm::vec4> read_tangent_accessor(const Context& ctx, int accessor, const std::string& used_at);
+// COLOR_n: VEC3 or VEC4 (alpha 1 for VEC3), float or normalized unsigned
+// byte/short, each component in [0, 1].
+std::vector<glm::vec4> read_colour_accessor(const Context& ctx, int accessor, const std::string& used_at);
 // Indices (unsigned byte, short or int scalars), each below vertex_count.
 std::vector<uint32_t> read_index_accessor(const Context& ctx, int accessor, size_t vertex_count,
                                           const std::string& used_at);

@@ -8,7 +8,9 @@
 // KHR_materials_emissive_strength is the emission, values above 1 honoured.
 // The metallicRoughnessTexture and the emissiveTexture are sampled per
 // texel (Material's roughness_texture and emission_texture);
-// specularGlossinessTexture is ignored (warned).
+// specularGlossinessTexture is ignored (warned). A normalTexture perturbs
+// the shading normal in the frame of the primitives' tangents
+// (kernels/lib/normal_map.h).
 #include <algorithm>
 #include <cmath>
 
@@ -88,8 +90,7 @@ class MaterialMapper {
         ctx_.warn_once("material " + name, mp + "/extensions/" + name, "material extension " + name +
                                                                             " is not supported; ignored");
     }
-    if (in.normalTexture.index >= 0)
-      ctx_.warn_once("normalTexture", mp + "/normalTexture", "normal maps are not supported; ignored");
+    if (in.normalTexture.index >= 0) normal_map(in.normalTexture, out, mp + "/normalTexture");
     if (in.occlusionTexture.index >= 0)
       ctx_.warn_once("occlusionTexture", mp + "/occlusionTexture",
                      "occlusion maps are not supported (a path tracer computes occlusion); ignored");
@@ -97,6 +98,20 @@ class MaterialMapper {
   }
 
  private:
+  // Tangent-space texels read as data (not sRGB-decoded); the tangents are
+  // the primitives' (gltf_primitives.cpp). An unreadable image leaves the
+  // surface's own normal, with the texture's warning.
+  void normal_map(const tinygltf::NormalTextureInfo& in, Material& out, const std::string& pointer) {
+    tinygltf::TextureInfo info;
+    info.index = in.index;
+    info.texCoord = in.texCoord;
+    info.extensions = in.extensions;
+    out.normal_texture = image_texture(ctx_, info, pointer, /*linear_data=*/true);
+    if (!std::isfinite(in.scale) || std::fabs(in.scale) > 1e3)
+      ctx_.fail(pointer + "/scale", "expected a finite number (at most 1000 in size), got " + std::to_string(in.scale));
+    out.normal_scale = static_cast<float>(in.scale);
+  }
+
   void emission(const tinygltf::Material& in, Material& out, const std::string& mp) {
     glm::vec3 e(0.0f);
     if (!in.emissiveFactor.empty()) {

@@ -9,6 +9,7 @@
 #include "host/limits.h"
 #include "host/scene/gltf_internal.h"
 #include "host/scene/mesh_internal.h"
+#include "host/scene/mesh_tangents.h"
 #include "host/scene/scene.h"
 
 namespace caustica::gltf_detail {
@@ -45,15 +46,38 @@ std::vector<uint32_t> triangle_corners(int mode, const std::vector<uint32_t>& v)
 void warn_unused_attributes(Context& ctx, const tinygltf::Primitive& prim, const std::string& pp) {
   for (const auto& [name, accessor] : prim.attributes) {
     (void)accessor;
-    if (name == "POSITION" || name == "NORMAL" || name == "TEXCOORD_0" || name == "TANGENT") continue;
+    if (name == "POSITION" || name == "NORMAL" || name == "TEXCOORD_0" || name == "TANGENT" || name == "COLOR_0")
+      continue;
     const std::string group = name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0 ? "skin attributes"
                                                                                                : "attribute " + name;
     ctx.warn_once(group, pp + "/attributes/" + name,
                   "vertex attribute " + name + " is not supported; ignored" +
-                      (name.rfind("COLOR_", 0) == 0 ? " (vertex colours do not tint the base colour)" : ""));
+                      (name.rfind("COLOR_", 0) == 0 ? " (COLOR_0 tints the base colour)" : ""));
   }
   if (!prim.targets.empty())
     ctx.warn_once("morph targets", pp + "/targets", "morph targets are not supported; the base mesh is rendered");
+}
+
+// One tangent per corner of d for its material's normal map: the
+// primitive's TANGENT attribute where it has one, else MikkTSpace's.
+// Without texture coordinates a normal map has nowhere to be read from.
+std::vector<glm::vec4> corner_tangents(Context& ctx, const tinygltf::Primitive& prim, const DecodedPrimitive& d) {
+  if (d.uv.empty()) {
+    ctx.warn_once("normal map without uv", d.pointer + "/attributes",
+                  "a normal-mapped material on a primitive without TEXCOORD_0; the normal map is ignored there");
+    return {};
+  }
+  std::vector<glm::vec4> out;
+  if (auto it = prim.attributes.find("TANGENT"); it != prim.attributes.end()) {
+    const std::vector<glm::vec4> t = read_tangent_accessor(ctx, it->second, d.pointer + "/attributes/TANGENT");
+    if (t.size() != d.p.size())
+      ctx.fail(d.pointer + "/attributes/TANGENT", "expected as many elements as POSITION (" +
+                                                      std::to_string(d.p.size()) + "), got " + std::to_string(t.size()));
+    out.reserve(d.corners.size());
+    for (uint32_t v : d.corners) out.push_back(t[v]);
+    return out;
+  }
+  return mikktspace_corner_tangents(d.p, d.n, d.uv, d.corners);
 }
 
 // A mesh's primitives as read from their accessors, once per mesh however
@@ -98,6 +122,10 @@ const std::vector<DecodedPrimitive>& decoded_mesh(Context& ctx, size_t mi) {
       d.uv = read_texcoord_accessor(ctx, it->second, pp + "/attributes/TEXCOORD_0");
       same_count(d.uv.size(), "TEXCOORD_0");
     }
+    if (auto it = prim.attributes.find("COLOR_0"); it != prim.attributes.end()) {
+      d.colours = read_colour_accessor(ctx, it->second, pp + "/attributes/COLOR_0");
+      same_count(d.colours.size(), "COLOR_0");
+    }
     std::vector<uint32_t> vertices;
     if (prim.indices >= 0) {
       vertices = read_index_accessor(ctx, prim.indices, d.p.size(), pp + "/indices");
@@ -111,6 +139,8 @@ const std::vector<DecodedPrimitive>& decoded_mesh(Context& ctx, size_t mi) {
                                                 std::to_string(vertices.size() % 3) + " ignored");
     d.corners = triangle_corners(prim.mode, vertices);
     d.pointer = pp;
+    if (d.material >= 0 && ctx.model.materials[size_t(d.material)].normalTexture.index >= 0)
+      d.corner_tangents = corner_tangents(ctx, prim, d);
     out.push_back(std::move(d));
   }
   return out;
@@ -122,6 +152,8 @@ void add_mesh_instance(Context& ctx, size_t mi, const glm::dmat4& world) {
   const glm::dmat3 linear(world);
   const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
   const bool mirrored = glm::determinant(linear) < 0.0;
+  // cross(M n, M t) turns over under a mirroring M: so does the bitangent's sign.
+  const float handedness = mirrored ? -1.0f : 1.0f;
   Mesh& out = ctx.out.mesh;
   for (const DecodedPrimitive& d : decoded_mesh(ctx, mi)) {
     // Counted before degenerate ones are dropped: the work, not the result.
@@ -132,8 +164,10 @@ void add_mesh_instance(Context& ctx, size_t mi, const glm::dmat4& world) {
     for (size_t t = 0; t + 2 < d.corners.size(); t += 3) {
       glm::vec3 tp[3], tn[3];
       glm::vec2 tuv[3];
+      glm::vec4 tt[3], tc[3];
       for (int k = 0; k < 3; ++k) {
-        const uint32_t v = d.corners[t + size_t(mirrored && k > 0 ? 3 - k : k)];
+        const size_t corner = t + size_t(mirrored && k > 0 ? 3 - k : k);
+        const uint32_t v = d.corners[corner];
         const glm::dvec3 placed(world * glm::dvec4(d.p[v], 1.0));
         if (!within_coordinate_limit(placed))
           ctx.fail(d.pointer, "a node's world transform places vertex " + std::to_string(v) + " " +
@@ -141,8 +175,14 @@ void add_mesh_instance(Context& ctx, size_t mi, const glm::dmat4& world) {
         tp[k] = glm::vec3(placed);
         if (!d.n.empty()) tn[k] = glm::vec3(normal_matrix * glm::dvec3(d.n[v]));
         if (!d.uv.empty()) tuv[k] = d.uv[v];
+        if (!d.colours.empty()) tc[k] = d.colours[v];
+        if (!d.corner_tangents.empty()) {
+          const glm::vec4& ct = d.corner_tangents[corner];
+          tt[k] = glm::vec4(glm::vec3(linear * glm::dvec3(glm::vec3(ct))), handedness * ct.w);
+        }
       }
-      mesh_internal::add_triangle(out, tp, d.n.empty() ? nullptr : tn, d.uv.empty() ? nullptr : tuv, d.material);
+      mesh_internal::add_triangle(out, tp, d.n.empty() ? nullptr : tn, d.uv.empty() ? nullptr : tuv, d.material,
+                                  d.corner_tangents.empty() ? nullptr : tt, d.colours.empty() ? nullptr : tc);
     }
   }
 }

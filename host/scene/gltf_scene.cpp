@@ -140,7 +140,8 @@ Scene load_gltf_scene(const std::string& path, const LoadOptions& options) {
   for (const MeshTriangle& t : model.mesh.triangles) {
     const cs_uint m = ids[size_t(t.material + 1)];
     emissive = emissive || glm::any(glm::greaterThan(to_vec3(scene.materials[m].emission), glm::vec3(0.0f)));
-    append_triangle(ctx, t.p, m, t.has_uvs ? t.uv : nullptr, t.has_normals ? t.n : nullptr);
+    append_triangle(ctx, t.p, m, t.has_uvs ? t.uv : nullptr, t.has_normals ? t.n : nullptr,
+                    t.has_tangents ? t.tangent : nullptr, t.has_colours ? t.colour : nullptr);
   }
   finish_shading(ctx);
   scene.camera = pick_camera(r, model, options);

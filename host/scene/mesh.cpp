@@ -55,7 +55,7 @@ double cross2(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
 }  // namespace
 
 void add_triangle(Mesh& mesh, const glm::vec3 (&p)[3], const glm::vec3* n, const glm::vec2* uv,
-                  int material) {
+                  int material, const glm::vec4* tangents, const glm::vec4* colours) {
   if (!usable_area(p)) {
     ++mesh.dropped_degenerate;
     return;
@@ -74,6 +74,17 @@ void add_triangle(Mesh& mesh, const glm::vec3 (&p)[3], const glm::vec3* n, const
   }
   if (!t.has_uvs)
     for (auto& v : t.uv) v = glm::vec2(0.0f);
+  // A tangent that the world transform squashed to nothing costs the
+  // triangle its normal map (the kernel reads a zero tangent as none).
+  t.has_tangents = tangents != nullptr;
+  for (int k = 0; k < 3; ++k) {
+    const glm::vec3 d = tangents ? glm::vec3(tangents[k]) : glm::vec3(0.0f);
+    const float l = glm::length(d);
+    t.tangent[k] = l > 0.0f && std::isfinite(l) ? glm::vec4(d / l, tangents[k].w < 0.0f ? -1.0f : 1.0f)
+                                                 : glm::vec4(0.0f);
+  }
+  t.has_colours = colours != nullptr;
+  for (int k = 0; k < 3; ++k) t.colour[k] = colours ? colours[k] : glm::vec4(1.0f);
   t.material = material;
   mesh.triangles.push_back(t);
 }

@@ -25,8 +25,14 @@ struct MeshTriangle {
   glm::vec3 p[3];
   glm::vec3 n[3];   // unit vertex normals when has_normals
   glm::vec2 uv[3];  // when has_uvs
+  // glTF only: tangents (xyz, w the bitangent sign) for a normal-mapped
+  // material, and COLOR_0 (linear rgba).
+  glm::vec4 tangent[3];  // when has_tangents
+  glm::vec4 colour[3];   // when has_colours
   bool has_normals = false;
   bool has_uvs = false;
+  bool has_tangents = false;
+  bool has_colours = false;
   int material = -1;  // index into Mesh::materials, -1: none
 };
 

@@ -18,9 +18,10 @@ namespace caustica::mesh_internal {
 // Appends one triangle to mesh, or counts it in mesh.dropped_degenerate when
 // it has no usable area or a non-finite corner. n / uv point at three corner
 // values, or are null when the face has none; normals need not be unit length
-// (bad ones only cost the triangle its shading normals).
+// (bad ones only cost the triangle its shading normals). glTF primitives
+// may also give tangents (xyz, w the bitangent sign) and vertex colours.
 void add_triangle(Mesh& mesh, const glm::vec3 (&p)[3], const glm::vec3* n, const glm::vec2* uv,
-                  int material);
+                  int material, const glm::vec4* tangents = nullptr, const glm::vec4* colours = nullptr);
 
 // Splits a polygon with corners.size() >= 4 into triangles, appending corner
 // positions (indices into corners) three at a time to out. Convex polygons

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include <glm/gtc/packing.hpp>
+
 #include "host/error.h"
 #include "host/limits.h"
 
@@ -46,7 +48,11 @@ std::vector<std::string> drop_degenerate_shapes(Scene& scene) {
   }
   std::vector<Triangle> triangles;
   std::vector<TriangleShading> shading;
+  std::vector<TriangleTangents> tangents;
+  std::vector<TriangleColours> colours;
   const bool shaded = scene.triangle_shading.size() == scene.triangles.size() && !scene.triangles.empty();
+  const bool tangent = scene.triangle_tangents.size() == scene.triangles.size() && !scene.triangles.empty();
+  const bool coloured = scene.triangle_colours.size() == scene.triangles.size() && !scene.triangles.empty();
   for (size_t i = 0; i < scene.triangles.size(); ++i) {
     const Triangle& t = scene.triangles[i];
     if (degenerate_triangle(to_vec3(t.v0), to_vec3(t.v1), to_vec3(t.v2))) {
@@ -55,6 +61,8 @@ std::vector<std::string> drop_degenerate_shapes(Scene& scene) {
     }
     triangles.push_back(t);
     if (shaded) shading.push_back(scene.triangle_shading[i]);
+    if (tangent) tangents.push_back(scene.triangle_tangents[i]);
+    if (coloured) colours.push_back(scene.triangle_colours[i]);
   }
   if (dropped == 0) return messages;
   if (dropped > 8) messages.push_back("and " + std::to_string(dropped - 8) + " more degenerate shapes dropped");
@@ -62,7 +70,16 @@ std::vector<std::string> drop_degenerate_shapes(Scene& scene) {
   scene.cylinders = std::move(cylinders);
   scene.triangles = std::move(triangles);
   if (shaded) scene.triangle_shading = std::move(shading);
+  if (tangent) scene.triangle_tangents = std::move(tangents);
+  if (coloured) scene.triangle_colours = std::move(colours);
   return messages;
+}
+
+TriangleColours vertex_colours(const glm::vec4* rgba) {
+  TriangleColours c{};
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 4; ++i) c.rgba[4 * k + i] = glm::packHalf1x16(rgba ? rgba[k][i] : 1.0f);
+  return c;
 }
 
 CameraBasis camera_basis(const CameraDesc& camera) {

@@ -61,6 +61,10 @@ struct Scene {
   std::vector<Triangle> triangles;
   // Empty, or one entry per triangle (vertex normals / texture coordinates).
   std::vector<TriangleShading> triangle_shading;
+  // Empty, or one entry per triangle: tangents where some material has a
+  // normal map, vertex colours where some mesh has COLOR_0 (types.h).
+  std::vector<TriangleTangents> triangle_tangents;
+  std::vector<TriangleColours> triangle_colours;
   std::vector<Texture> textures;
   std::vector<uint16_t> texels;  // IEEE half floats, 4 per texel (linear rgb + unused)
 
@@ -114,6 +118,8 @@ std::vector<std::string> drop_degenerate_shapes(Scene& scene);
 
 inline cs_float4 to_float4(const glm::vec3& v, float w = 0.0f) { return cs_float4{v.x, v.y, v.z, w}; }
 inline glm::vec3 to_vec3(const cs_float4& v) { return glm::vec3(v.x, v.y, v.z); }
+// A triangle's vertex colours as stored (half floats); null: white.
+TriangleColours vertex_colours(const glm::vec4* rgba);
 
 // Camera basis per the coursework convention: right = up x forward, so with
 // forward +z and up +y, world +x is on the image's right.

@@ -132,6 +132,8 @@ Material default_material() {
   out.texture = -1;
   out.roughness_texture = -1;
   out.emission_texture = -1;
+  out.normal_texture = -1;
+  out.normal_scale = 1.0f;
   out.roughness = -1.0f;
   out.metallic = 0.0f;
   return out;

@@ -172,6 +172,10 @@ struct LoadContext {
   // One entry per scene triangle; kept only if some triangle has real data.
   std::vector<TriangleShading> shading;
   bool any_shading = false;
+  // The same for tangents and vertex colours (glTF meshes).
+  std::vector<TriangleTangents> tangents;
+  std::vector<TriangleColours> colours;
+  bool any_tangents = false, any_colours = false;
   std::map<std::string, std::shared_ptr<const Mesh>> meshes;  // by resolved path
   // glTF files placed as meshes: the Mesh above aliases the model's.
   std::map<std::string, std::shared_ptr<const GltfModel>> gltf_models;
@@ -200,10 +204,13 @@ int image_texture(LoadContext& ctx, const std::string& written, const std::strin
 // scene_shapes.cpp
 void read_shapes(LoadContext& ctx, const json& scene_obj);
 // Appends one triangle with its shading record (`uv` null: the default UVs;
-// `normals` null: the geometric normal) to ctx.scene.
+// `normals` null: the geometric normal) to ctx.scene, and its tangents
+// (null: zero) and vertex colours (null: white).
 void append_triangle(LoadContext& ctx, const glm::vec3 p[3], cs_uint material, const glm::vec2* uv,
-                     const glm::vec3* normals = nullptr);
-// Moves the shading records into the scene when any triangle has real ones.
+                     const glm::vec3* normals = nullptr, const glm::vec4* tangents = nullptr,
+                     const glm::vec4* colours = nullptr);
+// Moves the shading records (tangents, colours) into the scene when any
+// triangle has real ones.
 void finish_shading(LoadContext& ctx);
 // Degrees about x, then y, then z, about the world origin (right-handed):
 // R = Rz * Ry * Rx (meshes' "rotate", the environment's "rotate").

@@ -41,7 +41,7 @@ const glm::vec2 kDefaultUv[3] = {{0, 0}, {1, 0}, {0, 1}};
 }  // namespace
 
 void append_triangle(LoadContext& ctx, const glm::vec3 p[3], cs_uint material, const glm::vec2* uv,
-                     const glm::vec3* normals) {
+                     const glm::vec3* normals, const glm::vec4* tangents, const glm::vec4* colours) {
   Triangle t{};
   t.v0 = to_float4(p[0]);
   t.v1 = to_float4(p[1]);
@@ -52,6 +52,15 @@ void append_triangle(LoadContext& ctx, const glm::vec3 p[3], cs_uint material, c
   const glm::vec3 flat[3] = {n, n, n};
   ctx.shading.push_back(make_shading(normals ? normals : flat, uv ? uv : kDefaultUv));
   if (uv || normals) ctx.any_shading = true;
+  TriangleTangents t4{};
+  if (tangents) {
+    t4 = {to_float4(glm::vec3(tangents[0]), tangents[0].w), to_float4(glm::vec3(tangents[1]), tangents[1].w),
+          to_float4(glm::vec3(tangents[2]), tangents[2].w)};
+    ctx.any_tangents = true;
+  }
+  ctx.tangents.push_back(t4);
+  ctx.colours.push_back(vertex_colours(colours));
+  if (colours) ctx.any_colours = true;
 }
 
 void finish_shading(LoadContext& ctx) {
@@ -59,6 +68,14 @@ void finish_shading(LoadContext& ctx) {
     ctx.scene.triangle_shading = std::move(ctx.shading);
   else
     ctx.scene.triangle_shading.clear();
+  if (ctx.any_tangents)
+    ctx.scene.triangle_tangents = std::move(ctx.tangents);
+  else
+    ctx.scene.triangle_tangents.clear();
+  if (ctx.any_colours)
+    ctx.scene.triangle_colours = std::move(ctx.colours);
+  else
+    ctx.scene.triangle_colours.clear();
 }
 
 namespace {
@@ -433,9 +450,11 @@ class ShapeReader {
     };
 
     size_t dropped = 0;
+    const float handedness = mirrored ? -1.0f : 1.0f;  // the bitangent turns over with the winding
     for (const MeshTriangle& tri : mesh.triangles) {
       glm::vec3 p[3], n[3];
       glm::vec2 uv[3];
+      glm::vec4 tangent[3], colour[3];
       for (int i = 0; i < 3; ++i) {
         const int j = mirrored && i > 0 ? 3 - i : i;
         const glm::dvec3 placed = glm::dmat3(linear) * glm::dvec3(tri.p[j]) + glm::dvec3(translate);
@@ -446,6 +465,9 @@ class ShapeReader {
         p[i] = linear * tri.p[j] + translate;  // in float, as every render so far
         n[i] = tri.has_normals ? glm::normalize(normal_matrix * tri.n[j]) : glm::vec3(0.0f);
         uv[i] = tri.has_uvs ? tri.uv[j] : kDefaultUv[i];
+        const glm::vec3 t = linear * glm::vec3(tri.tangent[j]);
+        tangent[i] = glm::length(t) > 0.0f ? glm::vec4(glm::normalize(t), handedness * tri.tangent[j].w) : glm::vec4(0.0f);
+        colour[i] = tri.colour[j];
       }
       if (degenerate_triangle(p[0], p[1], p[2]) || !std::isfinite(p[0].x + p[1].x + p[2].x)) {
         ++dropped;
@@ -454,11 +476,8 @@ class ShapeReader {
       const size_t material_count = gltf ? model->materials.size() : mesh.materials.size();
       const bool known = tri.material >= 0 && tri.material < static_cast<int>(material_count);
       const cs_uint m = material_of(known ? tri.material : -1);
-      if (tri.has_normals) {
-        add_triangle(p, m, uv, n);
-      } else {
-        add_triangle(p, m, tri.has_uvs ? uv : nullptr);
-      }
+      append_triangle(ctx_, p, m, tri.has_uvs || tri.has_normals ? uv : nullptr, tri.has_normals ? n : nullptr,
+                      tri.has_tangents ? tangent : nullptr, tri.has_colours ? colour : nullptr);
       ++info.triangles;
     }
     info.dropped_degenerate = mesh.dropped_degenerate + dropped;

@@ -45,6 +45,7 @@
 #include "lib/lights.h"
 #include "lib/material.h"
 #include "lib/rng.h"
+#include "lib/shading_point.h"
 #include "lib/texture.h"
 
 inline float max3_of(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
@@ -236,13 +237,12 @@ inline bool shade_path_vertex(const PathStageData* d, const PathRecord ray, cons
     return false;
   }
   const SceneBuffers* s = &d->scene;
-  const SurfacePoint sp = surface_at(s->spheres, s->cylinders, s->triangles, s->triangle_shading, hit, ray.origin.xyz,
-                                     ray.dir.xyz);
+  const SurfacePoint sp = shading_point_at(SCENE_SURFACE_OF(s), hit, ray.origin.xyz, ray.dir.xyz);
   __global const Material* mat = &s->materials[sp.material];
   surface_emission(d, &ray, hit.prim, &sp, mat);
   if (ray.depth >= d->params.max_depth && !path_aux_pending(&ray)) return false;
 
-  const Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv);
+  const Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv, sp.colour);
   const ShadingFrame frame = shading_frame(bsdf, sp.shading_normal, sp.normal, ray.dir.xyz);
   const float3 wo = frame_to_local(-ray.dir.xyz, frame.t, frame.b, frame.n);
   *aux_open = surface_aux(d, &ray, &bsdf, &frame, wo);

@@ -18,6 +18,7 @@
 #include "lib/material.h"
 #include "lib/optics.h"
 #include "lib/queue.h"
+#include "lib/shading_point.h"
 #include "lib/surface.h"
 #include "lib/texture.h"
 
@@ -125,12 +126,12 @@ __kernel void shade_surface_phong(SCENE_SURFACE_PARAMS, __global const Light* re
   }
 
   const float3 d = ray.dir.xyz;
-  const SurfacePoint sp = surface_at(spheres, cylinders, triangles, triangle_shading, hit, ray.origin.xyz, d);
+  const SurfacePoint sp = shading_point_at(SCENE_SURFACE_ARGS, hit, ray.origin.xyz, d);
   __global const Material* mat = &materials[sp.material];
   const bool front = dot(sp.normal, d) < 0.0f;
   const float3 n = front ? sp.normal : -sp.normal;                  /* geometric, faces the ray */
   const float3 ns = front ? sp.shading_normal : -sp.shading_normal; /* shading, same side */
-  const float3 diffuse_colour = material_diffuse_colour(mat, textures, texels, sp.uv);
+  const float3 diffuse_colour = material_diffuse_colour(mat, textures, texels, sp.uv, sp.colour);
   film_add(FILM_ARGS, pixel, weight * mat->emission.xyz * material_emission_texel(mat, textures, texels, sp.uv));
 
   /* Split the ray's weight between the local Phong term and the specular

@@ -84,12 +84,13 @@ inline float3 material_texel_or(__global const Texture* textures, __global const
 
 /* m's diffuse colour at uv: its texture's texel (an image or checker
  * texture replaces the colour; with MATERIAL_TEXTURE_SCALES, as glTF's
- * base colour, it scales it), else its own. */
+ * base colour, it scales it), else its own; times the surface's vertex
+ * colour (glTF's COLOR_0; 1 where there is none: exactly the colour). */
 inline float3 material_diffuse_colour(__global const Material* m, __global const Texture* textures,
-                                      __global const ushort* texels, float2 uv) {
+                                      __global const ushort* texels, float2 uv, float3 vertex_colour) {
   if (m->flags & MATERIAL_TEXTURE_SCALES)
-    return m->diffuse.xyz * material_texel_or(textures, texels, m->texture, uv, splat_float3(1.0f));
-  return material_texel_or(textures, texels, m->texture, uv, m->diffuse.xyz);
+    return vertex_colour * (m->diffuse.xyz * material_texel_or(textures, texels, m->texture, uv, splat_float3(1.0f)));
+  return vertex_colour * material_texel_or(textures, texels, m->texture, uv, m->diffuse.xyz);
 }
 
 /* m's BSDF at a surface point's uv, its colour and roughness texels
@@ -97,13 +98,13 @@ inline float3 material_diffuse_colour(__global const Material* m, __global const
  * and the photon pass's bounces (the photon map must scatter as the paths
  * it stands in for do). */
 inline Bsdf material_bsdf_at(__global const Material* m, __global const Texture* textures,
-                             __global const ushort* texels, float2 uv) {
+                             __global const ushort* texels, float2 uv, float3 vertex_colour) {
 #if HAS_TEXTURES
   const float2 texel_scale = material_texel_scale(m, textures, (__global const half*)texels, uv);
 #else
   const float2 texel_scale = make_float2(1.0f, 1.0f);
 #endif
-  return bsdf_of_material(m, material_diffuse_colour(m, textures, texels, uv), texel_scale);
+  return bsdf_of_material(m, material_diffuse_colour(m, textures, texels, uv, vertex_colour), texel_scale);
 }
 
 /* What scales m's emission at uv: its emission_texture's texel (glTF's

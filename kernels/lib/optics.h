@@ -37,4 +37,30 @@ inline float3 refract_dir(float3 d, float3 n, float eta, float cos_i, float cos_
   return normalize(eta * d + (eta * cos_i - cos_t) * n);
 }
 
+/* Unit shading normal n moved, if it must be, so that the reflection of
+ * the unit view direction wo about it rises at least q = min(0.9 cos_g,
+ * 0.01) above the geometric surface of unit normal ng (n, ng on wo's side;
+ * cos_g = wo . ng): Cycles' condition, with the half vector of wo and the
+ * reflection lifted to exactly q (its azimuth kept) as the new normal
+ * (lib/normal_map.h says why). */
+inline float3 normal_with_valid_reflection(float3 n, float3 ng, float3 wo) {
+  const float cos_g = dot(wo, ng);
+  const float q = fmin(0.9f * cos_g, 0.01f);
+  const float3 r = 2.0f * dot(wo, n) * n - wo;
+  const float rise = dot(r, ng);
+  if (rise >= q) return n;
+  /* R's direction along the surface (the view's mirror image where R has none). */
+  float3 along = r - rise * ng;
+  float len2 = dot(along, along);
+  if (!(len2 > 1e-12f)) {
+    along = dot(wo, ng) * ng - wo;
+    len2 = dot(along, along);
+    if (!(len2 > 1e-12f)) return ng;
+  }
+  const float3 lifted = along * (sqrt(fmax(1.0f - q * q, 0.0f)) * rsqrt(len2)) + q * ng;
+  const float3 h = wo + lifted;
+  const float hl2 = dot(h, h);
+  return hl2 > 1e-12f ? h * rsqrt(hl2) : ng;
+}
+
 #endif

@@ -26,6 +26,8 @@ typedef struct {
   __global const Cylinder* cylinders;
   __global const Triangle* triangles;
   __global const TriangleShading* triangle_shading;
+  __global const TriangleTangents* triangle_tangents; /* HAS_NORMAL_MAPS */
+  __global const TriangleColours* triangle_colours;   /* HAS_VERTEX_COLOURS */
   __global const Material* materials;
   __global const Texture* textures;
   __global const ushort* texels;
@@ -47,14 +49,14 @@ typedef struct {
       __global const uint *restrict light_of_triangle, __global const LightTreeNode *restrict light_tree_nodes, \
       __global const LightTreeTrail *restrict light_tree_trails
 #define SCENE_BUFFERS_FROM_PARAMS                                                                                  \
-  {bvh_nodes, tri_blocks, prim_refs,   spheres, cylinders,       triangles,         triangle_shading, materials, \
-   textures,  texels,     environment, lights,  light_of_sphere, light_of_cylinder, light_of_triangle, \
-   light_tree_nodes, light_tree_trails}
+  {bvh_nodes,        tri_blocks,       prim_refs, spheres, cylinders,   triangles,       triangle_shading,  \
+   triangle_tangents, triangle_colours, materials, textures, texels,    environment,     lights,            \
+   light_of_sphere,   light_of_cylinder, light_of_triangle, light_tree_nodes, light_tree_trails}
 
 #define SCENE_GEOMETRY_OF(s) (s)->bvh_nodes, (s)->tri_blocks, (s)->prim_refs, (s)->spheres, (s)->cylinders, (s)->triangles
 #define SCENE_SURFACE_OF(s)                                                                                    \
-  (s)->spheres, (s)->cylinders, (s)->triangles, (s)->triangle_shading, (s)->materials, (s)->textures, (s)->texels, \
-      (s)->environment
+  (s)->spheres, (s)->cylinders, (s)->triangles, (s)->triangle_shading, (s)->triangle_tangents,               \
+      (s)->triangle_colours, (s)->materials, (s)->textures, (s)->texels, (s)->environment
 
 /* The light a hit primitive is (LIGHT_NONE: none). */
 inline uint light_of_primitive(const SceneBuffers* s, uint prim) {

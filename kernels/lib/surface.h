@@ -43,9 +43,13 @@
 #define SCENE_SURFACE_PARAMS                                                                              \
   __global const Sphere *restrict spheres, __global const Cylinder *restrict cylinders,                 \
       __global const Triangle *restrict triangles, __global const TriangleShading *restrict triangle_shading, \
-      __global const Material *restrict materials, __global const Texture *restrict textures,           \
-      __global const ushort *restrict texels, __global const float *restrict environment
-#define SCENE_SURFACE_ARGS spheres, cylinders, triangles, triangle_shading, materials, textures, texels, environment
+      __global const TriangleTangents *restrict triangle_tangents,                                        \
+      __global const TriangleColours *restrict triangle_colours, __global const Material *restrict materials, \
+      __global const Texture *restrict textures, __global const ushort *restrict texels,                  \
+      __global const float *restrict environment
+#define SCENE_SURFACE_ARGS                                                                                  \
+  spheres, cylinders, triangles, triangle_shading, triangle_tangents, triangle_colours, materials, textures, texels, \
+      environment
 
 typedef struct {
   float3 position;
@@ -53,6 +57,9 @@ typedef struct {
   float3 shading_normal; /* outward, in the geometric normal's hemisphere */
   float2 uv;
   uint material;
+  /* the vertex colours' interpolation (HAS_VERTEX_COLOURS), else 1: set by
+   * shading_point_at (lib/shading_point.h) */
+  float3 colour;
   /* Per-component bound on the position's distance from the exact surface
    * point it stands for (see spawn_ray_origin, geometry.h): derived from
    * the arithmetic below, so it follows the primitive's size and distance
@@ -112,6 +119,7 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
   sp.normal = make_float3(0.0f, 0.0f, 1.0f);
   sp.uv = make_float2(0.0f, 0.0f);
   sp.material = 0u;
+  sp.colour = splat_float3(1.0f);
   sp.p_error = splat_float3(0.0f);
   uint type = prim_ref_type(hit.prim);
   uint index = prim_ref_index(hit.prim);

@@ -19,6 +19,7 @@
 #include "lib/queue.h"
 #include "lib/rng.h"
 #include "lib/scene_buffers.h"
+#include "lib/shading_point.h"
 #include "lib/surface.h"
 #include "lib/texture.h"
 
@@ -35,9 +36,9 @@ inline bool bounce_photon(const SceneBuffers* s, const PhotonPassParams* params,
                           PhotonRecord* child_out) {
   if (hit.prim == PRIM_NONE) return false;
   const float3 d = photon.dir.xyz;
-  const SurfacePoint sp = surface_at(s->spheres, s->cylinders, s->triangles, s->triangle_shading, hit, photon.origin.xyz, d);
+  const SurfacePoint sp = shading_point_at(SCENE_SURFACE_OF(s), hit, photon.origin.xyz, d);
   __global const Material* mat = &s->materials[sp.material];
-  const Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv);
+  const Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv, sp.colour);
   if (!bsdf_casts_caustics(bsdf)) {
     if (photon.flags & PHOTON_AFTER_CASTER) {
       Photon p;

@@ -38,7 +38,9 @@
   X(HAS_NUMERIC_CHECKS, 0, "numeric-checks", "path: the --check-numerics BSDF weight counters")               \
   X(HAS_ENVIRONMENT, 0, "environment", "the environment map: seen at misses, sampled, emitting photons")      \
   X(HAS_AUX_PASSES, 0, "aux-passes", "path: the albedo, normal and depth passes (denoiser, compositors)")          \
-  X(HAS_LIGHT_TREE, 0, "light-tree", "path: next-event estimation picks lights through the light tree")
+  X(HAS_LIGHT_TREE, 0, "light-tree", "path: next-event estimation picks lights through the light tree")         \
+  X(HAS_NORMAL_MAPS, 0, "normal-maps", "triangles' tangents and their materials' normal maps")                    \
+  X(HAS_VERTEX_COLOURS, 0, "vertex-colours", "triangles' vertex colours scale the base colour")
 
 /* The defaults, for code that is not built by the runtime: the kernel library
  * compiled as C++ on the host (shared/compat.h includes this), or an OpenCL
@@ -89,6 +91,12 @@
 #endif
 #ifndef HAS_AUX_PASSES
 #define HAS_AUX_PASSES 0
+#endif
+#ifndef HAS_NORMAL_MAPS
+#define HAS_NORMAL_MAPS 0
+#endif
+#ifndef HAS_VERTEX_COLOURS
+#define HAS_VERTEX_COLOURS 0
 #endif
 
 #ifndef __OPENCL_C_VERSION__

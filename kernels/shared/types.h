@@ -17,6 +17,7 @@
 typedef float4 cs_float4;
 typedef uint cs_uint;
 typedef int cs_int;
+typedef ushort cs_ushort;
 #define CS_ALIGN16
 #else
 #include <cstdint>
@@ -25,6 +26,7 @@ typedef int cs_int;
 typedef float4 cs_float4; /* the host's float4 (compat.h): .xyz and .w read as on the device */
 typedef uint32_t cs_uint;
 typedef int32_t cs_int;
+typedef uint16_t cs_ushort;
 #endif
 
 /* Primitive references in BVH leaf order: type in the top 2 bits, index into
@@ -104,6 +106,24 @@ typedef struct {
   float u2, v2;
   cs_uint pad0, pad1;
 } TriangleShading; /* 80 bytes */
+
+/* Per-triangle vertex tangents for normal maps (HAS_NORMAL_MAPS), parallel
+ * to the Triangle array, present only when some material has a normal map:
+ * xyz the tangent at v0, v1, v2 (glTF's TANGENT, or computed as MikkTSpace
+ * does: host/scene/mesh_tangents.cpp), w its bitangent sign, so that the
+ * bitangent is w cross(N, T) (lib/normal_map.h). Zero where a triangle's
+ * material has no normal map. */
+typedef struct {
+  cs_float4 t0, t1, t2;
+} TriangleTangents; /* 48 bytes */
+
+/* Per-triangle vertex colours (glTF COLOR_0; HAS_VERTEX_COLOURS), parallel
+ * to the Triangle array, present only when some triangle has them: linear
+ * rgba at v0, v1, v2 as IEEE half floats (4 a vertex; alpha unused), white
+ * for triangles without. They multiply the base colour (lib/material.h). */
+typedef struct {
+  cs_ushort rgba[12];
+} TriangleColours; /* 24 bytes */
 
 #define TEXTURE_IMAGE 0u
 #define TEXTURE_CHECKER 1u
@@ -209,7 +229,12 @@ typedef struct {
    * (lib/material.h: material_emission_texel; a triangle light's sampled
    * point reads it too, lib/lights/triangle_light.h); -1: none */
   cs_int emission_texture;
-  cs_uint pad1, pad2;
+  /* a glTF normalTexture (linear texels, tangent space: rgb = (n + 1) / 2)
+   * perturbing the shading normal of triangles with tangents
+   * (TriangleTangents; lib/normal_map.h); -1: none. normal_scale scales the
+   * map's x and y (glTF's normalTexture.scale). */
+  cs_int normal_texture;
+  float normal_scale;
 } Material; /* 96 bytes */
 
 /* A light, in the one form every integrator and the photon pass read, from
