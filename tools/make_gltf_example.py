@@ -6,7 +6,7 @@ fuzz target, fuzz/corpus/fuzz_gltf/ (small valid .gltf and .glb files that
 reach every part of the importer: indices of each type, interleaved views,
 strips and fans, TRS and matrix nodes, cameras, the three punctual lights,
 every material extension we read, an embedded PNG texture, samplers and
-texture transforms).
+texture transforms, normal maps with and without tangents, vertex colours).
     tools/make_gltf_example.py            # rewrites both
 Deterministic: the same files on every run."""
 import base64, json, math, os, struct, zlib
@@ -250,6 +250,29 @@ def seeds():
     b.mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 0, 1]] * 3, [[0, 0], [3, 0], [0, -2]], [0, 1, 2], 0)
     b.node({"mesh": 0})
     out["samplers_transform.gltf"] = b.gltf([0])
+    # Normal maps: one primitive with a TANGENT attribute, one without
+    # (MikkTSpace's tangents), one without uv (warned); COLOR_0 as
+    # normalized unsigned bytes (VEC4) and as floats (VEC3).
+    b = Builder()
+    b.doc["images"] = [{"bufferView": b.view(png_checker(4, (160, 128, 230), (100, 150, 220))), "mimeType": "image/png"}]
+    b.doc["textures"] = [{"source": 0}]
+    b.doc["materials"] = [{"normalTexture": {"index": 0, "scale": 0.8},
+                           "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.8, 0.7, 1]}}]
+    quad = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
+    m_tangent = b.mesh(quad, [[0, 0, 1]] * 4, [[0, 1], [1, 1], [1, 0], [0, 0]], [0, 1, 2, 0, 2, 3], 0)
+    prim = b.doc["meshes"][m_tangent]["primitives"][0]
+    prim["attributes"]["TANGENT"] = b.accessor(b.view(struct.pack("<16f", *([1, 0, 0, -1] * 4))), 5126, 4, "VEC4")
+    prim["attributes"]["COLOR_0"] = b.accessor(b.view(bytes([255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255,
+                                                            255, 255, 255, 128])), 5121, 4, "VEC4")
+    b.doc["accessors"][-1]["normalized"] = True
+    m_mikk = b.mesh(quad, None, [[0, 0], [2, 0], [2, 2], [0, 2]], [0, 1, 2, 0, 2, 3], 0)
+    b.doc["meshes"][m_mikk]["primitives"][0]["attributes"]["COLOR_0"] = b.accessor(
+        b.view(struct.pack("<12f", *([0.5, 0.25, 1.0] * 4))), 5126, 4, "VEC3")
+    b.mesh(quad, None, None, [0, 2, 1], 0)
+    b.node({"mesh": m_tangent})
+    b.node({"mesh": m_mikk, "translation": [0, 0, -1], "scale": [-1, 1, 1]})
+    b.node({"mesh": 2, "translation": [0, 0, -2]})
+    out["normal_map_colours.gltf"] = b.gltf([0, 1, 2])
     return out
 
 

@@ -50,13 +50,14 @@ bool HostTracer::intersect_prim(uint32_t ref, glm::vec3 o, glm::vec3 d, float tm
 }
 
 Hit HostTracer::closest(glm::vec3 o, glm::vec3 d, float tmin, float tmax) const {
+  // Alpha cut-outs are not compiled here (HAS_ALPHA_CUTOUTS 0): no records.
   return trace_closest(wide_.nodes.data(), wide_.triangle_blocks.data(), wide_.prim_refs.data(), scene_.spheres.data(),
-                       scene_.cylinders.data(), scene_.triangles.data(), f3(o), f3(d), tmin, tmax);
+                       scene_.cylinders.data(), scene_.triangles.data(), nullptr, nullptr, f3(o), f3(d), tmin, tmax);
 }
 
 bool HostTracer::any(glm::vec3 o, glm::vec3 d, float tmin, float tmax) const {
   return trace_any(wide_.nodes.data(), wide_.triangle_blocks.data(), wide_.prim_refs.data(), scene_.spheres.data(),
-                   scene_.cylinders.data(), scene_.triangles.data(), f3(o), f3(d), tmin, tmax);
+                   scene_.cylinders.data(), scene_.triangles.data(), nullptr, nullptr, f3(o), f3(d), tmin, tmax);
 }
 
 HostSurfacePoint HostTracer::surface_at(const Hit& hit, glm::vec3 o, glm::vec3 d) const {

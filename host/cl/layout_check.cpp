@@ -19,6 +19,8 @@ static_assert(sizeof(TriangleShading) == 80 && offsetof(TriangleShading, n2) == 
               "TriangleShading layout");
 static_assert(sizeof(TriangleTangents) == 48 && offsetof(TriangleTangents, t2) == 32, "TriangleTangents layout");
 static_assert(sizeof(TriangleColours) == 24, "TriangleColours layout");
+static_assert(sizeof(TriangleAlpha) == 64 && offsetof(TriangleAlpha, mode) == 32 && offsetof(TriangleAlpha, sampling) == 48,
+              "TriangleAlpha layout");
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, kind) == 64 && offsetof(Texture, scale) == 80 &&
                   offsetof(Texture, sampling) == 84,
               "Texture layout");
@@ -27,7 +29,7 @@ static_assert(sizeof(BvhNode8) == 256 && offsetof(BvhNode8, hi_x) == 32 && offse
                   offsetof(BvhNode8, height) == 224,
               "BvhNode8 layout");
 static_assert(sizeof(TriangleBlock4) == 160 && offsetof(TriangleBlock4, ref) == 144, "TriangleBlock4 layout");
-static_assert(sizeof(Material) == 96 && offsetof(Material, specular) == 16 && offsetof(Material, emission) == 32 &&
+static_assert(sizeof(Material) == 112 && offsetof(Material, alpha_cutoff) == 100 && offsetof(Material, specular) == 16 && offsetof(Material, emission) == 32 &&
                   offsetof(Material, specular_exponent) == 48 && offsetof(Material, ka) == 60 &&
                   offsetof(Material, flags) == 64 && offsetof(Material, texture) == 68 &&
                   offsetof(Material, roughness) == 72 && offsetof(Material, metallic) == 76 &&

@@ -124,6 +124,7 @@ uint32_t add_emissive_material(Scene& scene, const glm::vec3& radiance) {
   m.emission_texture = -1;
   m.normal_texture = -1;
   m.normal_scale = 1.0f;
+  m.alpha_factor = 1.0f;
   m.roughness = -1.0f;
   scene.materials.push_back(m);
   return uint32_t(scene.materials.size() - 1);

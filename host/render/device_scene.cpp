@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "host/lights/environment_light.h"
+#include "host/scene/alpha_cutouts.h"
 
 namespace caustica {
 
@@ -30,6 +31,11 @@ DeviceScene::DeviceScene(cl::Context& context, const Scene& scene, const WideBvh
   add("materials", features.materials ? scene.materials : no_materials);
   add("textures", features.textures ? scene.textures : no_textures);
   add("texels", features.textures ? scene.texels : no_texels);
+  // The traversal's cut-outs read the same texels under their own name.
+  const cl::Buffer texels = buffers_.back().second;
+  buffers_.emplace_back("alpha_texels", texels);
+  static const std::vector<TriangleAlpha> no_alpha;
+  add("triangle_alpha", features.alpha_cutouts ? triangle_alpha(scene) : no_alpha);
   static const std::vector<float> no_environment;
   add("environment", features.environment ? environment_device_data(scene) : no_environment);
 }
@@ -43,7 +49,8 @@ KernelArgs& DeviceScene::bind(KernelArgs& args, std::initializer_list<const char
 }
 
 KernelArgs& DeviceScene::bind_geometry(KernelArgs& args) const {
-  return bind(args, {"bvh_nodes", "tri_blocks", "prim_refs", "spheres", "cylinders", "triangles"});
+  return bind(args,
+              {"bvh_nodes", "tri_blocks", "prim_refs", "spheres", "cylinders", "triangles", "triangle_alpha", "alpha_texels"});
 }
 
 KernelArgs& DeviceScene::bind_surfaces(KernelArgs& args) const {
@@ -53,7 +60,7 @@ KernelArgs& DeviceScene::bind_surfaces(KernelArgs& args) const {
 }
 
 KernelArgs& DeviceScene::bind_scene(KernelArgs& args) const {
-  return bind_surfaces(bind(args, {"bvh_nodes", "tri_blocks", "prim_refs"}));
+  return bind_surfaces(bind(args, {"bvh_nodes", "tri_blocks", "prim_refs", "triangle_alpha", "alpha_texels"}));
 }
 
 KernelArgs& DeviceScene::bind_scene_buffers(KernelArgs& args, const DeviceLights& lights) const {

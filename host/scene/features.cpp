@@ -81,6 +81,12 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
   f.spheres = !scene.spheres.empty();
   f.cylinders = !scene.cylinders.empty();
   f.triangles = !scene.triangles.empty();
+  // Every mode's rays pass through cut-outs, binary's too.
+  for (const Triangle& t : scene.triangles)
+    if (scene.materials[t.material].flags & (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND)) {
+      f.alpha_cutouts = f.textures = true;  // the traversal reads alpha texels
+      break;
+    }
   if (mode == RenderMode::Binary) return f;  // binary shading needs no lights, materials or textures
   f.environment = scene.environment.has_value();
   f.materials = true;
@@ -164,6 +170,7 @@ int SceneFeatures::flag_value(FeatureFlag flag) const {
     case FeatureFlag::kHAS_LIGHT_TREE: return path && light_tree;
     case FeatureFlag::kHAS_NORMAL_MAPS: return normal_maps;
     case FeatureFlag::kHAS_VERTEX_COLOURS: return vertex_colours;
+    case FeatureFlag::kHAS_ALPHA_CUTOUTS: return alpha_cutouts;
   }
   throw Error("unknown feature flag");
 }

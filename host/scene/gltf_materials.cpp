@@ -10,7 +10,8 @@
 // texel (Material's roughness_texture and emission_texture);
 // specularGlossinessTexture is ignored (warned). A normalTexture perturbs
 // the shading normal in the frame of the primitives' tangents
-// (kernels/lib/normal_map.h).
+// (kernels/lib/normal_map.h). alphaMode MASK and BLEND become cut-outs in
+// the traversal (MATERIAL_ALPHA_*, kernels/lib/alpha_cutout.h).
 #include <algorithm>
 #include <cmath>
 
@@ -68,9 +69,7 @@ class MaterialMapper {
     out.specular_exponent = alpha > 0.0f ? std::min(2.0f / (alpha * alpha) - 2.0f, 1e4f) : 1e4f;
     out.diffuse = to_float4(glm::vec3(base), 1.0f);
     if (out.texture >= 0) out.flags |= MATERIAL_TEXTURE_SCALES;  // factor x texture, as glTF multiplies them
-    if (base.w < 1.0f || in.alphaMode != "OPAQUE")
-      ctx_.warn_once("alpha", mp + "/alphaMode", "transparency by alpha (alphaMode " + in.alphaMode +
-                                                     ", base colour alpha) is not supported; rendered opaque");
+    alpha_mode(in, base.w, out, mp);
     if (in.doubleSided) out.flags |= MATERIAL_TWO_SIDED;
 
     const double transmission = extension_number(in, "KHR_materials_transmission", "transmissionFactor", 0.0, mp);
@@ -98,6 +97,24 @@ class MaterialMapper {
   }
 
  private:
+  // alphaMode (kernels/lib/alpha_cutout.h): MASK cuts out where the base
+  // colour's alpha (factor x texture) is under alphaCutoff, BLEND passes
+  // rays with probability 1 - alpha; OPAQUE ignores alpha, as the
+  // specification says.
+  void alpha_mode(const tinygltf::Material& in, float factor, Material& out, const std::string& mp) {
+    out.alpha_factor = factor;
+    if (in.alphaMode == "MASK") {
+      if (!(in.alphaCutoff >= 0.0 && std::isfinite(in.alphaCutoff)))
+        ctx_.fail(mp + "/alphaCutoff", "expected a non-negative number, got " + std::to_string(in.alphaCutoff));
+      out.flags |= MATERIAL_ALPHA_MASK;
+      out.alpha_cutoff = static_cast<float>(in.alphaCutoff);
+    } else if (in.alphaMode == "BLEND") {
+      out.flags |= MATERIAL_ALPHA_BLEND;
+    } else if (in.alphaMode != "OPAQUE") {
+      ctx_.fail(mp + "/alphaMode", "expected \"OPAQUE\", \"MASK\" or \"BLEND\", got \"" + in.alphaMode + "\"");
+    }
+  }
+
   // Tangent-space texels read as data (not sRGB-decoded); the tangents are
   // the primitives' (gltf_primitives.cpp). An unreadable image leaves the
   // surface's own normal, with the texture's warning.

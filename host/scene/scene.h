@@ -66,7 +66,7 @@ struct Scene {
   std::vector<TriangleTangents> triangle_tangents;
   std::vector<TriangleColours> triangle_colours;
   std::vector<Texture> textures;
-  std::vector<uint16_t> texels;  // IEEE half floats, 4 per texel (linear rgb + unused)
+  std::vector<uint16_t> texels;  // IEEE half floats, 4 per texel (linear rgb + alpha, 1 where the image has none)
 
   // The scene's "environment" (host/lights/environment_light.h): an
   // equirectangular sky seen by rays that leave the scene, in place of

@@ -134,6 +134,7 @@ Material default_material() {
   out.emission_texture = -1;
   out.normal_texture = -1;
   out.normal_scale = 1.0f;
+  out.alpha_factor = 1.0f;
   out.roughness = -1.0f;
   out.metallic = 0.0f;
   return out;

@@ -255,11 +255,18 @@ std::string decode_texture_image(const std::string& data, LinearImage& out) {
     stbi_image_free(pixels);
     return "";
   }
-  unsigned char* pixels = stbi_load_from_memory(bytes, len, &w, &h, &n, 3);
+  // Grey + alpha and RGBA images keep their alpha (linear: codes / 255).
+  const int channels = n == 2 || n == 4 ? 4 : 3;
+  unsigned char* pixels = stbi_load_from_memory(bytes, len, &w, &h, &n, channels);
   if (!pixels) return stbi_failure_reason() ? stbi_failure_reason() : "unknown stb_image error";
   out.width = w, out.height = h;
-  out.rgb.resize(static_cast<size_t>(w) * h * 3);
-  for (size_t i = 0; i < out.rgb.size(); ++i) out.rgb[i] = srgb_table()[pixels[i]];
+  const size_t count = static_cast<size_t>(w) * h;
+  out.rgb.resize(count * 3);
+  if (channels == 4) out.alpha.resize(count);
+  for (size_t t = 0; t < count; ++t) {
+    for (size_t c = 0; c < 3; ++c) out.rgb[t * 3 + c] = srgb_table()[pixels[t * size_t(channels) + c]];
+    if (channels == 4) out.alpha[t] = pixels[t * 4 + 3] / 255.0f;
+  }
   stbi_image_free(pixels);
   return "";
 }
@@ -390,7 +397,7 @@ std::string TextureLibrary::add_image(const std::string& key, const LinearImage&
   const uint16_t one = glm::packHalf1x16(1.0f);
   for (size_t t = 0; t < count; ++t) {
     for (int c = 0; c < 3; ++c) scene_.texels.push_back(to_half(img.rgb[t * 3 + c]));
-    scene_.texels.push_back(one);
+    scene_.texels.push_back(img.alpha.empty() ? one : to_half(img.alpha[t]));
   }
   Texture tex{};
   tex.kind = TEXTURE_IMAGE;

@@ -1,6 +1,8 @@
 // Scene textures: images (stb_image: PNG, JPG, PPM/PGM, BMP, TGA, HDR) and
 // procedural checkerboards, packed into the Scene's one texel buffer of
-// linear half floats with a Texture record each (kernels/shared/types.h).
+// linear half floats with a Texture record each (kernels/shared/types.h);
+// the fourth half of a texel is the image's alpha (1 where it has none),
+// read only by alpha cut-outs (kernels/lib/alpha_cutout.h).
 // 8-bit images are sRGB-encoded and decoded to linear here; HDR stays linear.
 // A texture that cannot be found or read is not an error: it becomes a
 // visible magenta/black checker and a warning naming it.
@@ -29,10 +31,12 @@ std::vector<std::string> texture_search_candidates(const std::string& written, c
 // The exact sRGB EOTF of an 8-bit code value (what 8-bit texels decode to).
 float srgb_byte_to_linear(unsigned char value);
 
-// Row-major from the top row, 3 linear floats per texel.
+// Row-major from the top row, 3 linear floats per texel; alpha (one per
+// texel, linear) only for images that have it, empty otherwise.
 struct LinearImage {
   int width = 0, height = 0;
   std::vector<float> rgb;
+  std::vector<float> alpha;
 };
 
 // Decodes a texture file's bytes (any format listed above). Returns "" on

@@ -62,6 +62,7 @@
 #ifndef CAUSTICA_LIB_BVH_TRAVERSE_H
 #define CAUSTICA_LIB_BVH_TRAVERSE_H
 
+#include "lib/alpha_cutout.h"
 #include "lib/geometry.h"
 #include "lib/intersect_primitives.h"
 
@@ -182,12 +183,24 @@ CS_DEVICE bool intersect_prim_ref(__global const Sphere* spheres, __global const
   return false;
 }
 
-/* The nearest lane of a triangle block hit nearer than hit->t replaces *hit. */
+/* The nearest lane of a triangle block hit nearer than hit->t replaces *hit
+ * (with HAS_ALPHA_CUTOUTS, the nearest that alpha keeps: lib/alpha_cutout.h). */
 CS_DEVICE __attribute__((always_inline)) void triangle_block_closest(__global const TriangleBlock4* block,
-                                                          const TriangleRay* r, float tmin, Hit* hit) {
+                                                          const TriangleRay* r, float tmin, Hit* hit,
+                                                          __global const TriangleAlpha* triangle_alpha,
+                                                          __global const ushort* alpha_texels, float3 o, float3 d) {
   float4 t, u, v;
   int4 lanes = intersect_triangle_block(block, r, tmin, hit->t, &t, &u, &v);
   if (!any4(lanes)) return;
+#if HAS_ALPHA_CUTOUTS
+  lanes = alpha_kept_lanes(block, lanes, u, v, triangle_alpha, alpha_texels, o, d);
+  if (!any4(lanes)) return;
+#else
+  (void)triangle_alpha;
+  (void)alpha_texels;
+  (void)o;
+  (void)d;
+#endif
   t = select(splat_float4(hit->t), t, lanes);
   /* Plain compares, not fmin: t is never NaN here. */
   const float t01 = t.y < t.x ? t.y : t.x, t23 = t.w < t.z ? t.w : t.z;
@@ -306,6 +319,8 @@ CS_DEVICE uint bvh8_unpack(uint item, Lanes* lanes) {
 CS_DEVICE uint wide_leaf_count(uint item) { return ((item >> WIDE_LEAF_COUNT_SHIFT) & (WIDE_LEAF_MAX_COUNT - 1u)) + 1u; }
 
 CS_DEVICE Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax) {
+  (void)triangle_alpha; /* read only with HAS_ALPHA_CUTOUTS and triangles */
+  (void)alpha_texels;
   Hit hit = hit_none(tmax);
   if (!ray_traceable(o, d)) return hit;
   const WideRay ray = wide_ray(o, d, tmin);
@@ -390,7 +405,8 @@ CS_DEVICE Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmi
           tri = triangle_ray(o, d);
           tri_ready = true;
         }
-        for (uint b = first; b < end; ++b) triangle_block_closest(&tri_blocks[b], &tri, tmin, &hit);
+        for (uint b = first; b < end; ++b)
+          triangle_block_closest(&tri_blocks[b], &tri, tmin, &hit, triangle_alpha, alpha_texels, o, d);
       }
 #endif
     }
@@ -405,6 +421,8 @@ CS_DEVICE Hit trace_closest(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmi
 }
 
 CS_DEVICE bool trace_any(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, float tmax) {
+  (void)triangle_alpha; /* read only with HAS_ALPHA_CUTOUTS */
+  (void)alpha_texels;
   if (!ray_traceable(o, d)) return false;
   const WideRay ray = wide_ray(o, d, tmin);
 #if HAS_TRIANGLES
@@ -458,8 +476,16 @@ CS_DEVICE bool trace_any(SCENE_GEOMETRY_PARAMS, float3 o, float3 d, float tmin, 
           tri_ready = true;
         }
         float4 t, u, v;
-        for (uint b = first; b < end; ++b)
-          if (any4(intersect_triangle_block(&tri_blocks[b], &tri, tmin, tmax, &t, &u, &v))) return true;
+        for (uint b = first; b < end; ++b) {
+          const int4 lanes = intersect_triangle_block(&tri_blocks[b], &tri, tmin, tmax, &t, &u, &v);
+#if HAS_ALPHA_CUTOUTS
+          if (any4(lanes) &&
+              any4(alpha_kept_lanes(&tri_blocks[b], lanes, u, v, triangle_alpha, alpha_texels, o, d)))
+            return true;
+#else
+          if (any4(lanes)) return true;
+#endif
+        }
       }
 #endif
     }

@@ -13,12 +13,16 @@
  * shares them). */
 
 /* The traversal's view of the scene: the wide BVH (nodes, triangle blocks,
- * refs of the sphere/cylinder leaves) and the primitive arrays. */
+ * refs of the sphere/cylinder leaves), the primitive arrays, and the
+ * triangles' alpha cut-outs with the texels they read (read only with
+ * HAS_ALPHA_CUTOUTS, lib/alpha_cutout.h; alpha_texels is the scene's texel
+ * buffer under a second name). */
 #define SCENE_GEOMETRY_PARAMS                                                                          \
   __global const BvhNode8 *restrict bvh_nodes, __global const TriangleBlock4 *restrict tri_blocks,     \
       __global const uint *restrict prim_refs, __global const Sphere *restrict spheres,                \
-      __global const Cylinder *restrict cylinders, __global const Triangle *restrict triangles
-#define SCENE_GEOMETRY_ARGS bvh_nodes, tri_blocks, prim_refs, spheres, cylinders, triangles
+      __global const Cylinder *restrict cylinders, __global const Triangle *restrict triangles,       \
+      __global const TriangleAlpha *restrict triangle_alpha, __global const ushort *restrict alpha_texels
+#define SCENE_GEOMETRY_ARGS bvh_nodes, tri_blocks, prim_refs, spheres, cylinders, triangles, triangle_alpha, alpha_texels
 
 CS_DEVICE Hit hit_none(float tmax) {
   Hit h;

@@ -25,6 +25,8 @@ typedef struct {
   __global const Sphere* spheres;
   __global const Cylinder* cylinders;
   __global const Triangle* triangles;
+  __global const TriangleAlpha* triangle_alpha; /* HAS_ALPHA_CUTOUTS */
+  __global const ushort* alpha_texels;          /* the texels, for the traversal */
   __global const TriangleShading* triangle_shading;
   __global const TriangleTangents* triangle_tangents; /* HAS_NORMAL_MAPS */
   __global const TriangleColours* triangle_colours;   /* HAS_VERTEX_COLOURS */
@@ -44,16 +46,20 @@ typedef struct {
 
 #define SCENE_BUFFERS_PARAMS                                                                                  \
   __global const BvhNode8 *restrict bvh_nodes, __global const TriangleBlock4 *restrict tri_blocks,           \
-      __global const uint *restrict prim_refs, SCENE_SURFACE_PARAMS, __global const Light *restrict lights,  \
+      __global const uint *restrict prim_refs, __global const TriangleAlpha *restrict triangle_alpha,       \
+      __global const ushort *restrict alpha_texels, SCENE_SURFACE_PARAMS, __global const Light *restrict lights, \
       __global const uint *restrict light_of_sphere, __global const uint *restrict light_of_cylinder,         \
       __global const uint *restrict light_of_triangle, __global const LightTreeNode *restrict light_tree_nodes, \
       __global const LightTreeTrail *restrict light_tree_trails
 #define SCENE_BUFFERS_FROM_PARAMS                                                                                  \
-  {bvh_nodes,        tri_blocks,       prim_refs, spheres, cylinders,   triangles,       triangle_shading,  \
+  {bvh_nodes,        tri_blocks,       prim_refs, spheres, cylinders,   triangles,       triangle_alpha,    \
+   alpha_texels,      triangle_shading,                                                                   \
    triangle_tangents, triangle_colours, materials, textures, texels,    environment,     lights,            \
    light_of_sphere,   light_of_cylinder, light_of_triangle, light_tree_nodes, light_tree_trails}
 
-#define SCENE_GEOMETRY_OF(s) (s)->bvh_nodes, (s)->tri_blocks, (s)->prim_refs, (s)->spheres, (s)->cylinders, (s)->triangles
+#define SCENE_GEOMETRY_OF(s)                                                                                  \
+  (s)->bvh_nodes, (s)->tri_blocks, (s)->prim_refs, (s)->spheres, (s)->cylinders, (s)->triangles,              \
+      (s)->triangle_alpha, (s)->alpha_texels
 #define SCENE_SURFACE_OF(s)                                                                                    \
   (s)->spheres, (s)->cylinders, (s)->triangles, (s)->triangle_shading, (s)->triangle_tangents,               \
       (s)->triangle_colours, (s)->materials, (s)->textures, (s)->texels, (s)->environment

@@ -45,8 +45,34 @@ inline int texture_wrap_index(int i, int n) {
 }
 inline int texture_index(int i, int n, bool repeat) { return repeat ? texture_wrap_index(i, n) : clamp(i, 0, n - 1); }
 
-inline float3 texture_texel(__global const half* texels, uint offset, int width, int x, int y) {
-  return vload_half4((size_t)offset + (size_t)y * (size_t)width + (size_t)x, texels).xyz;
+inline float4 texture_texel(__global const half* texels, uint offset, int width, int x, int y) {
+  return vload_half4((size_t)offset + (size_t)y * (size_t)width + (size_t)x, texels);
+}
+
+/* The image of w x h texels from `offset` at uv (already transformed) by
+ * the sampling bits' wrap modes and filter: all four channels (rgb and
+ * the image's alpha). */
+inline float4 texture_image_sample(__global const half* texels, uint offset, int w, int h, uint sampling, float2 uv) {
+  const bool repeat_u = !(sampling & (TEXTURE_CLAMP_U | TEXTURE_MIRROR_U));
+  const bool repeat_v = !(sampling & (TEXTURE_CLAMP_V | TEXTURE_MIRROR_V));
+  /* Continuous texel coordinates with texel centres on the integers, y
+   * counted from the top row. */
+  const float fx = texture_fold(uv.x, sampling, TEXTURE_CLAMP_U, TEXTURE_MIRROR_U) * (float)w - 0.5f;
+  const float fy = (1.0f - texture_fold(uv.y, sampling, TEXTURE_CLAMP_V, TEXTURE_MIRROR_V)) * (float)h - 0.5f;
+  if (sampling & TEXTURE_NEAREST)
+    return texture_texel(texels, offset, w, texture_index((int)floor(fx + 0.5f), w, repeat_u),
+                         texture_index((int)floor(fy + 0.5f), h, repeat_v));
+  const float x0f = floor(fx);
+  const float y0f = floor(fy);
+  const float tx = fx - x0f;
+  const float ty = fy - y0f;
+  const int x0 = texture_index((int)x0f, w, repeat_u);
+  const int y0 = texture_index((int)y0f, h, repeat_v);
+  const int x1 = texture_index((int)x0f + 1, w, repeat_u);
+  const int y1 = texture_index((int)y0f + 1, h, repeat_v);
+  const float4 row0 = mix(texture_texel(texels, offset, w, x0, y0), texture_texel(texels, offset, w, x1, y0), tx);
+  const float4 row1 = mix(texture_texel(texels, offset, w, x0, y1), texture_texel(texels, offset, w, x1, y1), tx);
+  return mix(row0, row1, ty);
 }
 
 /* index must name an entry of textures (materials hold -1 for "none"). */
@@ -62,30 +88,7 @@ float3 texture_lookup(__global const Texture* textures, __global const half* tex
   const uint sampling = tex->sampling;
   if (sampling & TEXTURE_TRANSFORMED)
     uv = (float2)(tex->uv_u.x * uv.x + tex->uv_u.y * uv.y + tex->uv_u.z, tex->uv_v.x * uv.x + tex->uv_v.y * uv.y + tex->uv_v.z);
-  const int w = (int)tex->width;
-  const int h = (int)tex->height;
-  const bool repeat_u = !(sampling & (TEXTURE_CLAMP_U | TEXTURE_MIRROR_U));
-  const bool repeat_v = !(sampling & (TEXTURE_CLAMP_V | TEXTURE_MIRROR_V));
-  /* Continuous texel coordinates with texel centres on the integers, y
-   * counted from the top row. */
-  const float fx = texture_fold(uv.x, sampling, TEXTURE_CLAMP_U, TEXTURE_MIRROR_U) * (float)w - 0.5f;
-  const float fy = (1.0f - texture_fold(uv.y, sampling, TEXTURE_CLAMP_V, TEXTURE_MIRROR_V)) * (float)h - 0.5f;
-  if (sampling & TEXTURE_NEAREST)
-    return texture_texel(texels, tex->offset, w, texture_index((int)floor(fx + 0.5f), w, repeat_u),
-                         texture_index((int)floor(fy + 0.5f), h, repeat_v));
-  const float x0f = floor(fx);
-  const float y0f = floor(fy);
-  const float tx = fx - x0f;
-  const float ty = fy - y0f;
-  const int x0 = texture_index((int)x0f, w, repeat_u);
-  const int y0 = texture_index((int)y0f, h, repeat_v);
-  const int x1 = texture_index((int)x0f + 1, w, repeat_u);
-  const int y1 = texture_index((int)y0f + 1, h, repeat_v);
-  const float3 row0 =
-      mix(texture_texel(texels, tex->offset, w, x0, y0), texture_texel(texels, tex->offset, w, x1, y0), tx);
-  const float3 row1 =
-      mix(texture_texel(texels, tex->offset, w, x0, y1), texture_texel(texels, tex->offset, w, x1, y1), tx);
-  return mix(row0, row1, ty);
+  return texture_image_sample(texels, tex->offset, (int)tex->width, (int)tex->height, sampling, uv).xyz;
 }
 
 #endif /* HAS_TEXTURES */

@@ -40,7 +40,8 @@
   X(HAS_AUX_PASSES, 0, "aux-passes", "path: the albedo, normal and depth passes (denoiser, compositors)")          \
   X(HAS_LIGHT_TREE, 0, "light-tree", "path: next-event estimation picks lights through the light tree")         \
   X(HAS_NORMAL_MAPS, 0, "normal-maps", "triangles' tangents and their materials' normal maps")                    \
-  X(HAS_VERTEX_COLOURS, 0, "vertex-colours", "triangles' vertex colours scale the base colour")
+  X(HAS_VERTEX_COLOURS, 0, "vertex-colours", "triangles' vertex colours scale the base colour")                 \
+  X(HAS_ALPHA_CUTOUTS, 0, "alpha-cutouts", "the traversal skips triangles' alpha-masked and blended texels")
 
 /* The defaults, for code that is not built by the runtime: the kernel library
  * compiled as C++ on the host (shared/compat.h includes this), or an OpenCL
@@ -97,6 +98,9 @@
 #endif
 #ifndef HAS_VERTEX_COLOURS
 #define HAS_VERTEX_COLOURS 0
+#endif
+#ifndef HAS_ALPHA_CUTOUTS
+#define HAS_ALPHA_CUTOUTS 0
 #endif
 
 #ifndef __OPENCL_C_VERSION__

@@ -140,7 +140,8 @@ typedef struct {
 #define TEXTURE_TRANSFORMED 32u /* uv pass through the affine map uv_u, uv_v first (KHR_texture_transform) */
 
 /* One texture of the scene. Image texels of every texture live in one buffer
- * of linear-RGB half floats (4 halves a texel, alpha unused), row-major from
+ * of linear-RGB half floats (4 halves a texel: r, g, b and the image's alpha,
+ * 1 where it has none; only alpha cut-outs read it), row-major from
  * the top row, texture i starting at texel `offset`. Several Texture records
  * may share texels (one image under different samplers or transforms). */
 typedef struct {
@@ -206,6 +207,11 @@ typedef struct {
 /* the texture's texel scales the diffuse colour (glTF: baseColorFactor x
  * baseColorTexture) instead of replacing it (the coursework format's textures) */
 #define MATERIAL_TEXTURE_SCALES 8u
+/* glTF alphaMode MASK: cut out where alpha_factor x the base colour
+ * texture's alpha < alpha_cutoff; BLEND: passed through with probability
+ * 1 - alpha (lib/alpha_cutout.h) */
+#define MATERIAL_ALPHA_MASK 16u
+#define MATERIAL_ALPHA_BLEND 32u
 
 typedef struct {
   cs_float4 diffuse;  /* rgb diffuse colour, w = kd */
@@ -235,7 +241,35 @@ typedef struct {
    * map's x and y (glTF's normalTexture.scale). */
   cs_int normal_texture;
   float normal_scale;
-} Material; /* 96 bytes */
+  /* MATERIAL_ALPHA_MASK / _BLEND: the base colour's alpha factor and the
+   * MASK cut-off; the alpha texels are those of `texture` */
+  float alpha_factor;
+  float alpha_cutoff;
+  cs_uint pad0, pad1;
+} Material; /* 112 bytes */
+
+/* A triangle's alpha cut-out (HAS_ALPHA_CUTOUTS; parallel to the Triangle
+ * array, present only when some material has alpha MASK or BLEND; built
+ * from the materials by host/scene/alpha_cutouts.cpp, read by the
+ * traversal, lib/alpha_cutout.h). `mode` 0 is opaque: the traversal's hit
+ * stands. Otherwise alpha = factor x the fourth channel of the texture
+ * image (offset, width, height, sampling as its Texture record) at the
+ * triangle's texture coordinates, whose corners already carry the
+ * texture's transform (an affine map commutes with interpolation). */
+#define ALPHA_OPAQUE 0u
+#define ALPHA_MASK 1u  /* cut where alpha < cutoff */
+#define ALPHA_BLEND 2u /* passed with probability 1 - alpha */
+#define ALPHA_NO_IMAGE 0xFFFFFFFFu /* offset: the factor alone */
+typedef struct {
+  float u0, v0, u1, v1, u2, v2;
+  float factor;
+  float cutoff;
+  cs_uint mode;
+  cs_uint offset; /* first texel, or ALPHA_NO_IMAGE */
+  cs_uint width, height;
+  cs_uint sampling; /* TEXTURE_CLAMP_U ... TEXTURE_NEAREST (TEXTURE_TRANSFORMED is already applied) */
+  cs_uint pad0, pad1, pad2;
+} TriangleAlpha; /* 64 bytes */
 
 /* A light, in the one form every integrator and the photon pass read, from
  * the scene loader to the device. What p0, p1, p2 and emitted hold is

@@ -187,15 +187,17 @@ std::vector<Outcome> run_compare(const Scene& s, const WideBvh& bvh, const std::
   const std::vector<uint32_t> all_refs = one_ref_per_primitive(s);
   cl::Buffer out(runtime().context(), CL_MEM_WRITE_ONLY, 2 * n * sizeof(cs_float4));
   // The kernel does not retain its buffers: keep them alive until the read.
+  // No alpha cut-outs (HAS_ALPHA_CUTOUTS 0): a dummy record and texel.
   std::vector<cl::Buffer> keep = {upload(bvh.nodes),   upload(bvh.triangle_blocks), upload(bvh.prim_refs),
                                   upload(s.spheres),   upload(s.cylinders),         upload(s.triangles),
+                                  upload(std::vector<TriangleAlpha>(1)), upload(std::vector<uint16_t>(4)),
                                   upload(all_refs),    upload(data)};
   cl::Kernel k(program, "compare");
-  for (int a = 0; a < 7; ++a) k.setArg(a, keep[a]);
-  k.setArg(7, static_cast<cl_uint>(all_refs.size()));
-  k.setArg(8, keep[7]);
-  k.setArg(9, static_cast<cl_uint>(n));
-  k.setArg(10, out);
+  for (int a = 0; a < 9; ++a) k.setArg(a, keep[a]);
+  k.setArg(9, static_cast<cl_uint>(all_refs.size()));
+  k.setArg(10, keep[9]);
+  k.setArg(11, static_cast<cl_uint>(n));
+  k.setArg(12, out);
   runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
   std::vector<cs_float4> o(2 * n);
   runtime().queue().enqueueReadBuffer(out, CL_TRUE, 0, o.size() * sizeof(cs_float4), o.data());
