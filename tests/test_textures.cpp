@@ -472,9 +472,10 @@ float half_at(const Scene& s, size_t texel, int channel) {
   return glm::unpackHalf1x16(s.texels[texel * 4 + channel]);
 }
 
-// Texels of texture `index` equal `expected` (linear rgb, row-major from the top).
+// Texels of texture `index` equal `expected` (linear rgb, row-major from
+// the top), and their fourth channel the image's alpha (1 where it has none).
 void expect_texels(const Scene& s, int index, int w, int h, const std::vector<vec3>& expected, float tol,
-                   const std::string& what) {
+                   const std::string& what, const std::vector<float>& alpha = {}) {
   ASSERT_GE(index, 0) << what;
   ASSERT_LT(static_cast<size_t>(index), s.textures.size()) << what;
   const Texture& t = s.textures[index];
@@ -486,7 +487,10 @@ void expect_texels(const Scene& s, int index, int w, int h, const std::vector<ve
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(half_at(s, t.offset + k, c), expected[k][c], tol + 1e-3f * expected[k][c])
           << what << " texel " << k << " channel " << c;
-    EXPECT_EQ(half_at(s, t.offset + k, 3), 1.0f) << what;
+    if (alpha.empty())
+      EXPECT_EQ(half_at(s, t.offset + k, 3), 1.0f) << what;
+    else
+      EXPECT_NEAR(half_at(s, t.offset + k, 3), alpha[size_t(k)], 1e-3f) << what << " texel " << k << " alpha";
   }
 }
 
@@ -535,7 +539,7 @@ TEST(TextureHost, LoadsEveryFormat) {
   const std::vector<vec3> expected = decoded(kPixels, 4);
   for (const char* name : {"a.png", "a.bmp", "a.tga", "a.ppm", "ascii.ppm"})
     expect_texels(s, load(name), 2, 2, expected, 1e-6f, name);
-  expect_texels(s, load("rgba.png"), 2, 1, decoded(kPixels + 6, 2), 1e-6f, "rgba.png");
+  expect_texels(s, load("rgba.png"), 2, 1, decoded(kPixels + 6, 2), 1e-6f, "rgba.png", {0.0f, 77 / 255.0f});
   const float g188 = srgb_byte_to_linear(188);
   const std::vector<vec3> greys = {vec3(g188), vec3(0), vec3(1)};
   expect_texels(s, load("grey.png"), 3, 1, greys, 1e-6f, "grey.png");

@@ -58,8 +58,12 @@ TexelScaleRange texel_scale_range(const Scene& scene, const Material& m) {
   return r;
 }
 
-bool casts(const Material& m, float2 texel_scale) {
-  return bsdf_casts_caustics(bsdf_of_material(&m, m.diffuse.xyz, texel_scale));
+// u_layer picks a partly transmissive material's layer (lib/material.h):
+// the largest u below 1 its glass share (if any), 0 its opaque base (if any).
+constexpr float kGlassLayer = 0x1.fffffep-1f, kOpaqueLayer = 0.0f;
+
+bool casts(const Material& m, float2 texel_scale, float u_layer) {
+  return bsdf_casts_caustics(bsdf_of_material(&m, m.diffuse.xyz, texel_scale, u_layer));
 }
 
 }  // namespace
@@ -68,11 +72,11 @@ bool casts(const Material& m, float2 texel_scale) {
 // compiled here through kernels/shared/compat.h): the scene analysis and
 // the photon pass cannot disagree about which surfaces cast.
 bool material_casts_caustics(const Scene& scene, const Material& m) {
-  return casts(m, texel_scale_range(scene, m).smoothest);
+  return casts(m, texel_scale_range(scene, m).smoothest, kGlassLayer);
 }
 
 bool material_receives_caustics(const Scene& scene, const Material& m) {
-  return !casts(m, texel_scale_range(scene, m).roughest);
+  return !casts(m, texel_scale_range(scene, m).roughest, kOpaqueLayer);
 }
 
 SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode caustics) {
@@ -110,6 +114,7 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
       f.reflection = true;
     if (std::max(m.emission.x, std::max(m.emission.y, m.emission.z)) > 0.0f) f.area_lights = true;
     if (m.roughness_texture >= 0 || m.emission_texture >= 0) f.textures = true;
+    if (m.clearcoat > 0.0f) f.clearcoat = true;
     // Tangents come with normal-mapped glTF materials; a normal map without
     // them (a hand-made Material) would have no frame to be read in.
     if (m.normal_texture >= 0 && f.triangle_shading && scene.triangle_tangents.size() == scene.triangles.size())
@@ -171,6 +176,8 @@ int SceneFeatures::flag_value(FeatureFlag flag) const {
     case FeatureFlag::kHAS_NORMAL_MAPS: return normal_maps;
     case FeatureFlag::kHAS_VERTEX_COLOURS: return vertex_colours;
     case FeatureFlag::kHAS_ALPHA_CUTOUTS: return alpha_cutouts;
+    // Phong has no clear coat; its photon pass keeps it (as the dielectric).
+    case FeatureFlag::kHAS_CLEARCOAT: return path ? clearcoat : 1;
   }
   throw Error("unknown feature flag");
 }

@@ -42,6 +42,7 @@ struct SceneFeatures {
   bool triangle_shading = false;  // vertex normals / texture coordinates on triangles
   bool normal_maps = false;       // a used material's normal map, on triangles with tangents
   bool vertex_colours = false;    // triangles' vertex colours (glTF COLOR_0)
+  bool clearcoat = false;         // a used material's clear coat (path mode, photon pass)
   bool alpha_cutouts = false;     // a used triangle material with alpha MASK or BLEND (every mode: rays see it)
   bool caustics = false;  // path: the photon pass (kernels compiled, buffers allocated, stages launched)
   std::string caustics_reason;  // why it is or is not there, for --verbose

@@ -14,6 +14,7 @@
 // the traversal (MATERIAL_ALPHA_*, kernels/lib/alpha_cutout.h).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "host/scene/gltf_internal.h"
 #include "host/scene/scene_reader.h"
@@ -60,6 +61,7 @@ class MaterialMapper {
                                               mp + "/pbrMetallicRoughness/metallicRoughnessTexture",
                                               /*linear_data=*/true);
       out.specular = to_float4(glm::vec3(1.0f), static_cast<float>(f0));
+      specular(in, out, mp);
       out.metallic = static_cast<float>(metallic);
     }
     if (!(roughness >= 0.0 && roughness <= 1.0)) ctx_.fail(mp, "expected a roughness (1 - glossiness) in [0, 1]");
@@ -73,19 +75,16 @@ class MaterialMapper {
     if (in.doubleSided) out.flags |= MATERIAL_TWO_SIDED;
 
     const double transmission = extension_number(in, "KHR_materials_transmission", "transmissionFactor", 0.0, mp);
-    if (transmission > 0.0) {
-      out.flags |= MATERIAL_REFRACTIVE;
-      out.ior = static_cast<float>(ior);
-      if (transmission < 1.0 || glm::any(glm::lessThan(glm::vec3(base), glm::vec3(1.0f))))
-        ctx_.warn_once("partial transmission", mp + "/extensions/KHR_materials_transmission",
-                       "partial or tinted transmission is not supported; rendered as clear glass of index " +
-                           std::to_string(ior));
-    }
+    if (transmission > 1.0) ctx_.fail(mp + "/extensions/KHR_materials_transmission/transmissionFactor",
+                                      "expected a number in [0, 1], got " + std::to_string(transmission));
+    if (transmission > 0.0) transmission_and_volume(in, transmission, ior, out, mp);
+    clearcoat(in, out, mp);
     emission(in, out, mp);
     for (const auto& [name, value] : in.extensions) {
       (void)value;
       if (name != "KHR_materials_ior" && name != "KHR_materials_transmission" &&
-          name != "KHR_materials_emissive_strength" && name != "KHR_materials_pbrSpecularGlossiness")
+          name != "KHR_materials_emissive_strength" && name != "KHR_materials_pbrSpecularGlossiness" &&
+          name != "KHR_materials_clearcoat" && name != "KHR_materials_volume" && name != "KHR_materials_specular")
         ctx_.warn_once("material " + name, mp + "/extensions/" + name, "material extension " + name +
                                                                             " is not supported; ignored");
     }
@@ -97,6 +96,100 @@ class MaterialMapper {
   }
 
  private:
+  // KHR_materials_transmission's glass (kernels/lib/material.h): the
+  // dielectric part of the material (1 - metallic) transmits a share t,
+  // tinted by the base colour; the rest is the opaque base, whose metallic
+  // is renormalised to the metal's share of it. KHR_materials_volume with a
+  // thickness (a volume, not a thin wall) absorbs inside: sigma = -ln(c) / d
+  // per channel for attenuationColor c and attenuationDistance d.
+  void transmission_and_volume(const tinygltf::Material& in, double t, double ior, Material& out,
+                               const std::string& mp) {
+    out.flags |= MATERIAL_REFRACTIVE | MATERIAL_TINTED_TRANSMISSION;
+    out.ior = static_cast<float>(ior);
+    const double glass = t * (1.0 - double(out.metallic));
+    out.volume.w = static_cast<float>(1.0 - glass);
+    if (glass < 1.0) out.metallic = static_cast<float>(double(out.metallic) / (1.0 - glass));
+    if (glass <= 0.0)
+      ctx_.warn_once("transmission on metal", mp + "/extensions/KHR_materials_transmission",
+                     "transmission on a material of metallicFactor " +
+                         (out.metallic == 1.0f ? std::string("1 (glTF's default)") : std::to_string(out.metallic)) +
+                         " is no glass (the specification transmits only the dielectric part); set metallicFactor "
+                         "0 for glass");
+    warn_texture(in, "KHR_materials_transmission", "transmissionTexture", mp);
+    auto v = in.extensions.find("KHR_materials_volume");
+    if (v == in.extensions.end()) return;
+    const std::string vp = mp + "/extensions/KHR_materials_volume";
+    warn_texture(in, "KHR_materials_volume", "thicknessTexture", mp);
+    if (!(number(v->second, "thicknessFactor", 0.0, vp) > 0.0)) return;  // thin-walled: no volume
+    const double distance = v->second.Has("attenuationDistance")
+                                ? number(v->second, "attenuationDistance", 0.0, vp)
+                                : std::numeric_limits<double>::infinity();
+    if (!(distance > 0.0)) ctx_.fail(vp + "/attenuationDistance", "expected a positive number");
+    const glm::vec4 c = colour(v->second, "attenuationColor", 3, glm::vec4(1.0f), vp);
+    glm::vec3 sigma(0.0f);
+    for (int i = 0; i < 3; ++i)
+      sigma[i] = c[i] >= 1.0f || std::isinf(distance) ? 0.0f
+                 : c[i] <= 0.0f                        ? 1e30f
+                                                      : static_cast<float>(-std::log(double(c[i])) / distance);
+    if (sigma != glm::vec3(0.0f)) {
+      out.flags |= MATERIAL_ATTENUATES;
+      out.volume = to_float4(glm::min(sigma, glm::vec3(1e30f)), out.volume.w);
+    }
+  }
+
+  // KHR_materials_clearcoat (kernels/lib/bsdf.h): the coat's weight and
+  // GGX alpha = roughness^2; its textures are not read (warned).
+  void clearcoat(const tinygltf::Material& in, Material& out, const std::string& mp) {
+    auto c = in.extensions.find("KHR_materials_clearcoat");
+    if (c == in.extensions.end()) return;
+    const std::string cp = mp + "/extensions/KHR_materials_clearcoat";
+    const double weight = number(c->second, "clearcoatFactor", 0.0, cp);
+    const double roughness = number(c->second, "clearcoatRoughnessFactor", 0.0, cp);
+    if (weight > 1.0) ctx_.fail(cp + "/clearcoatFactor", "expected a number in [0, 1]");
+    if (roughness > 1.0) ctx_.fail(cp + "/clearcoatRoughnessFactor", "expected a number in [0, 1]");
+    for (const char* t : {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"})
+      warn_texture(in, "KHR_materials_clearcoat", t, mp);
+    if (out.flags & MATERIAL_REFRACTIVE && out.volume.w <= 0.0f) return;  // all glass: no coat (lib/bsdf.h)
+    out.clearcoat = static_cast<float>(weight);
+    out.clearcoat_alpha = static_cast<float>(roughness * roughness);
+  }
+
+  // KHR_materials_specular on the metallic-roughness model: the coat's
+  // normal reflectance becomes specularColorFactor x F0(ior), at most 1,
+  // times specularFactor.
+  void specular(const tinygltf::Material& in, Material& out, const std::string& mp) {
+    auto s = in.extensions.find("KHR_materials_specular");
+    if (s == in.extensions.end()) return;
+    const std::string sp = mp + "/extensions/KHR_materials_specular";
+    const double factor = number(s->second, "specularFactor", 1.0, sp);
+    if (factor > 1.0) ctx_.fail(sp + "/specularFactor", "expected a number in [0, 1]");
+    glm::vec3 colour_factor(1.0f);
+    if (s->second.Has("specularColorFactor")) {
+      const tinygltf::Value& v = s->second.Get("specularColorFactor");
+      const std::string p = sp + "/specularColorFactor";
+      if (!v.IsArray() || v.ArrayLen() != 3) ctx_.fail(p, "expected 3 numbers");
+      for (int i = 0; i < 3; ++i) {
+        const tinygltf::Value& e = v.Get(i);
+        const double d = e.IsNumber() ? e.GetNumberAsDouble() : NAN;
+        if (!(d >= 0.0) || !std::isfinite(d)) ctx_.fail(p + "/" + std::to_string(i), "expected a non-negative number");
+        colour_factor[i] = static_cast<float>(d);
+      }
+    }
+    // F0 per channel = min(F0(ior) x colour, 1) x factor; stored as colour x strength.
+    const glm::vec3 f0 = glm::min(out.specular.w * colour_factor, glm::vec3(1.0f)) * static_cast<float>(factor);
+    const float strength = std::max(f0.x, std::max(f0.y, f0.z));
+    out.specular = strength > 0.0f ? to_float4(f0 / strength, strength) : to_float4(glm::vec3(1.0f), 0.0f);
+    warn_texture(in, "KHR_materials_specular", "specularTexture", mp);
+    warn_texture(in, "KHR_materials_specular", "specularColorTexture", mp);
+  }
+
+  void warn_texture(const tinygltf::Material& in, const char* ext, const char* key, const std::string& mp) {
+    auto e = in.extensions.find(ext);
+    if (e == in.extensions.end() || !e->second.IsObject() || !e->second.Has(key)) return;
+    const std::string p = mp + "/extensions/" + ext + "/" + key;
+    ctx_.warn_once(std::string(ext) + " " + key, p, std::string(key) + " is not supported; its factor is used alone");
+  }
+
   // alphaMode (kernels/lib/alpha_cutout.h): MASK cuts out where the base
   // colour's alpha (factor x texture) is under alphaCutoff, BLEND passes
   // rays with probability 1 - alpha; OPAQUE ignores alpha, as the

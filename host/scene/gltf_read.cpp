@@ -110,7 +110,9 @@ std::vector<std::string> lines_of(const std::string& text) {
 const std::set<std::string> kSupported = {"KHR_lights_punctual",         "KHR_materials_emissive_strength",
                                           "KHR_materials_transmission",  "KHR_materials_ior",
                                           "KHR_materials_pbrSpecularGlossiness", "KHR_mesh_quantization",
-                                          "FB_ngon_encoding",            "KHR_texture_transform"};
+                                          "FB_ngon_encoding",            "KHR_texture_transform",
+                                          "KHR_materials_clearcoat",     "KHR_materials_volume",
+                                          "KHR_materials_specular"};
 // A .glb's JSON chunk (the first, after the 12-byte header), or "" when the
 // container is malformed (tinygltf then says how).
 std::string glb_json_chunk(const std::string& bytes) {

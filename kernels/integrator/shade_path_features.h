@@ -71,7 +71,9 @@ inline bool surface_photon_map(const PathStageData* d, const PathRecord* ray, co
     vp.depth = ray->depth;
     vp.wo = pack3(-ray->dir.xyz);
     vp.footprint = cone_width;
-    vp.beta = pack3(ray->throughput.xyz);
+    /* A coat's mirror-like lobe gathers no photons (as plastic's smooth
+     * layer does not); the base under it sees 1 - c Fc(wo) of the light. */
+    vp.beta = pack3(ray->throughput.xyz * (bsdf_has_coat(*bsdf) ? 1.0f - bsdf_coat_weight(*bsdf, wo) : 1.0f));
     vp.kind = bsdf->kind;
     vp.diffuse = pack3(bsdf->diffuse);
     vp.alpha = bsdf->alpha;

@@ -228,8 +228,9 @@ inline bool surface_bounce(const PathStageData* d, const PathRecord* ray, uint p
  * the aux passes still wait for this sample's surface (it passed through a
  * mirror or smooth glass here): if the path ends, the caller adds "no
  * surface" for it. */
-inline bool shade_path_vertex(const PathStageData* d, const PathRecord ray, const Hit hit, ShadowRecord* shadow,
+inline bool shade_path_vertex(const PathStageData* d, const PathRecord ray_in, const Hit hit, ShadowRecord* shadow,
                               PathRecord* child, bool* aux_open) {
+  PathRecord ray = ray_in;
   shadow->pixel = SHADOW_SLOT_EMPTY;
   *aux_open = path_aux_at_vertex(d, &ray, hit);
   if (hit.prim == PRIM_NONE) {
@@ -239,10 +240,13 @@ inline bool shade_path_vertex(const PathStageData* d, const PathRecord ray, cons
   const SceneBuffers* s = &d->scene;
   const SurfacePoint sp = shading_point_at(SCENE_SURFACE_OF(s), hit, ray.origin.xyz, ray.dir.xyz);
   __global const Material* mat = &s->materials[sp.material];
+  ray.throughput = make_float4_xyz(ray.throughput.xyz * material_transmittance_to(mat, &sp, ray.dir.xyz, hit.t),
+                                   ray.throughput.w);
   surface_emission(d, &ray, hit.prim, &sp, mat);
   if (ray.depth >= d->params.max_depth && !path_aux_pending(&ray)) return false;
 
-  const Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv, sp.colour);
+  const Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv, sp.colour,
+                                     random_float(hash3(ray.pixel, ray.sample, d->params.seed), 0x1a7e0000u + ray.depth));
   const ShadingFrame frame = shading_frame(bsdf, sp.shading_normal, sp.normal, ray.dir.xyz);
   const float3 wo = frame_to_local(-ray.dir.xyz, frame.t, frame.b, frame.n);
   *aux_open = surface_aux(d, &ray, &bsdf, &frame, wo);
@@ -257,7 +261,7 @@ inline bool shade_path_vertex(const PathStageData* d, const PathRecord ray, cons
                       &u_light, &u_dir, &picks);
   /* Light reaching a caster that leads back to a receiver is the photon map's. */
   const bool nee_is_photon_maps = caster && (ray.flags & PATH_AFTER_RECEIVER);
-  const bool delta_only = bsdf_is_smooth(bsdf) && bsdf.kind != BSDF_PLASTIC;
+  const bool delta_only = bsdf_is_delta_only(bsdf);
   const uint light_normal = light_tree_normal_at(&bsdf, &frame);
   if (d->params.light_count > 0u && d->params.strategy != PATH_STRATEGY_BSDF && !delta_only && !nee_is_photon_maps)
     surface_direct_light(d, &ray, &sp, &bsdf, &frame, light_normal, wo, u_light, picks.x, shadow);

@@ -21,12 +21,12 @@
 #ifndef CAUSTICA_LIB_ALPHA_CUTOUT_H
 #define CAUSTICA_LIB_ALPHA_CUTOUT_H
 
-#if HAS_ALPHA_CUTOUTS
-
 #include "lib/geometry.h"
 #include "lib/rng.h"
 #include "lib/texture.h"
 #include "shared/types.h"
+
+#if HAS_ALPHA_CUTOUTS
 
 /* Whether triangle `index` is there at barycentrics (u, v) of the ray (o, d). */
 inline bool alpha_keeps_hit(__global const TriangleAlpha* triangle_alpha, __global const ushort* alpha_texels,

@@ -23,7 +23,10 @@
  *   BSDF_CONDUCTOR: GGX (or smooth mirror) with Schlick reflectance
  *     `specular`;
  *   BSDF_DIELECTRIC: smooth or rough (Walter et al. 2007) glass of relative
- *     index `ior` (inside over outside; the outside is where z > 0). */
+ *     index `ior` (inside over outside; the outside is where z > 0), its
+ *     transmission tinted by `diffuse` (white for clear glass; glTF's base
+ *     colour for KHR_materials_transmission).
+ * Plastic and conductor may carry a clear coat (HAS_CLEARCOAT; below). */
 #ifndef CAUSTICA_LIB_BSDF_H
 #define CAUSTICA_LIB_BSDF_H
 
@@ -42,11 +45,16 @@
 #define BSDF_SAMPLED_TRANSMIT 2u  /* wi is on the other side of the surface */
 
 typedef struct {
-  float3 diffuse;  /* plastic: Lambertian albedo */
+  float3 diffuse;  /* plastic: Lambertian albedo; dielectric: the transmission's tint (glTF's base colour) */
   float3 specular; /* plastic, conductor: reflectance at normal incidence */
   float alpha;     /* GGX roughness */
   float ior;       /* dielectric: inside / outside */
   uint kind;
+  /* A clear coat over a plastic or conductor (glTF's KHR_materials_clearcoat;
+   * read only with HAS_CLEARCOAT): its weight c in [0, 1] (0: none) and
+   * GGX roughness. */
+  float coat;
+  float coat_alpha;
 } Bsdf;
 
 inline float bsdf_max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
@@ -138,7 +146,7 @@ inline float3 refraction_half(float3 wo, float3 wi, float eta) {
   return m.z < 0.0f ? -m : m;
 }
 
-inline float3 bsdf_eval(Bsdf b, float3 wo, float3 wi) {
+inline float3 bsdf_base_eval(Bsdf b, float3 wo, float3 wi) {
   if (b.kind == BSDF_PLASTIC) {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return splat_float3(0.0f);
     float3 f = plastic_diffuse(b, wo, wi);
@@ -167,13 +175,13 @@ inline float3 bsdf_eval(Bsdf b, float3 wo, float3 wi) {
   const float denom = om + eta * im;
   const float value = (1.0f - f) * ggx_d(m, b.alpha) * ggx_g2(wo_up, wi_up, b.alpha) * fabs(im) * om /
                       (fabs(wo.z) * fabs(wi.z) * denom * denom);
-  return splat_float3(value); /* eta^2 * (1/eta^2): radiance scaling cancels Walter's eta_t^2 */
+  return b.diffuse * value; /* eta^2 * (1/eta^2): radiance scaling cancels Walter's eta_t^2; tinted */
 #else
   return splat_float3(0.0f);
 #endif
 }
 
-inline float bsdf_pdf(Bsdf b, float3 wo, float3 wi) {
+inline float bsdf_base_pdf(Bsdf b, float3 wo, float3 wi) {
   if (b.kind == BSDF_PLASTIC) {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
     const float ps = plastic_specular_probability(b); /* smooth: a delta lobe, no density */
@@ -206,10 +214,8 @@ inline float bsdf_pdf(Bsdf b, float3 wo, float3 wi) {
 #endif
 }
 
-/* Samples wi for wo with u in [0,1)^3 (u.z picks a lobe). Returns false when
- * no direction is produced (wo below a reflector, a sampled micro-normal that
- * sends wi below the surface). */
-inline bool bsdf_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight, float* pdf, uint* flags) {
+/* The base BSDF's sampling: see bsdf_sample below. */
+inline bool bsdf_base_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight, float* pdf, uint* flags) {
   *flags = 0u;
   if (b.kind == BSDF_PLASTIC || b.kind == BSDF_CONDUCTOR) {
     if (wo.z <= 0.0f) return false;
@@ -236,9 +242,9 @@ inline bool bsdf_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight,
       *wi = sample_cosine_hemisphere(u.xy);
     }
     if (wi->z <= 0.0f) return false;
-    *pdf = bsdf_pdf(b, wo, *wi);
+    *pdf = bsdf_base_pdf(b, wo, *wi);
     if (!(*pdf > 0.0f)) return false;
-    *weight = bsdf_eval(b, wo, *wi) * (wi->z / *pdf);
+    *weight = bsdf_base_eval(b, wo, *wi) * (wi->z / *pdf);
     return true;
   }
 #if HAS_DIELECTRIC
@@ -264,17 +270,99 @@ inline bool bsdf_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight,
   if (bsdf_is_smooth(b)) {
     *flags |= BSDF_SAMPLED_SPECULAR;
     *pdf = u.z < f ? f : 1.0f - f;
-    /* f (or 1 - f) / its probability; transmission scaled by 1/eta^2 */
-    *weight = splat_float3((*flags & BSDF_SAMPLED_TRANSMIT) ? 1.0f / (eta * eta) : 1.0f);
+    /* f (or 1 - f) / its probability; transmission scaled by 1/eta^2 and tinted */
+    *weight = (*flags & BSDF_SAMPLED_TRANSMIT) ? b.diffuse * (1.0f / (eta * eta)) : splat_float3(1.0f);
     return true;
   }
-  *pdf = bsdf_pdf(b, wo, *wi);
+  *pdf = bsdf_base_pdf(b, wo, *wi);
   if (!(*pdf > 0.0f)) return false;
-  *weight = bsdf_eval(b, wo, *wi) * (fabs(wi->z) / *pdf);
+  *weight = bsdf_base_eval(b, wo, *wi) * (fabs(wi->z) / *pdf);
   return true;
 #else
   return false;
 #endif
+}
+
+/* ---- the clear coat (HAS_CLEARCOAT) ----
+ *
+ * glTF's KHR_materials_clearcoat, as its specification writes the layering:
+ * f = (1 - c Fc(wo)) f_base + c Fc(wo) D G / (4 |wo.z| |wi.z|), with Fc the
+ * coat's Schlick reflectance for F0 = 0.04 (index 1.5) at the view's cosine
+ * to the normal and D, G the coat's GGX terms (a mirror when smooth: a
+ * delta lobe of weight c Fc). The base is what the material is without the
+ * coat; dielectrics take no coat (the importer leaves it off). Sampling
+ * picks the coat with probability clamp(c Fc(wo), 0.1, 0.9) (c > 0) and
+ * the base otherwise; densities are the mixture's. Energy: at most
+ * (1 - c Fc) times the base's plus c Fc times a GGX lobe's, each <= 1, so
+ * the sum is <= 1 (the white furnace in tests/host/test_bsdf.cpp). */
+#define BSDF_COAT_F0 0.04f
+
+inline float bsdf_coat_weight(Bsdf b, float3 wo) {
+  const float m = clamp(1.0f - fabs(wo.z), 0.0f, 1.0f);
+  const float m2 = m * m;
+  return b.coat * (BSDF_COAT_F0 + (1.0f - BSDF_COAT_F0) * (m2 * m2 * m));
+}
+inline float bsdf_coat_probability(Bsdf b, float3 wo) { return clamp(bsdf_coat_weight(b, wo), 0.1f, 0.9f); }
+inline bool bsdf_coat_is_smooth(Bsdf b) { return b.coat_alpha < GGX_ALPHA_MIN; }
+inline bool bsdf_has_coat(Bsdf b) {
+#if HAS_CLEARCOAT
+  return b.coat > 0.0f && b.kind != BSDF_DIELECTRIC;
+#else
+  (void)b;
+  return false;
+#endif
+}
+
+/* f(wo, wi) without the cosine (the rules at the top of this file). */
+inline float3 bsdf_eval(Bsdf b, float3 wo, float3 wi) {
+  if (!bsdf_has_coat(b)) return bsdf_base_eval(b, wo, wi);
+  if (wo.z <= 0.0f || wi.z <= 0.0f) return splat_float3(0.0f);
+  const float w = bsdf_coat_weight(b, wo);
+  float3 f = (1.0f - w) * bsdf_base_eval(b, wo, wi);
+  if (!bsdf_coat_is_smooth(b)) f += w * ggx_reflection(splat_float3(1.0f), b.coat_alpha, wo, wi);
+  return f;
+}
+
+inline float bsdf_pdf(Bsdf b, float3 wo, float3 wi) {
+  if (!bsdf_has_coat(b)) return bsdf_base_pdf(b, wo, wi);
+  if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
+  const float p = bsdf_coat_probability(b, wo);
+  const float coat = bsdf_coat_is_smooth(b) ? 0.0f : ggx_reflection_pdf(b.coat_alpha, wo, wi);
+  return p * coat + (1.0f - p) * bsdf_base_pdf(b, wo, wi);
+}
+
+/* Samples wi for wo with u in [0,1)^3 (u.z picks a lobe). Returns false when
+ * no direction is produced (wo below a reflector, a sampled micro-normal that
+ * sends wi below the surface). */
+inline bool bsdf_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight, float* pdf, uint* flags) {
+  if (!bsdf_has_coat(b)) return bsdf_base_sample(b, wo, u, wi, weight, pdf, flags);
+  *flags = 0u;
+  if (wo.z <= 0.0f) return false;
+  const float p = bsdf_coat_probability(b, wo), w = bsdf_coat_weight(b, wo);
+  if (u.z < p) {
+    if (bsdf_coat_is_smooth(b)) {
+      *wi = make_float3(-wo.x, -wo.y, wo.z);
+      *pdf = p;
+      *weight = splat_float3(w / p);
+      *flags = BSDF_SAMPLED_SPECULAR;
+      return true;
+    }
+    *wi = reflect_dir(-wo, ggx_sample_visible_normal(wo, b.coat_alpha, u.xy));
+  } else {
+    /* The base's own choice, with u.z rescaled to [0, 1). */
+    const float3 ub = make_float3(u.x, u.y, fmin((u.z - p) / (1.0f - p), 0x1.fffffep-1f));
+    if (!bsdf_base_sample(b, wo, ub, wi, weight, pdf, flags)) return false;
+    if (*flags & BSDF_SAMPLED_SPECULAR) { /* a delta lobe of the base, under the coat */
+      *pdf *= 1.0f - p;
+      *weight *= (1.0f - w) / (1.0f - p);
+      return true;
+    }
+  }
+  if (wi->z <= 0.0f) return false;
+  *pdf = bsdf_pdf(b, wo, *wi);
+  if (!(*pdf > 0.0f)) return false;
+  *weight = bsdf_eval(b, wo, *wi) * (wi->z / *pdf);
+  return true;
 }
 
 /* The aux passes (lib/film.h): does a path see through this surface to the
@@ -282,7 +370,13 @@ inline bool bsdf_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight,
  * what is seen in it), and otherwise the surface's albedo as seen from wo:
  * plastic its diffuse albedo under the layer plus the layer's reflectance,
  * a rough conductor its Fresnel reflectance, rough glass white. */
-inline bool bsdf_passes_aux_through(Bsdf b) { return bsdf_is_smooth(b) && b.kind != BSDF_PLASTIC; }
+inline bool bsdf_passes_aux_through(Bsdf b) { return bsdf_is_smooth(b) && b.kind != BSDF_PLASTIC && !bsdf_has_coat(b); }
+
+/* Only delta lobes (a smooth conductor or glass, under no rough coat):
+ * light sampling cannot reach any of them. */
+inline bool bsdf_is_delta_only(Bsdf b) {
+  return bsdf_is_smooth(b) && b.kind != BSDF_PLASTIC && !(bsdf_has_coat(b) && !bsdf_coat_is_smooth(b));
+}
 inline float3 bsdf_albedo(Bsdf b, float3 wo) {
   if (b.kind == BSDF_PLASTIC) return b.diffuse * (1.0f - b.specular) + b.specular;
   if (b.kind == BSDF_CONDUCTOR) return fresnel_schlick(b.specular, fabs(wo.z));

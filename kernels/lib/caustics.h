@@ -44,6 +44,8 @@ inline Bsdf bsdf_of_visible_point(VisiblePoint v) {
   b.alpha = v.alpha;
   b.ior = v.ior;
   b.kind = v.kind;
+  b.coat = 0.0f; /* the coat's share was taken off beta when the point was recorded */
+  b.coat_alpha = 0.0f;
   return b;
 }
 

@@ -19,23 +19,36 @@
 #define CAUSTICA_LIB_MATERIAL_H
 
 #include "lib/bsdf.h"
+#include "lib/surface.h"
 #include "shared/photon.h"
 #include "shared/types.h"
 #include "lib/texture.h"
 
 /* texel_scale: what a roughness_texture (shared/types.h) makes of the
  * material's numbers at this point: x multiplies GGX alpha, y metallic;
- * (1, 1) without one (material_texel_scale below). */
-inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour, float2 texel_scale) {
+ * (1, 1) without one (material_texel_scale below). u_layer in [0, 1)
+ * picks the layer of a partly transmissive material (volume.w > 0: glTF's
+ * transmissionFactor < 1): glass where u_layer >= volume.w, else the
+ * opaque base (plastic or conductor). One layer per shading point, used
+ * for its light sampling and its bounce alike, is an unbiased one-sample
+ * estimate of the mixture the specification writes. */
+inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour, float2 texel_scale, float u_layer) {
   Bsdf b;
   b.ior = m->ior;
   b.diffuse = splat_float3(0.0f);
   b.specular = splat_float3(0.0f);
+  b.coat = 0.0f;
+  b.coat_alpha = 0.0f;
   const bool given = m->roughness >= 0.0f;
-  if (m->flags & MATERIAL_REFRACTIVE) {
+  if ((m->flags & MATERIAL_REFRACTIVE) && u_layer >= m->volume.w) {
     b.kind = BSDF_DIELECTRIC;
     b.alpha = (given ? m->roughness : 0.0f) * texel_scale.x;
-  } else if (m->flags & MATERIAL_REFLECTIVE) {
+    b.diffuse = (m->flags & MATERIAL_TINTED_TRANSMISSION) ? clamp(diffuse_colour, 0.0f, 1.0f) : splat_float3(1.0f);
+    return b; /* glass takes no coat */
+  }
+  b.coat = m->clearcoat;
+  b.coat_alpha = m->clearcoat_alpha;
+  if ((m->flags & MATERIAL_REFLECTIVE) && !(m->flags & MATERIAL_REFRACTIVE)) {
     b.kind = BSDF_CONDUCTOR;
     b.specular = clamp(m->reflectivity * m->specular.xyz, 0.0f, 1.0f);
     b.alpha = (given ? m->roughness : 0.0f) * texel_scale.x;
@@ -98,13 +111,13 @@ inline float3 material_diffuse_colour(__global const Material* m, __global const
  * and the photon pass's bounces (the photon map must scatter as the paths
  * it stands in for do). */
 inline Bsdf material_bsdf_at(__global const Material* m, __global const Texture* textures,
-                             __global const ushort* texels, float2 uv, float3 vertex_colour) {
+                             __global const ushort* texels, float2 uv, float3 vertex_colour, float u_layer) {
 #if HAS_TEXTURES
   const float2 texel_scale = material_texel_scale(m, textures, (__global const half*)texels, uv);
 #else
   const float2 texel_scale = make_float2(1.0f, 1.0f);
 #endif
-  return bsdf_of_material(m, material_diffuse_colour(m, textures, texels, uv, vertex_colour), texel_scale);
+  return bsdf_of_material(m, material_diffuse_colour(m, textures, texels, uv, vertex_colour), texel_scale, u_layer);
 }
 
 /* What scales m's emission at uv: its emission_texture's texel (glTF's
@@ -113,6 +126,24 @@ inline Bsdf material_bsdf_at(__global const Material* m, __global const Texture*
 inline float3 material_emission_texel(__global const Material* m, __global const Texture* textures,
                                       __global const ushort* texels, float2 uv) {
   return material_texel_or(textures, texels, m->emission_texture, uv, splat_float3(1.0f));
+}
+
+/* What survives of light that crossed `distance` inside m to reach sp
+ * along d (KHR_materials_volume: Beer-Lambert, exp(-sigma distance)):
+ * applied where a path or photon leaves the material, that is where d runs
+ * along its outward normal; 1 elsewhere, and for materials that absorb
+ * nothing. Nested or overlapping volumes are not tracked. */
+inline float3 material_transmittance_to(__global const Material* m, const SurfacePoint* sp, float3 d, float distance) {
+#if HAS_DIELECTRIC
+  if ((m->flags & MATERIAL_ATTENUATES) && dot(d, sp->normal) > 0.0f) /* per channel: the host has no exp(float3) */
+    return make_float3(exp(-m->volume.x * distance), exp(-m->volume.y * distance), exp(-m->volume.z * distance));
+#else
+  (void)m;
+  (void)sp;
+  (void)d;
+  (void)distance;
+#endif
+  return splat_float3(1.0f);
 }
 
 /* A caster of caustics: a smooth enough conductor or dielectric (the photon

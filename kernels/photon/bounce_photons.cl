@@ -31,14 +31,17 @@ inline float phong_scale(PhotonRecord photon, float length) {
 /* Photon `photon` at `hit`: stored (candidates and stored, at its index)
  * or scattered; true with its continuation in *child_out. The wavefront
  * stage below and the paths shape (trace_photons.cl) call it. */
-inline bool bounce_photon(const SceneBuffers* s, const PhotonPassParams* params, const PhotonRecord photon,
+inline bool bounce_photon(const SceneBuffers* s, const PhotonPassParams* params, const PhotonRecord photon_in,
                           const Hit hit, __global Photon* restrict candidates, __global uint* restrict stored,
                           PhotonRecord* child_out) {
   if (hit.prim == PRIM_NONE) return false;
+  PhotonRecord photon = photon_in;
   const float3 d = photon.dir.xyz;
   const SurfacePoint sp = shading_point_at(SCENE_SURFACE_OF(s), hit, photon.origin.xyz, d);
   __global const Material* mat = &s->materials[sp.material];
-  const Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv, sp.colour);
+  photon.power = make_float4_xyz(photon.power.xyz * material_transmittance_to(mat, &sp, d, hit.t), photon.power.w);
+  const Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv, sp.colour,
+                                     random_float(hash3(photon.index, params->pass_index, params->seed), 0x1a7e0000u + photon.depth));
   if (!bsdf_casts_caustics(bsdf)) {
     if (photon.flags & PHOTON_AFTER_CASTER) {
       Photon p;

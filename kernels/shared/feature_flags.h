@@ -17,7 +17,8 @@
  * Defaults are what a program that does not name a flag has always had: the
  * scene-content flags, the photon pass and the numeric checks are 0 (a test
  * names what it needs), the two that only cut code out of the path tracer's
- * libraries are 1 (tests include those bare and get everything).
+ * libraries are 1 (tests include those bare and get everything; the
+ * clear coat is the third such).
  * Adding a flag is one row here, its #ifndef below, and its row in DESIGN.md;
  * SceneFeatures::flag_value must say how a scene sets it. */
 #ifndef CAUSTICA_SHARED_FEATURE_FLAGS_H
@@ -41,7 +42,8 @@
   X(HAS_LIGHT_TREE, 0, "light-tree", "path: next-event estimation picks lights through the light tree")         \
   X(HAS_NORMAL_MAPS, 0, "normal-maps", "triangles' tangents and their materials' normal maps")                    \
   X(HAS_VERTEX_COLOURS, 0, "vertex-colours", "triangles' vertex colours scale the base colour")                 \
-  X(HAS_ALPHA_CUTOUTS, 0, "alpha-cutouts", "the traversal skips triangles' alpha-masked and blended texels")
+  X(HAS_ALPHA_CUTOUTS, 0, "alpha-cutouts", "the traversal skips triangles' alpha-masked and blended texels")     \
+  X(HAS_CLEARCOAT, 1, "clearcoat", "the clear coat over plastic and conductors (path tracer and photon pass)")
 
 /* The defaults, for code that is not built by the runtime: the kernel library
  * compiled as C++ on the host (shared/compat.h includes this), or an OpenCL
@@ -101,6 +103,9 @@
 #endif
 #ifndef HAS_ALPHA_CUTOUTS
 #define HAS_ALPHA_CUTOUTS 0
+#endif
+#ifndef HAS_CLEARCOAT
+#define HAS_CLEARCOAT 1
 #endif
 
 #ifndef __OPENCL_C_VERSION__

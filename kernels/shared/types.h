@@ -212,6 +212,12 @@ typedef struct {
  * 1 - alpha (lib/alpha_cutout.h) */
 #define MATERIAL_ALPHA_MASK 16u
 #define MATERIAL_ALPHA_BLEND 32u
+/* glTF KHR_materials_transmission: the glass's transmission is tinted by
+ * the diffuse (base) colour, as the specification's BTDF is */
+#define MATERIAL_TINTED_TRANSMISSION 64u
+/* KHR_materials_volume: light inside the refractive material is absorbed
+ * by volume.xyz per unit length (applied where a path leaves it) */
+#define MATERIAL_ATTENUATES 128u
 
 typedef struct {
   cs_float4 diffuse;  /* rgb diffuse colour, w = kd */
@@ -245,8 +251,16 @@ typedef struct {
    * MASK cut-off; the alpha texels are those of `texture` */
   float alpha_factor;
   float alpha_cutoff;
-  cs_uint pad0, pad1;
-} Material; /* 112 bytes */
+  /* path mode (HAS_CLEARCOAT): glTF's KHR_materials_clearcoat over a
+   * plastic or conductor: its weight (0: none) and GGX alpha (lib/bsdf.h) */
+  float clearcoat;
+  float clearcoat_alpha;
+  /* xyz: the absorption coefficient inside a refractive material per unit
+   * length (MATERIAL_ATTENUATES); w: the share of a refractive material
+   * that is its opaque base instead of glass (glTF's 1 - transmission x
+   * (1 - metallic); 0: all glass, the coursework format's) */
+  cs_float4 volume;
+} Material; /* 128 bytes */
 
 /* A triangle's alpha cut-out (HAS_ALPHA_CUTOUTS; parallel to the Triangle
  * array, present only when some material has alpha MASK or BLEND; built

@@ -23,7 +23,8 @@ enum Kind : uint { kPlastic = BSDF_PLASTIC, kConductor = BSDF_CONDUCTOR, kDielec
 
 Bsdf bsdf(Kind kind, float alpha, float ior = 1.5f) {
   Bsdf b{};
-  b.diffuse = make_float3(kind == kPlastic ? 0.8f : 0.0f, 0.5f, 0.2f);
+  // Glass's diffuse is its transmission's tint (lib/bsdf.h): white.
+  b.diffuse = kind == kDielectric ? splat_float3(1.0f) : make_float3(kind == kPlastic ? 0.8f : 0.0f, 0.5f, 0.2f);
   b.specular = make_float3(kind == kDielectric ? 0.0f : 0.9f, 0.9f, 0.9f);
   b.alpha = alpha;
   b.ior = ior;
@@ -88,16 +89,24 @@ TEST(MaterialLimits, NoNanOrInfAtExtremeRoughnessAndIor) {
     for (int kind = 0; kind < 3; ++kind)
       for (float ior : iors) {
         if (kind != kDielectric && ior != 1.5f) continue;
-        const Bsdf in = bsdf(Kind(kind), alpha, ior);
-        std::vector<uint> bad;
-        for (uint32_t i = 0; i < n; ++i) bad.push_back(sweep(in, i, 101u + cases));
-        int counts[3] = {0, 0, 0};
-        for (uint b : bad)
-          for (int bit = 0; bit < 3; ++bit) counts[bit] += (b >> bit) & 1u;
-        EXPECT_EQ(counts[0] + counts[1] + counts[2], 0)
-            << "kind " << kind << " alpha " << alpha << " ior " << ior << ": eval " << counts[0] << ", pdf "
-            << counts[1] << ", sample " << counts[2] << " bad of " << n;
-        ++cases;
+        // Opaque kinds also under a full clear coat of every roughness.
+        for (float coat_alpha : {-1.0f, 0.0f, 1e-4f, 1e-3f, 0.5f, 1.0f}) {
+          if (coat_alpha >= 0.0f && kind == kDielectric) continue;
+          Bsdf in = bsdf(Kind(kind), alpha, ior);
+          if (coat_alpha >= 0.0f) {
+            in.coat = 1.0f;
+            in.coat_alpha = coat_alpha;
+          }
+          std::vector<uint> bad;
+          for (uint32_t i = 0; i < n; ++i) bad.push_back(sweep(in, i, 101u + cases));
+          int counts[3] = {0, 0, 0};
+          for (uint b : bad)
+            for (int bit = 0; bit < 3; ++bit) counts[bit] += (b >> bit) & 1u;
+          EXPECT_EQ(counts[0] + counts[1] + counts[2], 0)
+              << "kind " << kind << " alpha " << alpha << " ior " << ior << " coat alpha " << coat_alpha << ": eval "
+              << counts[0] << ", pdf " << counts[1] << ", sample " << counts[2] << " bad of " << n;
+          ++cases;
+        }
       }
 }
 

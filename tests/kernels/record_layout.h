@@ -22,7 +22,7 @@
   X(__builtin_offsetof(ShadeParams, min_weight))                                                            \
   X(sizeof(CameraGPU)) X(__builtin_offsetof(CameraGPU, lens)) X(__builtin_offsetof(CameraGPU, width))        \
   X(__builtin_offsetof(CameraGPU, pixel_count)) X(__builtin_offsetof(Material, roughness))                    \
-  X(__builtin_offsetof(Material, metallic)) X(__builtin_offsetof(Material, roughness_texture)) X(__builtin_offsetof(Material, emission_texture)) X(__builtin_offsetof(Material, normal_texture)) X(__builtin_offsetof(Material, normal_scale)) X(sizeof(TriangleTangents)) X(sizeof(TriangleColours)) X(sizeof(TriangleAlpha)) X(__builtin_offsetof(TriangleAlpha, sampling)) X(__builtin_offsetof(Material, alpha_cutoff)) X(__builtin_offsetof(TriangleTangents, t1))               \
+  X(__builtin_offsetof(Material, metallic)) X(__builtin_offsetof(Material, roughness_texture)) X(__builtin_offsetof(Material, emission_texture)) X(__builtin_offsetof(Material, normal_texture)) X(__builtin_offsetof(Material, normal_scale)) X(sizeof(TriangleTangents)) X(sizeof(TriangleColours)) X(sizeof(TriangleAlpha)) X(__builtin_offsetof(TriangleAlpha, sampling)) X(__builtin_offsetof(Material, alpha_cutoff)) X(__builtin_offsetof(Material, volume)) X(__builtin_offsetof(Material, clearcoat_alpha)) X(__builtin_offsetof(TriangleTangents, t1))               \
   X(sizeof(Material)) X(__builtin_offsetof(Material, specular_exponent))                                   \
   X(__builtin_offsetof(Material, texture)) X(sizeof(Sphere)) X(sizeof(Cylinder))    \
   X(sizeof(Triangle)) X(sizeof(TriangleShading)) X(__builtin_offsetof(TriangleShading, u2))               \
