@@ -615,6 +615,27 @@ def build_blender_scene(bpy, scene, desc, job):
             mod[sock.identifier] = material(ss[0]["material"], list(center) if center else None)
             scene.collection.objects.link(ob)
 
+    # ---- a glTF file, through Blender's importer
+    if desc.get("gltf"):
+        import_gltf(bpy, desc["gltf"])
+
+
+def import_gltf(bpy, path):
+    """A glTF file through Blender's own importer (its materials as Blender
+    maps them), placed in caustica's coordinates: the importer turns glTF's
+    +Y up into Blender's +Z up, a rotation of +90 degrees about X, undone
+    here, so a file that a coursework scene places as a "mesh" (in glTF's own
+    coordinates) lands where caustica puts it (bench/compare_cycles_gltf.py)."""
+    from mathutils import Matrix
+    before = set(bpy.data.objects)
+    bpy.ops.import_scene.gltf(filepath=path)
+    undo = Matrix.Rotation(-math.pi / 2, 4, "X")
+    for ob in [o for o in bpy.data.objects if o not in before]:
+        if ob.type in ("CAMERA", "LIGHT"):  # the coursework scene's own camera and lights stand
+            bpy.data.objects.remove(ob)
+        elif ob.parent is None:
+            ob.matrix_world = undo @ ob.matrix_world
+
 
 def make_material(bpy, m, center, index):
     """A Cycles node material for a material record (kernels/lib/material.h)."""

@@ -6,7 +6,9 @@ fuzz target, fuzz/corpus/fuzz_gltf/ (small valid .gltf and .glb files that
 reach every part of the importer: indices of each type, interleaved views,
 strips and fans, TRS and matrix nodes, cameras, the three punctual lights,
 every material extension we read, an embedded PNG texture, samplers and
-texture transforms, normal maps with and without tangents, vertex colours).
+texture transforms, normal maps with and without tangents, vertex colours,
+alpha masks and blends, clearcoat, partial transmission with a volume,
+specular).
     tools/make_gltf_example.py            # rewrites both
 Deterministic: the same files on every run."""
 import base64, json, math, os, struct, zlib
@@ -18,6 +20,15 @@ def png_checker(n=8, a=(230, 230, 230), b=(60, 60, 70)):
     rows = b"".join(b"\0" + bytes(c for x in range(n) for c in (a if (x + y) % 2 == 0 else b)) for y in range(n))
     chunk = lambda t, d: struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xFFFFFFFF)
     return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 8, 2, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def png_checker_rgba(n=4):
+    """An n x n RGBA checker whose odd squares are nearly transparent (alpha 20)."""
+    rows = b"".join(b"\0" + bytes(c for x in range(n) for c in ((220, 200, 60, 255) if (x + y) % 2 == 0
+                                                                   else (40, 40, 40, 20))) for y in range(n))
+    chunk = lambda t, d: struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xFFFFFFFF)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 8, 6, 0, 0, 0)) +
             chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
 
 
@@ -273,6 +284,30 @@ def seeds():
     b.node({"mesh": m_mikk, "translation": [0, 0, -1], "scale": [-1, 1, 1]})
     b.node({"mesh": 2, "translation": [0, 0, -2]})
     out["normal_map_colours.gltf"] = b.gltf([0, 1, 2])
+    # Alpha (MASK over an RGBA texture, BLEND by factor) and the layered and
+    # transmissive extensions: clearcoat, partial tinted transmission with a
+    # volume, specular.
+    b = Builder()
+    b.doc["extensionsUsed"] = ["KHR_materials_clearcoat", "KHR_materials_transmission", "KHR_materials_volume",
+                               "KHR_materials_specular", "KHR_materials_ior"]
+    b.doc["images"] = [{"bufferView": b.view(png_checker_rgba(4)), "mimeType": "image/png"}]
+    b.doc["samplers"] = [{"magFilter": 9728}]
+    b.doc["textures"] = [{"source": 0, "sampler": 0}]
+    b.doc["materials"] = [
+        {"alphaMode": "MASK", "alphaCutoff": 0.4, "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}},
+        {"alphaMode": "BLEND", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.6, 0.9, 0.35]}},
+        {"pbrMetallicRoughness": {"baseColorFactor": [0.6, 0.1, 0.1, 1], "metallicFactor": 0, "roughnessFactor": 0.5},
+         "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 0.9, "clearcoatRoughnessFactor": 0.1},
+                        "KHR_materials_specular": {"specularFactor": 0.7, "specularColorFactor": [1, 0.8, 0.6]}}},
+        {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.9, 1, 1], "metallicFactor": 0.2, "roughnessFactor": 0.1},
+         "extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.7},
+                        "KHR_materials_ior": {"ior": 1.45},
+                        "KHR_materials_volume": {"thicknessFactor": 0.5, "attenuationDistance": 0.8,
+                                                 "attenuationColor": [0.9, 0.6, 0.3]}}}]
+    for m in range(4):
+        b.mesh(quad, [[0, 0, 1]] * 4, [[0, 1], [1, 1], [1, 0], [0, 0]], [0, 1, 2, 0, 2, 3], m)
+        b.node({"mesh": m, "translation": [1.2 * m, 0, 0]})
+    out["alpha_layers.gltf"] = b.gltf([0, 1, 2, 3])
     return out
 
 

@@ -187,7 +187,10 @@ class MaterialMapper {
     auto e = in.extensions.find(ext);
     if (e == in.extensions.end() || !e->second.IsObject() || !e->second.Has(key)) return;
     const std::string p = mp + "/extensions/" + ext + "/" + key;
-    ctx_.warn_once(std::string(ext) + " " + key, p, std::string(key) + " is not supported; its factor is used alone");
+    const bool normal = std::string(key).find("Normal") != std::string::npos;
+    ctx_.warn_once(std::string(ext) + " " + key, p,
+                   std::string(key) + " is not supported; " +
+                       (normal ? "the coat takes the surface's normal" : "its factor is used alone"));
   }
 
   // alphaMode (kernels/lib/alpha_cutout.h): MASK cuts out where the base

@@ -9,7 +9,7 @@
 #include "tests/kernels/stiff/random.h"
 
 float3 unit_vector(uint* s) {
-  const float z = 1.0f - 2.0f * unit_float(s), phi = 6.2831853f * unit_float(s);
+  const float z = 1.0f - 2.0f * stiff_unit_float(s), phi = 6.2831853f * stiff_unit_float(s);
   const float r = sqrt(fmax(0.0f, 1.0f - z * z));
   return (float3)(r * cos(phi), r * sin(phi), z);
 }

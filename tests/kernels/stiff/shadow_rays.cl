@@ -24,7 +24,7 @@ __kernel void shadow_rays(__global const float4* points, uint n, __global const 
   const float3 n_p = normalize(light->p0.xyz - p);
   const float3 p_error = error_gamma(4.0f) * fabs(p);
   uint s = mix32(i * 0x2545f491u + 17u);
-  const float2 u = (float2)(unit_float(&s), unit_float(&s));
+  const float2 u = (float2)(stiff_unit_float(&s), stiff_unit_float(&s));
   LightSample ls;
   if (!sample_light(light, (__global const float*)0, 1.0f, p, u, &ls) /* no environment */) return;
   atomic_inc(&counts[0]);
