@@ -247,7 +247,8 @@ TEST(AlphaCutouts, PhotonsPassTheSameHoles) {
   // (path tracing alone cannot find a delta light through smooth glass).
   auto caustic = [&](const std::string& path) {
     test::CameraRenderOptions on, off;
-    on.spp = off.spp = int(test::sized(16, 4));
+    on.spp = off.spp = int(test::sized(16, 2));
+    on.size = off.size = int(test::sized(32, 10));  // Oclgrind: 10 x 10 pixels
     on.caustics = CausticsMode::On;
     off.caustics = CausticsMode::Off;
     const test::CameraRender with = test::render_with_camera(path, RenderMode::Path, on);
@@ -261,7 +262,7 @@ TEST(AlphaCutouts, PhotonsPassTheSameHoles) {
   const double cut = caustic(scene("alpha_photons_cut", 0.0));
   const double kept = caustic(scene("alpha_photons_kept", 1.0));
   std::printf("caustic sums: no quad %.3f, cut-out quad %.3f, opaque quad %.3f\n", bare, cut, kept);
-  EXPECT_GT(bare, 1.0) << "the scene has a caustic";
+  EXPECT_GT(bare, test::on_simulator() ? 0.1 : 1.0) << "the scene has a caustic";
   EXPECT_NEAR(cut, bare, 0.05 * bare) << "photons pass a quad cut out everywhere";
   EXPECT_LT(std::fabs(kept), 0.02 * bare) << "photons stop at an opaque quad";
 }

@@ -41,16 +41,17 @@ GltfModel import(const json& material, std::vector<std::string>* warnings = null
 
 TEST(GltfMaterials, ExtensionsBecomeTheMaterialsNumbers) {
   std::vector<std::string> warnings;
-  // Clear coat: weight and alpha = roughness^2; its textures warned.
+  // Clear coat: weight and alpha = roughness^2; the coat's normal map warned.
   const Material coat = import({{"extensions", {{"KHR_materials_clearcoat",
                                                  {{"clearcoatFactor", 0.8}, {"clearcoatRoughnessFactor", 0.3},
-                                                  {"clearcoatTexture", {{"index", 0}}}}}}}},
+                                                  {"clearcoatNormalTexture", {{"index", 0}}}}}}}},
                                &warnings)
                             .materials[0];
   EXPECT_FLOAT_EQ(coat.clearcoat, 0.8f);
   EXPECT_FLOAT_EQ(coat.clearcoat_alpha, 0.09f);
+  EXPECT_EQ(coat.clearcoat_texture, -1);
   ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_TRUE(test::Contains(warnings[0], {"clearcoatTexture is not supported; its factor is used alone"}));
+  EXPECT_TRUE(test::Contains(warnings[0], {"clearcoatNormalTexture is not supported; the coat takes the surface's normal"}));
 
   // Transmission 0.6 of a half-metallic material: glass 0.6 x 0.5 = 0.3 of
   // the time, the opaque base (metallic 0.5 / 0.7) otherwise; tinted.
@@ -110,9 +111,10 @@ TEST(GltfMaterials, ExtensionsBecomeTheMaterialsNumbers) {
 // `down`), as a primitive of `material`.
 json square(Doc& d, float y, float half, int material, bool down = false) {
   const std::vector<float> pos = {-half, y, -half, -half, y, half, half, y, half, half, y, -half};
+  const std::vector<float> uv = {0, 0, 0, 1, 1, 1, 1, 0};  // u = (x + half) / (2 half)
   const std::vector<uint16_t> up_idx = {0, 1, 2, 0, 2, 3}, down_idx = {0, 2, 1, 0, 3, 2};
   const std::vector<uint16_t>& idx = down ? down_idx : up_idx;
-  return json{{"attributes", {{"POSITION", d.floats(pos, "VEC3", 3)}}},
+  return json{{"attributes", {{"POSITION", d.floats(pos, "VEC3", 3)}, {"TEXCOORD_0", d.floats(uv, "VEC2", 2)}}},
               {"indices", d.accessor(d.view(Doc::bytes(idx)), 5123, idx.size(), "SCALAR")},
               {"material", material}};
 }
@@ -229,6 +231,46 @@ TEST(GltfMaterials, ACoatedWhiteLambertianInAWhiteFurnace) {
     else
       EXPECT_GT(m.mean, 0.97);
   }
+}
+
+// clearcoatTexture's R scales the coat per texel: a black Lambertian
+// (index 1: no layer of its own) under a smooth coat whose texture is 0 on
+// the half x < 0 and 1 on x > 0, in a white furnace, is black exactly on
+// the first half and shows the coat's Fresnel reflectance of the sky,
+// about F0 = 0.04 seen from above, on the second. (The image's left is +x.)
+TEST(GltfMaterials, TheCoatsTextureScalesItPerTexel) {
+  Doc d;
+  std::string ppm = "P6 2 1 255\n";
+  ppm += {char(0), char(0), char(0), char(255), char(255), char(255)};
+  d.j["images"] = {{{"bufferView", d.view(ppm)}, {"mimeType", "image/png"}}};
+  d.j["samplers"] = {{{"magFilter", 9728}, {"wrapS", 33071}}};
+  d.j["textures"] = {{{"source", 0}, {"sampler", 0}}};
+  const json coated = {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0.0}}},
+                       {"extensions",
+                        {{"KHR_materials_ior", {{"ior", 1.0}}},
+                         {"KHR_materials_clearcoat",
+                          {{"clearcoatFactor", 1.0}, {"clearcoatRoughnessFactor", 0.0},
+                           {"clearcoatTexture", {{"index", 0}}}}}}}};
+  d.j["extensionsUsed"] = {"KHR_materials_ior", "KHR_materials_clearcoat"};
+  d.j["materials"] = {coated};
+  d.j["meshes"] = {{{"primitives", {square(d, 0.0f, 4.0f, 0)}}}};
+  d.node({{"mesh", 0}});
+  std::vector<std::string> warnings;
+  LoadOptions lo;
+  lo.warnings = &warnings;
+  const std::string path = overhead("coat_texture", d.text(), 1.0);
+  const Scene s = load_scene(path, lo);
+  for (const std::string& w : warnings) ADD_FAILURE() << "unexpected warning: " << w;
+  EXPECT_GE(s.materials[0].clearcoat_texture, 0);
+  const test::PathRender r = test::render_path(path, int(test::sized(64, 16)));
+  for (int y = 0; y < 16; ++y)
+    for (int x = 9; x < 16; ++x) ASSERT_EQ(r.image.at(x, y)[1], 0.0f) << "no coat, a black base: " << x << ", " << y;
+  // The coat is a delta lobe picked a tenth of the time: its pixels are
+  // noisy, its mean is not.
+  const test::Mean coat = test::mean_over(r, [](int x, int) { return x < 7; });
+  std::printf("coated half: %.5f +- %.5f\n", coat.mean, coat.se);
+  EXPECT_NEAR(coat.mean, 0.04, 4.0 * coat.se + 5e-4);
+  EXPECT_LT(coat.se, 0.004);
 }
 
 }  // namespace

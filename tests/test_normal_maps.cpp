@@ -301,7 +301,7 @@ TEST(NormalMaps, AFurnaceLosesExactlyTheLobeBelowTheSurfaceAndNeverGains) {
   const double want = 0.5 * (1.0 + double(n.z));
   std::printf("leaning normal: %.5f +- %.5f, expected %.5f\n", lean.mean, lean.se, want);
   EXPECT_NEAR(lean.mean, want, 4.0 * lean.se + 1e-4);
-  EXPECT_LT(lean.se, 0.01 * (1.0 - want)) << "the test must tell the loss apart";
+  EXPECT_LT(lean.se, 0.05 * (1.0 - want)) << "the test must tell the loss apart (by 20 standard errors)";
 
   // Bumps: 16 x 16 texels leaning up to 40 degrees every way, on the
   // Lambertian and on glTF's default plastic (a GGX layer, F0 = 0.04).

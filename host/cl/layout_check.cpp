@@ -29,7 +29,7 @@ static_assert(sizeof(BvhNode8) == 256 && offsetof(BvhNode8, hi_x) == 32 && offse
                   offsetof(BvhNode8, height) == 224,
               "BvhNode8 layout");
 static_assert(sizeof(TriangleBlock4) == 160 && offsetof(TriangleBlock4, ref) == 144, "TriangleBlock4 layout");
-static_assert(sizeof(Material) == 128 && offsetof(Material, alpha_cutoff) == 100 && offsetof(Material, volume) == 112 && offsetof(Material, specular) == 16 && offsetof(Material, emission) == 32 &&
+static_assert(sizeof(Material) == 144 && offsetof(Material, clearcoat_roughness_texture) == 132 && offsetof(Material, alpha_cutoff) == 100 && offsetof(Material, volume) == 112 && offsetof(Material, specular) == 16 && offsetof(Material, emission) == 32 &&
                   offsetof(Material, specular_exponent) == 48 && offsetof(Material, ka) == 60 &&
                   offsetof(Material, flags) == 64 && offsetof(Material, texture) == 68 &&
                   offsetof(Material, roughness) == 72 && offsetof(Material, metallic) == 76 &&

@@ -63,7 +63,9 @@ TexelScaleRange texel_scale_range(const Scene& scene, const Material& m) {
 constexpr float kGlassLayer = 0x1.fffffep-1f, kOpaqueLayer = 0.0f;
 
 bool casts(const Material& m, float2 texel_scale, float u_layer) {
-  return bsdf_casts_caustics(bsdf_of_material(&m, m.diffuse.xyz, texel_scale, u_layer));
+  // The coat's textures do not decide whether a surface casts.
+  return bsdf_casts_caustics(
+      bsdf_of_material(&m, m.diffuse.xyz, make_float4(texel_scale.x, texel_scale.y, 1.0f, 1.0f), u_layer));
 }
 
 }  // namespace
@@ -114,6 +116,7 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
       f.reflection = true;
     if (std::max(m.emission.x, std::max(m.emission.y, m.emission.z)) > 0.0f) f.area_lights = true;
     if (m.roughness_texture >= 0 || m.emission_texture >= 0) f.textures = true;
+    if (m.clearcoat_texture >= 0 || m.clearcoat_roughness_texture >= 0) f.textures = true;
     if (m.clearcoat > 0.0f) f.clearcoat = true;
     // Tangents come with normal-mapped glTF materials; a normal map without
     // them (a hand-made Material) would have no frame to be read in.

@@ -127,6 +127,17 @@ void require_type(const Context& ctx, const View& v, size_t components, const ch
     ctx.fail(v.pointer + "/type", std::string("expected ") + type + " for its use at " + used_at);
 }
 
+// Texture coordinates and colours: float, or normalized unsigned byte or
+// short (the specification's choices for both).
+void require_float_or_normalized(const Context& ctx, const View& v, const char* what, const std::string& used_at) {
+  const bool normalized_int = v.normalized && (v.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                               v.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+  if (v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT && !normalized_int)
+    ctx.fail(v.pointer + "/componentType", std::string("expected float, or normalized unsigned byte or short, for ") +
+                                               what + " (used at " + used_at + "), got " +
+                                               (v.normalized ? "normalized " : "") + component_name(v.component_type));
+}
+
 }  // namespace
 
 std::vector<glm::vec3> read_vec3_accessor(const Context& ctx, int accessor, const std::string& used_at) {
@@ -145,13 +156,7 @@ std::vector<glm::vec3> read_vec3_accessor(const Context& ctx, int accessor, cons
 std::vector<glm::vec2> read_texcoord_accessor(const Context& ctx, int accessor, const std::string& used_at) {
   const View v = checked_view(ctx, accessor, used_at);
   require_type(ctx, v, 2, "VEC2", used_at);
-  const bool normalized_int = v.normalized && (v.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                               v.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
-  if (v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT && !normalized_int)
-    ctx.fail(v.pointer + "/componentType", std::string("expected float, or normalized unsigned byte or short, for "
-                                                       "texture coordinates (used at ") +
-                                               used_at + "), got " + (v.normalized ? "normalized " : "") +
-                                               component_name(v.component_type));
+  require_float_or_normalized(ctx, v, "texture coordinates", used_at);
   std::vector<glm::vec2> out(v.count);
   // glTF's v runs down the image from its top; ours up from its bottom
   // (kernels/lib/texture.h).
@@ -179,13 +184,7 @@ std::vector<glm::vec4> read_colour_accessor(const Context& ctx, int accessor, co
   const View v = checked_view(ctx, accessor, used_at);
   if (v.components != 3 && v.components != 4)
     ctx.fail(v.pointer + "/type", "expected VEC3 or VEC4 for its use at " + used_at);
-  const bool normalized_int = v.normalized && (v.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                               v.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
-  if (v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT && !normalized_int)
-    ctx.fail(v.pointer + "/componentType", std::string("expected float, or normalized unsigned byte or short, for "
-                                                       "vertex colours (used at ") +
-                                               used_at + "), got " + (v.normalized ? "normalized " : "") +
-                                               component_name(v.component_type));
+  require_float_or_normalized(ctx, v, "vertex colours", used_at);
   std::vector<glm::vec4> out(v.count, glm::vec4(1.0f));
   for (size_t e = 0; e < v.count; ++e)
     for (size_t c = 0; c < v.components; ++c) {

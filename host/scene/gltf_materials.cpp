@@ -147,11 +147,16 @@ class MaterialMapper {
     const double roughness = number(c->second, "clearcoatRoughnessFactor", 0.0, cp);
     if (weight > 1.0) ctx_.fail(cp + "/clearcoatFactor", "expected a number in [0, 1]");
     if (roughness > 1.0) ctx_.fail(cp + "/clearcoatRoughnessFactor", "expected a number in [0, 1]");
-    for (const char* t : {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"})
-      warn_texture(in, "KHR_materials_clearcoat", t, mp);
+    warn_texture(in, "KHR_materials_clearcoat", "clearcoatNormalTexture", mp);
     if (out.flags & MATERIAL_REFRACTIVE && out.volume.w <= 0.0f) return;  // all glass: no coat (lib/bsdf.h)
     out.clearcoat = static_cast<float>(weight);
     out.clearcoat_alpha = static_cast<float>(roughness * roughness);
+    // Data textures, read per texel (lib/material.h: material_texel_scale).
+    if (weight > 0.0 && c->second.Has("clearcoatTexture"))
+      out.clearcoat_texture = data_texture(c->second.Get("clearcoatTexture"), cp + "/clearcoatTexture");
+    if (weight > 0.0 && c->second.Has("clearcoatRoughnessTexture"))
+      out.clearcoat_roughness_texture =
+          data_texture(c->second.Get("clearcoatRoughnessTexture"), cp + "/clearcoatRoughnessTexture");
   }
 
   // KHR_materials_specular on the metallic-roughness model: the coat's
@@ -283,12 +288,22 @@ class MaterialMapper {
     return fallback;
   }
 
-  int texture_of_value(const tinygltf::Value& info, const std::string& pointer) {
+  // A textureInfo written inside an extension, read as data (linear texels).
+  int data_texture(const tinygltf::Value& info, const std::string& pointer) {
+    if (!info.IsObject() || !info.Has("index")) ctx_.fail(pointer, "expected a textureInfo object with an index");
+    return image_texture(ctx_, texture_info_of(info), pointer, /*linear_data=*/true);
+  }
+
+  static tinygltf::TextureInfo texture_info_of(const tinygltf::Value& info) {
     tinygltf::TextureInfo t;
     const tinygltf::Value& i = info.Get("index");
     t.index = i.IsNumber() && std::fabs(i.GetNumberAsDouble()) < 1e9 ? int(i.GetNumberAsDouble()) : -1;
     if (info.Has("texCoord") && info.Get("texCoord").IsNumber()) t.texCoord = int(info.Get("texCoord").GetNumberAsDouble());
-    return texture(t, pointer);
+    return t;
+  }
+
+  int texture_of_value(const tinygltf::Value& info, const std::string& pointer) {
+    return texture(texture_info_of(info), pointer);
   }
 
   int texture(const tinygltf::TextureInfo& info, const std::string& pointer) {

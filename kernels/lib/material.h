@@ -24,15 +24,16 @@
 #include "shared/types.h"
 #include "lib/texture.h"
 
-/* texel_scale: what a roughness_texture (shared/types.h) makes of the
- * material's numbers at this point: x multiplies GGX alpha, y metallic;
- * (1, 1) without one (material_texel_scale below). u_layer in [0, 1)
+/* texel_scale: what the material's data textures (shared/types.h) make of
+ * its numbers at this point: x multiplies GGX alpha, y metallic, z the
+ * coat's weight, w the coat's alpha; all 1 without them
+ * (material_texel_scale below). u_layer in [0, 1)
  * picks the layer of a partly transmissive material (volume.w > 0: glTF's
  * transmissionFactor < 1): glass where u_layer >= volume.w, else the
  * opaque base (plastic or conductor). One layer per shading point, used
  * for its light sampling and its bounce alike, is an unbiased one-sample
  * estimate of the mixture the specification writes. */
-inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour, float2 texel_scale, float u_layer) {
+inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour, float4 texel_scale, float u_layer) {
   Bsdf b;
   b.ior = m->ior;
   b.diffuse = splat_float3(0.0f);
@@ -46,8 +47,8 @@ inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour, 
     b.diffuse = (m->flags & MATERIAL_TINTED_TRANSMISSION) ? clamp(diffuse_colour, 0.0f, 1.0f) : splat_float3(1.0f);
     return b; /* glass takes no coat */
   }
-  b.coat = m->clearcoat;
-  b.coat_alpha = m->clearcoat_alpha;
+  b.coat = m->clearcoat * texel_scale.z;
+  b.coat_alpha = m->clearcoat_alpha * texel_scale.w;
   if ((m->flags & MATERIAL_REFLECTIVE) && !(m->flags & MATERIAL_REFRACTIVE)) {
     b.kind = BSDF_CONDUCTOR;
     b.specular = clamp(m->reflectivity * m->specular.xyz, 0.0f, 1.0f);
@@ -70,14 +71,27 @@ inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour, 
 }
 
 #if HAS_TEXTURES
-/* The texel scales of m's roughness_texture at uv: glTF's roughness is
- * G x factor and alpha its square, so alpha scales by G^2; metallic by B.
- * Texels are linear data (host/scene/gltf_textures.cpp stores them so). */
-inline float2 material_texel_scale(__global const Material* m, __global const Texture* textures,
+/* The texel scales of m's data textures at uv (bsdf_of_material's
+ * texel_scale): glTF's roughness is G x factor and alpha its square, so
+ * alpha scales by G^2 and metallic by B (roughness_texture); the coat's
+ * weight by R of clearcoat_texture, its alpha by G^2 of
+ * clearcoat_roughness_texture. Texels are linear data
+ * (host/scene/gltf_textures.cpp stores them so). */
+inline float4 material_texel_scale(__global const Material* m, __global const Texture* textures,
                                    __global const half* texels, float2 uv) {
-  if (m->roughness_texture < 0) return make_float2(1.0f, 1.0f);
-  const float3 t = clamp(texture_lookup(textures, texels, m->roughness_texture, uv), 0.0f, 1.0f);
-  return make_float2(t.y * t.y, t.z);
+  float2 base = make_float2(1.0f, 1.0f);
+  float coat = 1.0f, coat_alpha = 1.0f;
+  if (m->roughness_texture >= 0) {
+    const float3 t = clamp(texture_lookup(textures, texels, m->roughness_texture, uv), 0.0f, 1.0f);
+    base = make_float2(t.y * t.y, t.z);
+  }
+  if (m->clearcoat_texture >= 0)
+    coat = clamp(texture_lookup(textures, texels, m->clearcoat_texture, uv).x, 0.0f, 1.0f);
+  if (m->clearcoat_roughness_texture >= 0) {
+    const float g = clamp(texture_lookup(textures, texels, m->clearcoat_roughness_texture, uv).y, 0.0f, 1.0f);
+    coat_alpha = g * g;
+  }
+  return make_float4(base.x, base.y, coat, coat_alpha);
 }
 #endif
 
@@ -113,9 +127,9 @@ inline float3 material_diffuse_colour(__global const Material* m, __global const
 inline Bsdf material_bsdf_at(__global const Material* m, __global const Texture* textures,
                              __global const ushort* texels, float2 uv, float3 vertex_colour, float u_layer) {
 #if HAS_TEXTURES
-  const float2 texel_scale = material_texel_scale(m, textures, (__global const half*)texels, uv);
+  const float4 texel_scale = material_texel_scale(m, textures, (__global const half*)texels, uv);
 #else
-  const float2 texel_scale = make_float2(1.0f, 1.0f);
+  const float4 texel_scale = make_float4(1.0f, 1.0f, 1.0f, 1.0f);
 #endif
   return bsdf_of_material(m, material_diffuse_colour(m, textures, texels, uv, vertex_colour), texel_scale, u_layer);
 }

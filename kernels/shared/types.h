@@ -260,7 +260,13 @@ typedef struct {
    * that is its opaque base instead of glass (glTF's 1 - transmission x
    * (1 - metallic); 0: all glass, the coursework format's) */
   cs_float4 volume;
-} Material; /* 128 bytes */
+  /* glTF's clearcoatTexture (R scales the coat's weight) and
+   * clearcoatRoughnessTexture (G scales its roughness, so alpha by G^2):
+   * linear texels (lib/material.h); -1: none */
+  cs_int clearcoat_texture;
+  cs_int clearcoat_roughness_texture;
+  cs_uint pad0, pad1;
+} Material; /* 144 bytes */
 
 /* A triangle's alpha cut-out (HAS_ALPHA_CUTOUTS; parallel to the Triangle
  * array, present only when some material has alpha MASK or BLEND; built
