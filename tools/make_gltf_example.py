@@ -294,8 +294,10 @@ def seeds():
     b.doc["samplers"] = [{"magFilter": 9728}]
     b.doc["textures"] = [{"source": 0, "sampler": 0}]
     b.doc["materials"] = [
-        {"alphaMode": "MASK", "alphaCutoff": 0.4, "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}},
-        {"alphaMode": "BLEND", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.6, 0.9, 0.35]}},
+        {"alphaMode": "MASK", "alphaCutoff": 0.4,
+         "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0, "roughnessFactor": 0.5}},
+        {"alphaMode": "BLEND",
+         "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.6, 0.9, 0.35], "metallicFactor": 0, "roughnessFactor": 0.5}},
         {"pbrMetallicRoughness": {"baseColorFactor": [0.6, 0.1, 0.1, 1], "metallicFactor": 0, "roughnessFactor": 0.5},
          "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 0.9, "clearcoatRoughnessFactor": 0.1,
                                                     "clearcoatTexture": {"index": 0},
