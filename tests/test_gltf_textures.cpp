@@ -315,6 +315,55 @@ TEST(GltfTextures, BaseColourIsTheFactorTimesTheTexture) {
   expect_halves_alike(textured, constant);
 }
 
+// A material whose textures name TEXCOORD_1 (by textureInfo.texCoord or
+// by KHR_texture_transform's texCoord) has its primitives read TEXCOORD_1
+// as their texture coordinates; textures naming two sets are warned and
+// read with the smaller.
+GltfModel two_uv_sets(const json& base_colour_info, const json& emissive_info = nullptr,
+                      std::vector<std::string>* warnings = nullptr) {
+  Doc d;
+  const std::vector<float> pos = {0, 0, 0, 1, 0, 0, 0, 1, 0}, uv0(6, 0.0f), uv1 = {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f};
+  d.j["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", d.floats(pos, "VEC3", 3)},
+                                                     {"TEXCOORD_0", d.floats(uv0, "VEC2", 2)},
+                                                     {"TEXCOORD_1", d.floats(uv1, "VEC2", 2)}}},
+                                     {"material", 0}}}}}};
+  d.node({{"mesh", 0}});
+  d.j["images"] = {{{"bufferView", d.view(ppm({204, 0, 77, 255}))}, {"mimeType", "image/png"}}};
+  d.j["textures"] = {{{"source", 0}}};
+  json material = {{"pbrMetallicRoughness", {{"baseColorTexture", base_colour_info}}}};
+  if (!emissive_info.is_null()) {
+    material["emissiveTexture"] = emissive_info;
+    material["emissiveFactor"] = {1, 1, 1};
+  }
+  d.j["materials"] = {material};
+  d.j["extensionsUsed"] = {"KHR_texture_transform"};
+  Scene scene;
+  TextureLibrary textures(scene);
+  GltfModel g = import_gltf_bytes("uv.gltf", d.text(), ".", textures, false);
+  if (warnings) *warnings = g.warnings;
+  return g;
+}
+
+TEST(GltfTextures, AMaterialsTexturesReadTheCoordinateSetTheyName) {
+  auto expect_uv1 = [](const GltfModel& g, const std::string& what) {
+    ASSERT_EQ(g.mesh.triangles.size(), 1u) << what;
+    const MeshTriangle& t = g.mesh.triangles[0];
+    ASSERT_TRUE(t.has_uvs) << what;
+    EXPECT_NEAR(t.uv[2].x, 0.5f, 1e-6f) << what;
+    EXPECT_NEAR(t.uv[2].y, 1.0f - 0.6f, 1e-6f) << what;  // v up the image here
+  };
+  std::vector<std::string> warnings;
+  expect_uv1(two_uv_sets({{"index", 0}, {"texCoord", 1}}, nullptr, &warnings), "textureInfo.texCoord");
+  for (const std::string& w : warnings) ADD_FAILURE() << "unexpected warning: " << w;
+  expect_uv1(two_uv_sets({{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 1}}}}}}),
+             "KHR_texture_transform's texCoord");
+  // Two sets in one material: the smaller, with a warning.
+  const GltfModel mixed = two_uv_sets({{"index", 0}, {"texCoord", 1}}, {{"index", 0}}, &warnings);
+  EXPECT_NEAR(mixed.mesh.triangles[0].uv[2].x, 0.0f, 1e-6f);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_TRUE(test::Contains(warnings[0], {"/materials/0", "2 texture coordinate sets", "TEXCOORD_0 is used"}));
+}
+
 // COLOR_0 multiplies the base colour (glTF 2.0, 3.7.2.1): a floor whose
 // halves carry two vertex colours under one factor renders as two constant
 // materials of factor x colour, within noise; the import reads them

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <set>
+
 #include "host/scene/gltf.h"
 
 namespace caustica::gltf_detail {
@@ -48,6 +50,13 @@ class Context {
   std::map<size_t, std::vector<DecodedPrimitive>> decoded_meshes;  // by mesh index
   // (/textures/<i>, stored as linear data) -> index in `textures`, once decoded
   std::map<std::pair<size_t, bool>, int> texture_indices;
+  // Texture coordinate sets: those each material's textures name (its
+  // textureInfos' texCoord, or their KHR_texture_transform's), gathered
+  // while the material is mapped (`mapping_material`), and the one set its
+  // primitives read as their texture coordinates (convert_materials).
+  int mapping_material = -1;
+  std::vector<std::set<int>> uv_sets_named;
+  std::vector<int> material_uv_set;
 
  private:
   struct Once {

@@ -316,9 +316,27 @@ class MaterialMapper {
 
 }  // namespace
 
+// A material's textures may name any TEXCOORD_n: its primitives then read
+// that set as their texture coordinates. One set per material (a triangle
+// carries one): textures naming several are read with the smallest, warned.
 void convert_materials(Context& ctx) {
   MaterialMapper mapper(ctx);
-  for (size_t i = 0; i < ctx.model.materials.size(); ++i) ctx.out.materials.push_back(mapper.map(i));
+  const size_t n = ctx.model.materials.size();
+  ctx.uv_sets_named.assign(n, {});
+  ctx.material_uv_set.assign(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    ctx.mapping_material = static_cast<int>(i);
+    ctx.out.materials.push_back(mapper.map(i));
+    const std::set<int>& sets = ctx.uv_sets_named[i];
+    if (sets.empty()) continue;
+    ctx.material_uv_set[i] = *sets.begin();
+    if (sets.size() > 1)
+      ctx.warn_once("texCoord", "/materials/" + std::to_string(i),
+                    "the material's textures read " + std::to_string(sets.size()) +
+                        " texture coordinate sets; one set per material is supported: TEXCOORD_" +
+                        std::to_string(*sets.begin()) + " is used for all");
+  }
+  ctx.mapping_material = -1;
 }
 
 }  // namespace caustica::gltf_detail

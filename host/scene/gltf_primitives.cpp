@@ -1,6 +1,7 @@
 // Mesh primitives to triangles: TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN,
 // indexed or not (points and lines are skipped with a warning). Positions,
-// NORMAL and TEXCOORD_0 are read through the checked accessors
+// NORMAL and the texture coordinate set the material reads (TEXCOORD_0
+// unless its textures name another) are read through the checked accessors
 // (gltf_accessors.cpp); the node's world transform is applied here, with
 // normals by its inverse transpose and the winding swapped under a
 // mirroring transform so that front faces stay front faces.
@@ -46,7 +47,9 @@ std::vector<uint32_t> triangle_corners(int mode, const std::vector<uint32_t>& v)
 void warn_unused_attributes(Context& ctx, const tinygltf::Primitive& prim, const std::string& pp) {
   for (const auto& [name, accessor] : prim.attributes) {
     (void)accessor;
-    if (name == "POSITION" || name == "NORMAL" || name == "TEXCOORD_0" || name == "TANGENT" || name == "COLOR_0")
+    // Texture coordinate sets a material does not read are merely unused.
+    if (name == "POSITION" || name == "NORMAL" || name.rfind("TEXCOORD_", 0) == 0 || name == "TANGENT" ||
+        name == "COLOR_0")
       continue;
     const std::string group = name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0 ? "skin attributes"
                                                                                                : "attribute " + name;
@@ -118,9 +121,17 @@ const std::vector<DecodedPrimitive>& decoded_mesh(Context& ctx, size_t mi) {
       d.n = read_vec3_accessor(ctx, it->second, pp + "/attributes/NORMAL");
       same_count(d.n.size(), "NORMAL");
     }
-    if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
-      d.uv = read_texcoord_accessor(ctx, it->second, pp + "/attributes/TEXCOORD_0");
-      same_count(d.uv.size(), "TEXCOORD_0");
+    // The set the material's textures name (convert_materials), else 0.
+    const int uv_set = d.material >= 0 ? ctx.material_uv_set[size_t(d.material)] : 0;
+    std::string uv_name = "TEXCOORD_" + std::to_string(uv_set);
+    if (uv_set != 0 && !prim.attributes.count(uv_name)) {
+      ctx.warn_once("missing uv set", pp + "/attributes", "the material's textures read " + uv_name +
+                                                              ", which the primitive lacks; TEXCOORD_0 is used");
+      uv_name = "TEXCOORD_0";
+    }
+    if (auto it = prim.attributes.find(uv_name); it != prim.attributes.end()) {
+      d.uv = read_texcoord_accessor(ctx, it->second, pp + "/attributes/" + uv_name);
+      same_count(d.uv.size(), uv_name.c_str());
     }
     if (auto it = prim.attributes.find("COLOR_0"); it != prim.attributes.end()) {
       d.colours = read_colour_accessor(ctx, it->second, pp + "/attributes/COLOR_0");

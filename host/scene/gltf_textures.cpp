@@ -151,9 +151,7 @@ int image_texture(Context& ctx, const tinygltf::TextureInfo& info, const std::st
       tex_coord = v.Get<int>();  // overrides the textureInfo's (the extension says)
     }
   }
-  if (tex_coord != 0)
-    ctx.warn_once("texCoord", pointer + "/texCoord", "texture coordinate sets other than TEXCOORD_0 are not "
-                                                     "supported; TEXCOORD_0 is used");
+  if (ctx.mapping_material >= 0) ctx.uv_sets_named[size_t(ctx.mapping_material)].insert(tex_coord);
   const tinygltf::Texture& tex = ctx.model.textures[t];
   if (tex.sampler >= 0) {
     const size_t s = checked_index(ctx, tex.sampler, ctx.model.samplers.size(),
