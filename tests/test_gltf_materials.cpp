@@ -32,6 +32,9 @@ GltfModel import(const json& material, std::vector<std::string>* warnings = null
   d.node({{"mesh", 0}});
   d.j["materials"] = {material};
   d.j["meshes"][0]["primitives"][0]["material"] = 0;
+  // One texture for the extensions' textureInfos to name.
+  d.j["images"] = {{{"bufferView", d.view(std::string("P6 1 1 255\n\x80\x80\xff", 14))}, {"mimeType", "image/png"}}};
+  d.j["textures"] = {{{"source", 0}}};
   static Scene scene;
   static TextureLibrary textures(scene);
   GltfModel g = import_gltf_bytes("m.gltf", d.text(), ".", textures, false);
@@ -41,17 +44,22 @@ GltfModel import(const json& material, std::vector<std::string>* warnings = null
 
 TEST(GltfMaterials, ExtensionsBecomeTheMaterialsNumbers) {
   std::vector<std::string> warnings;
-  // Clear coat: weight and alpha = roughness^2; the coat's normal map warned.
+  // Clear coat: weight and alpha = roughness^2, its textures as data, its
+  // own normal map with its scale.
   const Material coat = import({{"extensions", {{"KHR_materials_clearcoat",
                                                  {{"clearcoatFactor", 0.8}, {"clearcoatRoughnessFactor", 0.3},
-                                                  {"clearcoatNormalTexture", {{"index", 0}}}}}}}},
+                                                  {"clearcoatTexture", {{"index", 0}}},
+                                                  {"clearcoatNormalTexture", {{"index", 0}, {"scale", 0.5}}}}}}}},
                                &warnings)
                             .materials[0];
   EXPECT_FLOAT_EQ(coat.clearcoat, 0.8f);
   EXPECT_FLOAT_EQ(coat.clearcoat_alpha, 0.09f);
-  EXPECT_EQ(coat.clearcoat_texture, -1);
+  EXPECT_GE(coat.clearcoat_texture, 0);
+  EXPECT_GE(coat.clearcoat_normal_texture, 0);
+  EXPECT_FLOAT_EQ(coat.clearcoat_normal_scale, 0.5f);
+  // This triangle has no texture coordinates: the one warning says so.
   ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_TRUE(test::Contains(warnings[0], {"clearcoatNormalTexture is not supported; the coat takes the surface's normal"}));
+  EXPECT_TRUE(test::Contains(warnings[0], {"without TEXCOORD_0; the normal map is ignored there"}));
 
   // Transmission 0.6 of a half-metallic material: glass 0.6 x 0.5 = 0.3 of
   // the time, the opaque base (metallic 0.5 / 0.7) otherwise; tinted.

@@ -127,6 +127,8 @@ uint32_t add_emissive_material(Scene& scene, const glm::vec3& radiance) {
   m.alpha_factor = 1.0f;
   m.clearcoat_texture = -1;
   m.clearcoat_roughness_texture = -1;
+  m.clearcoat_normal_texture = -1;
+  m.clearcoat_normal_scale = 1.0f;
   m.roughness = -1.0f;
   scene.materials.push_back(m);
   return uint32_t(scene.materials.size() - 1);

@@ -120,7 +120,8 @@ SceneFeatures analyse_scene(const Scene& scene, RenderMode mode, CausticsMode ca
     if (m.clearcoat > 0.0f) f.clearcoat = true;
     // Tangents come with normal-mapped glTF materials; a normal map without
     // them (a hand-made Material) would have no frame to be read in.
-    if (m.normal_texture >= 0 && f.triangle_shading && scene.triangle_tangents.size() == scene.triangles.size())
+    if ((m.normal_texture >= 0 || m.clearcoat_normal_texture >= 0) && f.triangle_shading &&
+        scene.triangle_tangents.size() == scene.triangles.size())
       f.normal_maps = f.textures = true;
     casters = casters || material_casts_caustics(scene, m);
     receivers = receivers || material_receives_caustics(scene, m);

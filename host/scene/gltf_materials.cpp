@@ -147,7 +147,6 @@ class MaterialMapper {
     const double roughness = number(c->second, "clearcoatRoughnessFactor", 0.0, cp);
     if (weight > 1.0) ctx_.fail(cp + "/clearcoatFactor", "expected a number in [0, 1]");
     if (roughness > 1.0) ctx_.fail(cp + "/clearcoatRoughnessFactor", "expected a number in [0, 1]");
-    warn_texture(in, "KHR_materials_clearcoat", "clearcoatNormalTexture", mp);
     if (out.flags & MATERIAL_REFRACTIVE && out.volume.w <= 0.0f) return;  // all glass: no coat (lib/bsdf.h)
     out.clearcoat = static_cast<float>(weight);
     out.clearcoat_alpha = static_cast<float>(roughness * roughness);
@@ -157,6 +156,13 @@ class MaterialMapper {
     if (weight > 0.0 && c->second.Has("clearcoatRoughnessTexture"))
       out.clearcoat_roughness_texture =
           data_texture(c->second.Get("clearcoatRoughnessTexture"), cp + "/clearcoatRoughnessTexture");
+    // The coat's own normal map, in the base's tangent frame (lib/normal_map.h).
+    if (weight > 0.0 && c->second.Has("clearcoatNormalTexture")) {
+      const tinygltf::Value& info = c->second.Get("clearcoatNormalTexture");
+      const std::string np = cp + "/clearcoatNormalTexture";
+      out.clearcoat_normal_texture = data_texture(info, np);
+      out.clearcoat_normal_scale = static_cast<float>(info.Has("scale") ? signed_number(info, "scale", np) : 1.0);
+    }
   }
 
   // KHR_materials_specular on the metallic-roughness model: the coat's
@@ -192,10 +198,7 @@ class MaterialMapper {
     auto e = in.extensions.find(ext);
     if (e == in.extensions.end() || !e->second.IsObject() || !e->second.Has(key)) return;
     const std::string p = mp + "/extensions/" + ext + "/" + key;
-    const bool normal = std::string(key).find("Normal") != std::string::npos;
-    ctx_.warn_once(std::string(ext) + " " + key, p,
-                   std::string(key) + " is not supported; " +
-                       (normal ? "the coat takes the surface's normal" : "its factor is used alone"));
+    ctx_.warn_once(std::string(ext) + " " + key, p, std::string(key) + " is not supported; its factor is used alone");
   }
 
   // alphaMode (kernels/lib/alpha_cutout.h): MASK cuts out where the base
@@ -255,6 +258,14 @@ class MaterialMapper {
     const tinygltf::Value& v = obj.Get(key);
     const double d = v.IsNumber() ? v.GetNumberAsDouble() : NAN;
     if (!std::isfinite(d) || d < 0.0) ctx_.fail(pointer + "/" + key, "expected a non-negative number");
+    return d;
+  }
+
+  double signed_number(const tinygltf::Value& obj, const char* key, const std::string& pointer) {
+    const tinygltf::Value& v = obj.Get(key);
+    const double d = v.IsNumber() ? v.GetNumberAsDouble() : NAN;
+    if (!std::isfinite(d) || std::fabs(d) > 1e3)
+      ctx_.fail(pointer + "/" + key, "expected a finite number (at most 1000 in size)");
     return d;
   }
 

@@ -150,7 +150,9 @@ const std::vector<DecodedPrimitive>& decoded_mesh(Context& ctx, size_t mi) {
                                                 std::to_string(vertices.size() % 3) + " ignored");
     d.corners = triangle_corners(prim.mode, vertices);
     d.pointer = pp;
-    if (d.material >= 0 && ctx.model.materials[size_t(d.material)].normalTexture.index >= 0)
+    // Materials were mapped first (gltf_read.cpp): a base or coat normal map.
+    if (d.material >= 0 && (ctx.out.materials[size_t(d.material)].normal_texture >= 0 ||
+                            ctx.out.materials[size_t(d.material)].clearcoat_normal_texture >= 0))
       d.corner_tangents = corner_tangents(ctx, prim, d);
     out.push_back(std::move(d));
   }

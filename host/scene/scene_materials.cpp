@@ -137,6 +137,8 @@ Material default_material() {
   out.alpha_factor = 1.0f;
   out.clearcoat_texture = -1;
   out.clearcoat_roughness_texture = -1;
+  out.clearcoat_normal_texture = -1;
+  out.clearcoat_normal_scale = 1.0f;
   out.roughness = -1.0f;
   out.metallic = 0.0f;
   return out;

@@ -55,6 +55,7 @@ typedef struct {
    * GGX roughness. */
   float coat;
   float coat_alpha;
+  float3 coat_n; /* the coat's normal in this local frame ((0, 0, 1): the shading normal) */
 } Bsdf;
 
 inline float bsdf_max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
@@ -292,13 +293,30 @@ inline bool bsdf_base_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* we
  * delta lobe of weight c Fc). The base is what the material is without the
  * coat; dielectrics take no coat (the importer leaves it off). Sampling
  * picks the coat with probability clamp(c Fc(wo), 0.1, 0.9) (c > 0) and
- * the base otherwise; densities are the mixture's. Energy: at most
+ * the base otherwise; densities are the mixture's. The coat's lobe and its
+ * Fresnel are taken about its own normal coat_n (its own normal map, or
+ * the vertex normal under a normal-mapped base, as glTF asks). Energy: at most
  * (1 - c Fc) times the base's plus c Fc times a GGX lobe's, each <= 1, so
  * the sum is <= 1 (the white furnace in tests/host/test_bsdf.cpp). */
 #define BSDF_COAT_F0 0.04f
 
+/* Directions in the coat's own frame (its normal coat_n may differ from the
+ * base's shading normal: glTF's clearcoatNormalTexture, or a smooth coat
+ * over a normal-mapped base); a rotation, so densities carry over. */
+typedef struct {
+  float3 t, b, n;
+} CoatFrame;
+inline CoatFrame bsdf_coat_frame(Bsdf b) {
+  CoatFrame f;
+  f.n = b.coat_n;
+  frame_from_normal(f.n, &f.t, &f.b);
+  return f;
+}
+inline float3 coat_local(CoatFrame f, float3 w) { return make_float3(dot(w, f.t), dot(w, f.b), dot(w, f.n)); }
+inline float3 coat_world(CoatFrame f, float3 w) { return w.x * f.t + w.y * f.b + w.z * f.n; }
+
 inline float bsdf_coat_weight(Bsdf b, float3 wo) {
-  const float m = clamp(1.0f - fabs(wo.z), 0.0f, 1.0f);
+  const float m = clamp(1.0f - fabs(dot(wo, b.coat_n)), 0.0f, 1.0f);
   const float m2 = m * m;
   return b.coat * (BSDF_COAT_F0 + (1.0f - BSDF_COAT_F0) * (m2 * m2 * m));
 }
@@ -313,13 +331,19 @@ inline bool bsdf_has_coat(Bsdf b) {
 #endif
 }
 
+/* The coat's rough lobe D G / (4 |wo.z| |wi.z|) in its own frame, 0 for
+ * directions under it. */
+inline float bsdf_coat_lobe(Bsdf b, CoatFrame f, float3 wo, float3 wi) {
+  return ggx_reflection(splat_float3(1.0f), b.coat_alpha, coat_local(f, wo), coat_local(f, wi)).x;
+}
+
 /* f(wo, wi) without the cosine (the rules at the top of this file). */
 inline float3 bsdf_eval(Bsdf b, float3 wo, float3 wi) {
   if (!bsdf_has_coat(b)) return bsdf_base_eval(b, wo, wi);
   if (wo.z <= 0.0f || wi.z <= 0.0f) return splat_float3(0.0f);
   const float w = bsdf_coat_weight(b, wo);
   float3 f = (1.0f - w) * bsdf_base_eval(b, wo, wi);
-  if (!bsdf_coat_is_smooth(b)) f += w * ggx_reflection(splat_float3(1.0f), b.coat_alpha, wo, wi);
+  if (!bsdf_coat_is_smooth(b)) f += splat_float3(w * bsdf_coat_lobe(b, bsdf_coat_frame(b), wo, wi));
   return f;
 }
 
@@ -327,7 +351,11 @@ inline float bsdf_pdf(Bsdf b, float3 wo, float3 wi) {
   if (!bsdf_has_coat(b)) return bsdf_base_pdf(b, wo, wi);
   if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
   const float p = bsdf_coat_probability(b, wo);
-  const float coat = bsdf_coat_is_smooth(b) ? 0.0f : ggx_reflection_pdf(b.coat_alpha, wo, wi);
+  float coat = 0.0f;
+  if (!bsdf_coat_is_smooth(b)) {
+    const CoatFrame f = bsdf_coat_frame(b);
+    coat = ggx_reflection_pdf(b.coat_alpha, coat_local(f, wo), coat_local(f, wi));
+  }
   return p * coat + (1.0f - p) * bsdf_base_pdf(b, wo, wi);
 }
 
@@ -340,14 +368,18 @@ inline bool bsdf_sample(Bsdf b, float3 wo, float3 u, float3* wi, float3* weight,
   if (wo.z <= 0.0f) return false;
   const float p = bsdf_coat_probability(b, wo), w = bsdf_coat_weight(b, wo);
   if (u.z < p) {
+    const CoatFrame f = bsdf_coat_frame(b);
+    const float3 wo_c = coat_local(f, wo);
+    if (wo_c.z <= 0.0f) return false;
     if (bsdf_coat_is_smooth(b)) {
-      *wi = make_float3(-wo.x, -wo.y, wo.z);
+      *wi = coat_world(f, make_float3(-wo_c.x, -wo_c.y, wo_c.z));
+      if (wi->z <= 0.0f) return false; /* mirrored under the base's surface */
       *pdf = p;
       *weight = splat_float3(w / p);
       *flags = BSDF_SAMPLED_SPECULAR;
       return true;
     }
-    *wi = reflect_dir(-wo, ggx_sample_visible_normal(wo, b.coat_alpha, u.xy));
+    *wi = coat_world(f, reflect_dir(-wo_c, ggx_sample_visible_normal(wo_c, b.coat_alpha, u.xy)));
   } else {
     /* The base's own choice, with u.z rescaled to [0, 1). */
     const float3 ub = make_float3(u.x, u.y, fmin((u.z - p) / (1.0f - p), 0x1.fffffep-1f));

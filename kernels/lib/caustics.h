@@ -46,6 +46,7 @@ inline Bsdf bsdf_of_visible_point(VisiblePoint v) {
   b.kind = v.kind;
   b.coat = 0.0f; /* the coat's share was taken off beta when the point was recorded */
   b.coat_alpha = 0.0f;
+  b.coat_n = make_float3(0.0f, 0.0f, 1.0f);
   return b;
 }
 

@@ -40,6 +40,7 @@ inline Bsdf bsdf_of_material(__global const Material* m, float3 diffuse_colour, 
   b.specular = splat_float3(0.0f);
   b.coat = 0.0f;
   b.coat_alpha = 0.0f;
+  b.coat_n = make_float3(0.0f, 0.0f, 1.0f); /* the shading frame's z until material_coat_normal sets it */
   const bool given = m->roughness >= 0.0f;
   if ((m->flags & MATERIAL_REFRACTIVE) && u_layer >= m->volume.w) {
     b.kind = BSDF_DIELECTRIC;
@@ -140,6 +141,21 @@ inline Bsdf material_bsdf_at(__global const Material* m, __global const Texture*
 inline float3 material_emission_texel(__global const Material* m, __global const Texture* textures,
                                       __global const ushort* texels, float2 uv) {
   return material_texel_or(textures, texels, m->emission_texture, uv, splat_float3(1.0f));
+}
+
+/* The coat's normal in shading frame f (Bsdf.coat_n): sp's coat normal,
+ * turned over as the frame turned the shading normal toward the path;
+ * exactly (0, 0, 1) where it is the shading normal (no normal map on
+ * either), and where it would fall below the frame's surface. */
+inline float3 material_coat_normal(const SurfacePoint* sp, const ShadingFrame* f) {
+  const float3 z = make_float3(0.0f, 0.0f, 1.0f);
+  if (sp->coat_normal.x == sp->shading_normal.x && sp->coat_normal.y == sp->shading_normal.y &&
+      sp->coat_normal.z == sp->shading_normal.z)
+    return z;
+  const float3 c = dot(f->ng, sp->normal) < 0.0f ? -sp->coat_normal : sp->coat_normal;
+  const float3 l = frame_to_local(c, f->t, f->b, f->n);
+  const float l2 = dot(l, l);
+  return l.z > 0.0f && l2 > 1e-12f ? l * rsqrt(l2) : z;
 }
 
 /* What survives of light that crossed `distance` inside m to reach sp

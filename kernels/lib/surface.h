@@ -60,6 +60,9 @@ typedef struct {
   /* the vertex colours' interpolation (HAS_VERTEX_COLOURS), else 1: set by
    * shading_point_at (lib/shading_point.h) */
   float3 colour;
+  /* the clear coat's normal, outward (lib/bsdf.h): the shading normal
+   * before any normal map, or the coat's own map (HAS_NORMAL_MAPS) */
+  float3 coat_normal;
   /* Per-component bound on the position's distance from the exact surface
    * point it stands for (see spawn_ray_origin, geometry.h): derived from
    * the arithmetic below, so it follows the primitive's size and distance
@@ -224,6 +227,7 @@ CS_DEVICE SurfacePoint surface_at(__global const Sphere* spheres, __global const
 #endif
   }
 #endif
+  sp.coat_normal = sp.shading_normal;
   return sp;
 }
 

@@ -40,7 +40,7 @@ inline bool bounce_photon(const SceneBuffers* s, const PhotonPassParams* params,
   const SurfacePoint sp = shading_point_at(SCENE_SURFACE_OF(s), hit, photon.origin.xyz, d);
   __global const Material* mat = &s->materials[sp.material];
   photon.power = make_float4_xyz(photon.power.xyz * material_transmittance_to(mat, &sp, d, hit.t), photon.power.w);
-  const Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv, sp.colour,
+  Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv, sp.colour,
                                      random_float(hash3(photon.index, params->pass_index, params->seed), 0x1a7e0000u + photon.depth));
   if (!bsdf_casts_caustics(bsdf)) {
     if (photon.flags & PHOTON_AFTER_CASTER) {
@@ -60,6 +60,7 @@ inline bool bounce_photon(const SceneBuffers* s, const PhotonPassParams* params,
   if (photon.depth + 2u > params->max_depth) return false;
   const bool opaque = bsdf.kind != BSDF_DIELECTRIC;
   const ShadingFrame frame = shading_frame(bsdf, sp.shading_normal, sp.normal, d);
+  if (bsdf_has_coat(bsdf)) bsdf.coat_n = material_coat_normal(&sp, &frame);
   const float3 t = frame.t, b = frame.b, n = frame.n, ng = frame.ng;
   const float3 wo = frame_to_local(-d, t, b, n);
   const uint key = hash3(photon.index, params->pass_index, params->seed), dim = 8u + 4u * photon.depth;

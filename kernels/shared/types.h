@@ -265,7 +265,10 @@ typedef struct {
    * linear texels (lib/material.h); -1: none */
   cs_int clearcoat_texture;
   cs_int clearcoat_roughness_texture;
-  cs_uint pad0, pad1;
+  /* glTF's clearcoatNormalTexture and its scale: the coat's own normal map
+   * (lib/normal_map.h); -1: the coat lies on the vertex normal */
+  cs_int clearcoat_normal_texture;
+  float clearcoat_normal_scale;
 } Material; /* 144 bytes */
 
 /* A triangle's alpha cut-out (HAS_ALPHA_CUTOUTS; parallel to the Triangle

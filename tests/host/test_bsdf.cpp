@@ -72,9 +72,10 @@ struct Estimates {
 };
 
 // b under a clear coat of weight c and GGX alpha a (lib/bsdf.h).
-Bsdf coated(Bsdf b, float c, float a) {
+Bsdf coated(Bsdf b, float c, float a, float3 n = make_float3(0.0f, 0.0f, 1.0f)) {
   b.coat = c;
   b.coat_alpha = a;
+  b.coat_n = n;
   return b;
 }
 
@@ -134,6 +135,9 @@ std::vector<Case> rough_cases() {
   // Clear coats (KHR_materials_clearcoat) over rough bases.
   cases.push_back({"coated plastic a=0.4 coat 1 a=0.05", coated(bsdf(kPlastic, 0.4f, 0.8f, 0.04f), 1.0f, 0.05f)});
   cases.push_back({"coated conductor a=0.3 coat 0.6 a=0.2", coated(bsdf(kConductor, 0.3f, 0.0f, 0.9f), 0.6f, 0.2f)});
+  // A coat with its own normal, leaning 0.3 rad from the base's.
+  cases.push_back({"coated plastic, tilted coat normal", coated(bsdf(kPlastic, 0.4f, 0.8f, 0.04f), 1.0f, 0.1f,
+                                                               make_float3(0.29552f, 0.0f, 0.95534f))});
   return cases;
 }
 
@@ -179,6 +183,8 @@ TEST(Bsdf, AlbedoNeverExceedsOne) {
   cases.push_back({"white plastic under a rough coat", coated(bsdf(kPlastic, 0.3f, 1.0f, 0.0f), 1.0f, 0.1f)});
   cases.push_back({"white plastic under a smooth coat", coated(bsdf(kPlastic, 0.3f, 1.0f, 0.0f), 1.0f, 0.0f)});
   cases.push_back({"smooth white conductor under a rough coat", coated(bsdf(kConductor, 0.0f, 0.0f, 1.0f), 1.0f, 0.2f)});
+  cases.push_back({"white plastic under a smooth tilted coat",
+                   coated(bsdf(kPlastic, 0.3f, 1.0f, 0.0f), 1.0f, 0.0f, make_float3(0.38942f, 0.0f, 0.92106f))});
   for (Case& c : cases) {
     if (c.in.kind == kConductor) c.in.specular = splat_float3(1.0f);
     for (double theta : {0.0, 30.0, 60.0, 75.0, 89.0}) {
@@ -265,6 +271,8 @@ TEST(Bsdf, SampledDirectionsFollowTheDensityChiSquare) {
       // The clear coat's mixture: a narrow coat lobe over a broad base.
       {"coated plastic a=0.5 coat a=0.08", coated(bsdf(kPlastic, 0.5f, 0.6f, 0.04f), 1.0f, 0.08f), 40.0},
       {"coated conductor a=0.4 coat 0.5 a=0.15", coated(bsdf(kConductor, 0.4f, 0.0f, 0.8f), 0.5f, 0.15f), 65.0},
+      {"coated plastic, tilted coat normal", coated(bsdf(kPlastic, 0.5f, 0.6f, 0.04f), 1.0f, 0.1f,
+                                                     make_float3(0.0f, 0.38942f, 0.92106f)), 35.0},
   };
   const test::Domain domain = angle_domain();
   const uint32_t n = 1u << 22;

@@ -96,6 +96,7 @@ TEST(MaterialLimits, NoNanOrInfAtExtremeRoughnessAndIor) {
           if (coat_alpha >= 0.0f) {
             in.coat = 1.0f;
             in.coat_alpha = coat_alpha;
+            in.coat_n = normalize(make_float3(0.2f, -0.1f, 1.0f));  // its own normal map's
           }
           std::vector<uint> bad;
           for (uint32_t i = 0; i < n; ++i) bad.push_back(sweep(in, i, 101u + cases));
