@@ -267,5 +267,51 @@ TEST(AlphaCutouts, PhotonsPassTheSameHoles) {
   EXPECT_LT(std::fabs(kept), 0.02 * bare) << "photons stop at an opaque quad";
 }
 
+// A cut-out emitter lights only from where it is there: a ceiling quad
+// facing down, emissive, masked away on one half, over a white floor.
+// Light sampling draws points on the whole quad (its density is by area)
+// and must count none from the holes; BSDF sampling finds the emitter only
+// where it is there. The two strategies, and MIS, give one image.
+TEST(AlphaCutouts, ACutOutEmitterLightsOnlyFromWhereItIsThere) {
+  Doc d;
+  d.j["extensionsUsed"] = {"KHR_materials_ior", "KHR_materials_emissive_strength"};
+  json lamp = {{"alphaMode", "MASK"},
+               {"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}}},
+               {"emissiveFactor", {1, 1, 1}},
+               {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}}}}};
+  d.j["images"] = {{{"bufferView", d.view(png_alpha_row({255, 0}))}, {"mimeType", "image/png"}}};
+  d.j["samplers"] = {{{"magFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33071}}};
+  d.j["textures"] = {{{"source", 0}, {"sampler", 0}}};
+  lamp["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  d.j["materials"] = {lambert(1.0), lamp};
+  // The lamp at height 1 facing down (its winding reversed).
+  json ceiling = square(d, 1.0f, 0.5f, 1);
+  const std::vector<uint16_t> down = {0, 2, 1, 0, 3, 2};
+  ceiling["indices"] = d.accessor(d.view(Doc::bytes(down)), 5123, down.size(), "SCALAR");
+  d.j["meshes"] = {{{"primitives", {square(d, 0.0f, 3.0f, 0), ceiling}}}};
+  d.node({{"mesh", 0}});
+  test::write_scene("alpha_lamp.gltf", d.text());
+  const std::string path = test::write_scene("alpha_lamp.json", R"({"rendermode": "pathtracer", "nbounces": 1,
+    "camera": {"width": 16, "height": 16, "position": [0, 0.8, 2.5], "lookAt": [0, 0, 0], "upVector": [0, 1, 0],
+               "fov": 40},
+    "scene": {"backgroundcolor": [0, 0, 0], "lightsources": [],
+      "shapes": [{"type": "mesh", "file": "alpha_lamp.gltf"}]}})");
+  const int spp = int(test::sized(256, 16));
+  test::PathRenderOptions o;
+  o.caustics = CausticsMode::Off;
+  test::Mean m[3];
+  const uint32_t strategies[3] = {PATH_STRATEGY_NEE, PATH_STRATEGY_BSDF, PATH_STRATEGY_MIS};
+  for (int i = 0; i < 3; ++i) {
+    o.strategy = strategies[i];
+    o.seed = uint32_t(11 * i);
+    m[i] = test::mean_all(test::render_path(path, spp, o));
+  }
+  std::printf("light sampling %.5f +- %.5f, BSDF sampling %.5f +- %.5f, MIS %.5f +- %.5f\n", m[0].mean, m[0].se,
+              m[1].mean, m[1].se, m[2].mean, m[2].se);
+  EXPECT_NEAR(m[0].mean, m[1].mean, 4.0 * std::hypot(m[0].se, m[1].se)) << "light sampling counts the holes";
+  EXPECT_NEAR(m[2].mean, m[1].mean, 4.0 * std::hypot(m[2].se, m[1].se));
+  EXPECT_GT(m[0].mean, 20.0 * m[0].se) << "the lamp lights the floor";
+}
+
 }  // namespace
 }  // namespace caustica

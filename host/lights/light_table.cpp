@@ -110,6 +110,11 @@ LightTable build_light_table(const Scene& scene) {
     l.flags = two_sided ? LIGHT_TWO_SIDED : 0u;
     l.emitted = to_float4(e, area);
     glm::vec3 mean(1.0f);
+    // Cut-out emitters: only the points that are there emit (kernels/lib/lights.h).
+    if (kind == LIGHT_TRIANGLE && (m.flags & (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND))) {
+      l.flags |= LIGHT_ALPHA;
+      l.p0.w = as_float(uint32_t(shape));
+    }
     if (kind == LIGHT_TRIANGLE && m.emission_texture >= 0 && size_t(m.emission_texture) < scene.textures.size()) {
       l.flags |= LIGHT_EMISSION_TEXTURE;
       l.p0.w = as_float(uint32_t(shape));

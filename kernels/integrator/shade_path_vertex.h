@@ -138,7 +138,8 @@ inline void surface_direct_light(const PathStageData* d, const PathRecord* ray, 
   __global const Light* light = &s->lights[li];
   LightSample ls;
   if (!sample_light(light, s->environment, pick, sp->position, u_light, &ls)) return;
-  ls.radiance *= light_emission_texel(light, s->triangle_shading, s->textures, s->texels, u_light); /* same pdf */
+  ls.radiance *= light_emission_texel(light, s->triangle_shading, s->textures, s->texels, s->triangle_alpha,
+                                      s->alpha_texels, u_light); /* same pdf */
   const float3 wi = frame_to_local(ls.wi, frame->t, frame->b, frame->n);
   if (bsdf->kind != BSDF_DIELECTRIC && !(dot(ls.wi, frame->ng) > 0.0f)) return; /* below an opaque surface */
   const float3 f = bsdf_eval(*bsdf, wo, wi);

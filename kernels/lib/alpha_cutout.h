@@ -28,11 +28,10 @@
 
 #if HAS_ALPHA_CUTOUTS
 
-/* Whether triangle `index` is there at barycentrics (u, v) of the ray (o, d). */
-inline bool alpha_keeps_hit(__global const TriangleAlpha* triangle_alpha, __global const ushort* alpha_texels,
-                            uint index, float u, float v, float3 o, float3 d) {
-  __global const TriangleAlpha* a = &triangle_alpha[index];
-  if (a->mode == ALPHA_OPAQUE) return true;
+/* Triangle `index`'s alpha at barycentrics (u, v) (its record's mode is
+ * not ALPHA_OPAQUE). */
+inline float triangle_alpha_at(__global const TriangleAlpha* a, __global const ushort* alpha_texels, float u,
+                               float v) {
   float alpha = a->factor;
 #if HAS_TEXTURES
   if (a->offset != ALPHA_NO_IMAGE) {
@@ -43,7 +42,29 @@ inline bool alpha_keeps_hit(__global const TriangleAlpha* triangle_alpha, __glob
   }
 #else
   (void)alpha_texels;
+  (void)u;
+  (void)v;
 #endif
+  return alpha;
+}
+
+/* How much of triangle `index` is there at barycentrics (u, v), on
+ * average over the rays that reach it: 1 or 0 for a MASK, alpha for a
+ * BLEND (the emission a cut-out light sends from that point). */
+inline float alpha_coverage(__global const TriangleAlpha* triangle_alpha, __global const ushort* alpha_texels,
+                            uint index, float u, float v) {
+  __global const TriangleAlpha* a = &triangle_alpha[index];
+  if (a->mode == ALPHA_OPAQUE) return 1.0f;
+  const float alpha = triangle_alpha_at(a, alpha_texels, u, v);
+  return a->mode == ALPHA_MASK ? (alpha >= a->cutoff ? 1.0f : 0.0f) : clamp(alpha, 0.0f, 1.0f);
+}
+
+/* Whether triangle `index` is there at barycentrics (u, v) of the ray (o, d). */
+inline bool alpha_keeps_hit(__global const TriangleAlpha* triangle_alpha, __global const ushort* alpha_texels,
+                            uint index, float u, float v, float3 o, float3 d) {
+  __global const TriangleAlpha* a = &triangle_alpha[index];
+  if (a->mode == ALPHA_OPAQUE) return true;
+  const float alpha = triangle_alpha_at(a, alpha_texels, u, v);
   if (a->mode == ALPHA_MASK) return alpha >= a->cutoff;
   const uint ray_key = hash3(hash3(as_uint(o.x), as_uint(o.y), as_uint(o.z)), hash3(as_uint(d.x), as_uint(d.y), as_uint(d.z)),
                              0xA1F4u);

@@ -29,6 +29,7 @@
 #include "lib/lights/spot_light.h"
 #include "lib/lights/environment_light.h"
 #include "lib/lights/directional_light.h"
+#include "lib/alpha_cutout.h"
 
 /*                 kind            type      class */
 #define LIGHT_TYPES(X)                       \
@@ -159,20 +160,34 @@ inline float3 light_emitted_toward(__global const Light* l, __global const float
 /* What scales light l's radiance at the point u places on it (the u given
  * to sample_light or light_emission_point), and so a shadow ray's radiance
  * and a photon's flux: its emission texture's texel for a textured triangle
- * light (LIGHT_EMISSION_TEXTURE, lights/triangle_light.h), else 1. The
- * densities are unchanged (the point is still uniform by area). */
+ * light (LIGHT_EMISSION_TEXTURE, lights/triangle_light.h), times how much
+ * of a cut-out triangle is there (LIGHT_ALPHA: 0 in a MASK's holes, alpha
+ * on a BLEND; lib/alpha_cutout.h), else 1. The densities are unchanged
+ * (the point is still uniform by area), so light sampling and a ray that
+ * hits the emitter (only where it is there) estimate the same light. */
 inline float3 light_emission_texel(__global const Light* l, __global const TriangleShading* triangle_shading,
-                                   __global const Texture* textures, __global const ushort* texels, float2 u) {
+                                   __global const Texture* textures, __global const ushort* texels,
+                                   __global const TriangleAlpha* triangle_alpha,
+                                   __global const ushort* alpha_texels, float2 u) {
+  float3 scale = splat_float3(1.0f);
 #if HAS_TEXTURES
   if (l->flags & LIGHT_EMISSION_TEXTURE)
-    return triangle_light_texel(l, triangle_shading, textures, (__global const half*)texels, u);
+    scale = triangle_light_texel(l, triangle_shading, textures, (__global const half*)texels, u);
+#endif
+#if HAS_ALPHA_CUTOUTS
+  if (l->flags & LIGHT_ALPHA) {
+    const float2 bc = triangle_light_barycentrics(u);
+    scale *= alpha_coverage(triangle_alpha, alpha_texels, as_uint(l->p0.w), bc.x, bc.y);
+  }
 #endif
   (void)l;
   (void)triangle_shading;
   (void)textures;
   (void)texels;
+  (void)triangle_alpha;
+  (void)alpha_texels;
   (void)u;
-  return splat_float3(1.0f);
+  return scale;
 }
 
 #endif /* CAUSTICA_LIB_LIGHTS_H */

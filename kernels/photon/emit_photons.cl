@@ -147,7 +147,8 @@ inline PhotonRecord emit_photon(const SceneBuffers* s, const PhotonPassParams* p
   } else {
     flux = light_emit(l, environment, point, p_error, n, u_dir, photon_random(i, *params, 5u), &origin, &dir);
   }
-  flux *= light_emission_texel(l, s->triangle_shading, s->textures, s->texels, u_point); /* the texel at the point */
+  flux *= light_emission_texel(l, s->triangle_shading, s->textures, s->texels, s->triangle_alpha, s->alpha_texels,
+                               u_point); /* the texel (and cut-out) at the point */
   PhotonRecord photon;
   photon.origin = (float4)(origin, 0.0f);
   photon.dir = (float4)(dir, 0.0f);

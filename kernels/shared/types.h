@@ -310,6 +310,10 @@ typedef struct {
  * p0.w and p1.w hold the triangle's and the texture's indices
  * (lib/lights/triangle_light.h) */
 #define LIGHT_EMISSION_TEXTURE 2u
+/* Light.flags: a triangle light whose material has alpha MASK or BLEND; its
+ * p0.w holds the triangle's index, whose TriangleAlpha record scales the
+ * emission at a sampled point (lib/lights.h: light_emission_texel) */
+#define LIGHT_ALPHA 4u
 
 typedef struct {
   cs_float4 p0, p1, p2;

@@ -49,7 +49,8 @@ inline float3 triangle_light_emission_point(__global const Light* l, float2 u, f
  * one decision both the sampler and the density read; n_l is the light's
  * normal (triangle_light_normal), which both have at hand. */
 inline bool triangle_light_by_solid_angle(__global const Light* l, float3 p, float3 n_l, SphericalTriangle* t) {
-  if (l->flags & LIGHT_EMISSION_TEXTURE) return false; /* its texel is keyed by the area sample */
+  /* its texel, or its cut-out, is keyed by the area sample */
+  if (l->flags & (LIGHT_EMISSION_TEXTURE | LIGHT_ALPHA)) return false;
   const float3 centroid = (l->p0.xyz + l->p1.xyz + l->p2.xyz) * (1.0f / 3.0f);
   if (!(planar_light_solid_angle_estimate(p, centroid, n_l, l->emitted.w) >= LIGHT_SPHERICAL_MIN_SOLID_ANGLE))
     return false;
