@@ -113,23 +113,11 @@ Light delta_light_at(const glm::vec3& p, const glm::vec3& intensity) {
 }
 
 uint32_t add_emissive_material(Scene& scene, const glm::vec3& radiance) {
-  Material m{};
+  Material m = blank_material();
   m.diffuse = to_float4(glm::vec3(0.0f), 0.0f);
   m.specular = to_float4(glm::vec3(0.0f), 0.0f);
   m.emission = to_float4(radiance);
   m.specular_exponent = 1.0f;
-  m.ior = 1.0f;
-  m.texture = -1;
-  m.roughness_texture = -1;
-  m.emission_texture = -1;
-  m.normal_texture = -1;
-  m.normal_scale = 1.0f;
-  m.alpha_factor = 1.0f;
-  m.clearcoat_texture = -1;
-  m.clearcoat_roughness_texture = -1;
-  m.clearcoat_normal_texture = -1;
-  m.clearcoat_normal_scale = 1.0f;
-  m.roughness = -1.0f;
   scene.materials.push_back(m);
   return uint32_t(scene.materials.size() - 1);
 }

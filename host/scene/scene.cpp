@@ -82,6 +82,16 @@ TriangleColours vertex_colours(const glm::vec4* rgba) {
   return c;
 }
 
+Material blank_material() {
+  Material m{};
+  m.ior = 1.0f;
+  m.texture = m.roughness_texture = m.emission_texture = m.normal_texture = -1;
+  m.clearcoat_texture = m.clearcoat_roughness_texture = m.clearcoat_normal_texture = -1;
+  m.normal_scale = m.clearcoat_normal_scale = m.alpha_factor = 1.0f;
+  m.roughness = -1.0f;
+  return m;
+}
+
 CameraBasis camera_basis(const CameraDesc& camera) {
   if (!finite3(camera.position) || !finite3(camera.look_at) || !finite3(camera.up))
     throw Error("degenerate camera: position, lookAt and upVector must be finite");

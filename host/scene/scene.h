@@ -120,6 +120,10 @@ inline cs_float4 to_float4(const glm::vec3& v, float w = 0.0f) { return cs_float
 inline glm::vec3 to_vec3(const cs_float4& v) { return glm::vec3(v.x, v.y, v.z); }
 // A triangle's vertex colours as stored (half floats); null: white.
 TriangleColours vertex_colours(const glm::vec4* rgba);
+// A zeroed Material with its "none" markers set: no texture of any kind
+// (-1), map scales and alpha 1, roughness not given (-1), index 1. Every
+// material the loaders make starts from it.
+Material blank_material();
 
 // Camera basis per the coursework convention: right = up x forward, so with
 // forward +z and up +y, world +x is on the image's right.

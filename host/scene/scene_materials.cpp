@@ -121,25 +121,13 @@ Material read_material_object(LoadContext& ctx, const json& m, const std::string
 }  // namespace
 
 Material default_material() {
-  Material out{};
+  Material out = blank_material();
   out.diffuse = to_float4(glm::vec3(0.8f), 0.9f);
   out.specular = to_float4(glm::vec3(1.0f), 0.1f);
   out.emission = to_float4(glm::vec3(0.0f));
   out.specular_exponent = 20.0f;
   out.reflectivity = 1.0f;
-  out.ior = 1.0f;
   out.ka = kDefaultAmbient;
-  out.texture = -1;
-  out.roughness_texture = -1;
-  out.emission_texture = -1;
-  out.normal_texture = -1;
-  out.normal_scale = 1.0f;
-  out.alpha_factor = 1.0f;
-  out.clearcoat_texture = -1;
-  out.clearcoat_roughness_texture = -1;
-  out.clearcoat_normal_texture = -1;
-  out.clearcoat_normal_scale = 1.0f;
-  out.roughness = -1.0f;
   out.metallic = 0.0f;
   return out;
 }
