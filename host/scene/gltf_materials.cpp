@@ -138,7 +138,8 @@ class MaterialMapper {
   }
 
   // KHR_materials_clearcoat (kernels/lib/bsdf.h): the coat's weight and
-  // GGX alpha = roughness^2; its textures are not read (warned).
+  // GGX alpha = roughness^2, scaled per texel by its data textures, and its
+  // own normal map.
   void clearcoat(const tinygltf::Material& in, Material& out, const std::string& mp) {
     auto c = in.extensions.find("KHR_materials_clearcoat");
     if (c == in.extensions.end()) return;

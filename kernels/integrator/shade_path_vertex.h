@@ -246,8 +246,9 @@ inline bool shade_path_vertex(const PathStageData* d, const PathRecord ray_in, c
   surface_emission(d, &ray, hit.prim, &sp, mat);
   if (ray.depth >= d->params.max_depth && !path_aux_pending(&ray)) return false;
 
-  Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv, sp.colour,
-                               random_float(hash3(ray.pixel, ray.sample, d->params.seed), 0x1a7e0000u + ray.depth));
+  Bsdf bsdf = material_bsdf_at(
+      mat, s->textures, s->texels, sp.uv, sp.colour,
+      material_layer_u(mat, hash3(ray.pixel, ray.sample, d->params.seed), 0x1a7e0000u + ray.depth));
   const ShadingFrame frame = shading_frame(bsdf, sp.shading_normal, sp.normal, ray.dir.xyz);
   if (bsdf_has_coat(bsdf)) bsdf.coat_n = material_coat_normal(&sp, &frame);
   const float3 wo = frame_to_local(-ray.dir.xyz, frame.t, frame.b, frame.n);

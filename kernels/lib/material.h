@@ -19,6 +19,7 @@
 #define CAUSTICA_LIB_MATERIAL_H
 
 #include "lib/bsdf.h"
+#include "lib/rng.h"
 #include "lib/surface.h"
 #include "shared/photon.h"
 #include "shared/types.h"
@@ -141,6 +142,16 @@ inline Bsdf material_bsdf_at(__global const Material* m, __global const Texture*
 inline float3 material_emission_texel(__global const Material* m, __global const Texture* textures,
                                       __global const ushort* texels, float2 uv) {
   return material_texel_or(textures, texels, m->emission_texture, uv, splat_float3(1.0f));
+}
+
+/* bsdf_of_material's u_layer for m at a vertex: a uniform random number
+ * (key, counter) where m has two layers to pick from (a refractive
+ * material with an opaque share, volume.w > 0), else 0, which picks glass
+ * for every refractive material and is unread by the rest: the hash is
+ * paid only where there is a choice. */
+inline float material_layer_u(__global const Material* m, uint key, uint counter) {
+  if (!(m->flags & MATERIAL_REFRACTIVE) || !(m->volume.w > 0.0f)) return 0.0f;
+  return random_float(key, counter);
 }
 
 /* The coat's normal in shading frame f (Bsdf.coat_n): sp's coat normal,

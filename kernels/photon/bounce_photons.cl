@@ -41,7 +41,7 @@ inline bool bounce_photon(const SceneBuffers* s, const PhotonPassParams* params,
   __global const Material* mat = &s->materials[sp.material];
   photon.power = make_float4_xyz(photon.power.xyz * material_transmittance_to(mat, &sp, d, hit.t), photon.power.w);
   Bsdf bsdf = material_bsdf_at(mat, s->textures, s->texels, sp.uv, sp.colour,
-                                     random_float(hash3(photon.index, params->pass_index, params->seed), 0x1a7e0000u + photon.depth));
+      material_layer_u(mat, hash3(photon.index, params->pass_index, params->seed), 0x1a7e0000u + photon.depth));
   if (!bsdf_casts_caustics(bsdf)) {
     if (photon.flags & PHOTON_AFTER_CASTER) {
       Photon p;
