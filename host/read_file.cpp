@@ -16,6 +16,11 @@
 
 namespace caustica {
 
+bool is_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec);
+}
+
 std::string format_bytes(uint64_t bytes) {
   if (bytes >= (uint64_t(1) << 30) && bytes % (uint64_t(1) << 30) == 0)
     return std::to_string(bytes >> 30) + " GiB";

@@ -8,12 +8,17 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 
 namespace caustica {
 
 // `what` names the file's role in messages ("scene file", "PLY file"...).
 std::string read_input_file(const std::string& path, const std::string& what, uint64_t limit_bytes);
+
+// Whether `path` is a regular file (false, never an exception, where it
+// cannot be inspected): what a search for a file may open.
+bool is_file(const std::filesystem::path& path);
 
 // "1 GiB", "64 MiB", "512 bytes": limits as the messages name them.
 std::string format_bytes(uint64_t bytes);

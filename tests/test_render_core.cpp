@@ -611,8 +611,8 @@ TEST(ShadeSurfacePhong, OneStepOnAHandBuiltHit) {
   // The wave loop's counters: one the stage clears (seeded non-zero), the
   // rays it traced (2).
   const cl_uint seven = 7;
-  cl::Buffer cleared(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, 4, const_cast<cl_uint*>(&seven));
-  cl::Buffer traced(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, 4, const_cast<cl_uint*>(&zero));
+  cl::Buffer cleared(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, size_t(4), const_cast<cl_uint*>(&seven));
+  cl::Buffer traced(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, size_t(4), const_cast<cl_uint*>(&zero));
   rig.film.bind(args)
       .queue("next", next)
       .arg("cleared_count", cleared)

@@ -11,14 +11,11 @@
 
 #include "host/bench/bench_rays.h"
 #include "host/bench/ray_batch.h"
+#include "host/elapsed.h"
 #include "host/error.h"
 
 namespace caustica {
 namespace {
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // One ray kind's figures. Agreement compares the kernel's answer per ray with
 // HostTracer's: hit/miss (or occluded/clear) status, and for closest hits

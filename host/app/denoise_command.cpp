@@ -1,5 +1,7 @@
 #include "host/app/denoise_command.h"
 
+#include <CLI/CLI.hpp>
+
 #include <chrono>
 #include <cstdio>
 

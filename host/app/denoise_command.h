@@ -7,9 +7,13 @@
 // denoised again. Without guides it denoises the colour alone, and says so.
 #pragma once
 
-#include <CLI/CLI.hpp>
-
 #include <string>
+
+// CLI11 is declared, not included: it is parsed only by the units that
+// add options (docs/howto.md, "Build time").
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace caustica {
 

@@ -6,7 +6,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +18,7 @@
 #include <vector>
 
 #include "host/error.h"
+#include "host/image/image_io.h"
 
 extern char** environ;
 
@@ -30,12 +30,6 @@ namespace fs = std::filesystem;
 constexpr const char* kInstallHint =
     "gnuplot is not installed; caustica draws plots and heatmaps with it: "
     "apt-get install gnuplot-nox (or run tools/setup.sh)";
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 // Anchors of matplotlib's viridis (perceptually uniform, readable in grey and
 // by the common colour-vision deficiencies); gnuplot interpolates between them.

@@ -6,10 +6,14 @@
 // draws a merged state of passes [0, N) with the scene's display settings.
 #pragma once
 
-#include <CLI/CLI.hpp>
-
 #include <string>
 #include <vector>
+
+// CLI11 is declared, not included: it is parsed only by the units that
+// add options (docs/howto.md, "Build time").
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace caustica {
 

@@ -7,8 +7,6 @@
 // does what).
 #pragma once
 
-#include <CLI/CLI.hpp>
-
 #include <functional>
 #include <memory>
 #include <optional>
@@ -17,6 +15,12 @@
 
 #include "host/app/rank_group.h"
 #include "host/app/session.h"
+
+// CLI11 is declared, not included: it is parsed only by the units that
+// add options (docs/howto.md, "Build time").
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace caustica {
 

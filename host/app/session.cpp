@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 
+#include "host/elapsed.h"
 #include "host/error.h"
 #include "host/limits.h"
 #include "host/read_file.h"
@@ -14,11 +15,6 @@
 #include "host/scene/load_scene.h"
 
 namespace caustica {
-namespace {
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
 
 std::optional<RenderMode> parse_render_mode(const std::string& name) {
   if (name.empty()) return std::nullopt;

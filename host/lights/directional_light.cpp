@@ -37,8 +37,6 @@ Light with_scene_bounds(const Light& l, const Scene& scene) {
   return placed;
 }
 
-Light itself(const Light& l) { return l; }
-
 }  // namespace
 
 Light directional_light_along(const glm::vec3& unit_direction, const glm::vec3& irradiance) {
@@ -55,7 +53,7 @@ LightType directional_light_type() {
   t.file_type = "directional";
   t.read = read_directional_light;
   t.power = directional_light_power;
-  t.whitted_stand_in = itself;
+  t.whitted_stand_in = light_as_itself;
   t.in_scene = with_scene_bounds;
   return t;
 }

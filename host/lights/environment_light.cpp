@@ -9,6 +9,7 @@
 #include "host/image/image_io.h"
 #include "host/lights/light_types.h"
 #include "host/limits.h"
+#include "host/math_constants.h"
 #include "host/read_file.h"
 #include "host/scene/scene_reader.h"
 #include "host/scene/sky_model.h"
@@ -18,7 +19,6 @@ namespace caustica {
 namespace {
 
 using namespace scene_detail;
-constexpr double kPi = 3.14159265358979323846;
 
 double texel_luminance(const float* c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
 

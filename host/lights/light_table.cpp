@@ -7,12 +7,11 @@
 #include "host/error.h"
 #include "host/lights/environment_light.h"
 #include "host/lights/light_types.h"
+#include "host/math_constants.h"
 #include "host/scene/textures.h"
 
 namespace caustica {
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 float max3(const glm::vec3& c) { return std::max(c.x, std::max(c.y, c.z)); }
 
@@ -136,13 +135,13 @@ LightTable build_light_table(const Scene& scene) {
   for (size_t i = 0; i < scene.spheres.size(); ++i) {
     if (geometry_sphere[i]) continue;
     const float r = scene.spheres[i].center_radius.w;
-    add_shape(scene.spheres[i].material, LIGHT_SPHERE, scene.spheres[i].center_radius, {}, {}, 4.0f * kPi * r * r,
+    add_shape(scene.spheres[i].material, LIGHT_SPHERE, scene.spheres[i].center_radius, {}, {}, 4.0f * kPiF * r * r,
               t.light_of_sphere, i);
   }
   for (size_t i = 0; i < scene.cylinders.size(); ++i) {
     const Cylinder& c = scene.cylinders[i];
     const float r = c.center_radius.w, h = c.axis_half.w;
-    add_shape(c.material, LIGHT_CYLINDER, c.center_radius, c.axis_half, {}, 4.0f * kPi * r * h + 2.0f * kPi * r * r,
+    add_shape(c.material, LIGHT_CYLINDER, c.center_radius, c.axis_half, {}, 4.0f * kPiF * r * h + 2.0f * kPiF * r * r,
               t.light_of_cylinder, i);
   }
   if (scene.environment && add(environment_light(scene), glm::vec3(1.0f), "the environment"))

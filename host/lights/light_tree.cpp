@@ -7,14 +7,15 @@
 #include <limits>
 #include <utility>
 
+#include "host/elapsed.h"
 #include "host/error.h"
+#include "host/math_constants.h"
 
 namespace caustica {
 namespace {
 
 constexpr int kBuckets = 12;
 constexpr int kCountSplitDepth = 40;  // from here on, halves by count (light_tree.h)
-constexpr double kPi = 3.14159265358979323846;
 
 struct Item {
   LightBounds bounds;
@@ -347,10 +348,6 @@ std::vector<Item> positioned_items(const std::vector<Light>& lights, const std::
     items.push_back(item);
   }
   return items;
-}
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace

@@ -55,7 +55,8 @@ struct LightType {
   void (*read)(const scene_detail::Reader& r, const nlohmann::json& light, const std::string& path,
                Scene& scene) = nullptr;
   float (*power)(const Light& l) = nullptr;  // luminance-weighted flux
-  // Phong's delta light in its place (point and spot lights: themselves).
+  // Phong's delta light in its place (point, spot and directional lights:
+  // themselves, light_as_itself).
   Light (*whitted_stand_in)(const Light& l) = nullptr;
   // Path mode: appends the light's own geometry to the scene (with an
   // emissive material that reflects nothing) and names it in
@@ -70,6 +71,9 @@ struct LightType {
   // infinity (directional, environment), which the tree leaves out.
   LightBounds (*tree_bounds)(const Light& l) = nullptr;
 };
+
+// The Whitted stand-in of a light that is its own (a delta light).
+inline Light light_as_itself(const Light& l) { return l; }
 
 const std::vector<LightType>& light_types();  // in kind order
 const LightType& light_type(uint32_t kind);

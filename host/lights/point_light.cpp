@@ -16,8 +16,6 @@ void read_point_light(const Reader& r, const json& l, const std::string& path, S
 
 float point_light_power(const Light& l) { return 4.0f * 3.14159265358979f * luminance(to_vec3(l.emitted)); }
 
-Light itself(const Light& l) { return l; }
-
 // The tree: a point, emitting every way.
 LightBounds point_tree_bounds(const Light& l) { return omnidirectional_bounds(to_vec3(l.p0), to_vec3(l.p0)); }
 
@@ -29,7 +27,7 @@ LightType point_light_type() {
   t.file_type = "pointlight";
   t.read = read_point_light;
   t.power = point_light_power;
-  t.whitted_stand_in = itself;
+  t.whitted_stand_in = light_as_itself;
   t.tree_bounds = point_tree_bounds;
   return t;
 }

@@ -3,13 +3,13 @@
 // spheres of the scene are sphere lights too (light_table.cpp), without
 // geometry of their own.
 #include "host/lights/light_types.h"
+#include "host/math_constants.h"
 #include "host/scene/scene_reader.h"
 
 namespace caustica {
 namespace {
 
 using namespace scene_detail;
-constexpr float kPi = 3.14159265358979f;
 
 void read_sphere_light(const Reader& r, const json& l, const std::string& path, Scene& scene) {
   r.check_keys(l, path, {"type", "position", "intensity", "radius", "samples"});
@@ -18,7 +18,7 @@ void read_sphere_light(const Reader& r, const json& l, const std::string& path, 
   const glm::vec3 centre = r.read_vec3(l, "position", path, Range::Coordinate);
   const float radius = r.read_number(l, "radius", path, Range::Size);
   s.p0 = to_float4(centre, radius);
-  s.emitted = to_float4(r.read_vec3(l, "intensity", path, Range::NonNegative), 4.0f * kPi * radius * radius);
+  s.emitted = to_float4(r.read_vec3(l, "intensity", path, Range::NonNegative), 4.0f * kPiF * radius * radius);
   r.read_int(l, "samples", path, 1, 1 << 20, 1);  // checked; path mode's samples per pixel decide instead
   scene.lights.push_back(s);
 }

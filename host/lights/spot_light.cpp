@@ -43,8 +43,6 @@ float spot_light_power(const Light& l) {
   return float(solid * luminance(to_vec3(l.emitted)));
 }
 
-Light itself(const Light& l) { return l; }
-
 // The tree: a point emitting within its outer cone (theta_o, nothing
 // past it).
 LightBounds spot_tree_bounds(const Light& l) {
@@ -76,7 +74,7 @@ LightType spot_light_type() {
   t.file_type = "spotlight";
   t.read = read_spot_light;
   t.power = spot_light_power;
-  t.whitted_stand_in = itself;
+  t.whitted_stand_in = light_as_itself;
   t.tree_bounds = spot_tree_bounds;
   return t;
 }

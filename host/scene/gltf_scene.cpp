@@ -11,6 +11,7 @@
 
 #include "host/error.h"
 #include "host/lights/light_types.h"
+#include "host/math_constants.h"
 #include "host/scene/gltf.h"
 #include "host/scene/scene_reader.h"
 
@@ -20,7 +21,6 @@ namespace {
 
 using namespace scene_detail;
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kDefaultLongSide = 800;       // pixels, when the file's camera gives only an aspect
 constexpr float kDefaultAspect = 4.0f / 3.0f;
 

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <tuple>
 
+#include "host/read_file.h"
 #include "host/scene/scene_reader.h"
 
 namespace caustica::scene_detail {
@@ -16,11 +17,6 @@ namespace {
 // in a home folder must not turn one missing texture into a disk crawl.
 constexpr int kMaxDepth = 8;
 constexpr size_t kMaxEntries = 100000;
-
-bool is_file(const fs::path& p) {
-  std::error_code ec;
-  return fs::is_regular_file(p, ec);
-}
 
 // Path components, lower-case, without "", "." and ".." or a drive ("C:").
 std::vector<std::string> components(const std::string& path) {

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <vector>
 
+#include "host/math_constants.h"
+
 namespace caustica {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct Perez {
   double a, b, c, d, e;

@@ -44,11 +44,6 @@ uint16_t to_half(float v) {
   return glm::packHalf1x16(std::min(v, 65504.0f));
 }
 
-bool is_file(const fs::path& p) {
-  std::error_code ec;
-  return fs::is_regular_file(p, ec);
-}
-
 
 // A declared size against the limits (host/limits.h), before any pixel is
 // allocated. Returns "" when it may be decoded, else the reason.

@@ -82,7 +82,7 @@ TEST_P(SelfIntersection, SpawnedRaysNeverReHitTheirSurface) {
                                       upload_read_only(std::vector<Cylinder>{cylinder}),
                                       upload_read_only(std::vector<Triangle>{triangle})};
       std::vector<cl_uint> counts(4, 0);
-      cl::Buffer count_buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, 16, counts.data());
+      cl::Buffer count_buffer(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, size_t(16), counts.data());
       std::vector<cs_float4> zeros(hit_points, cs_float4{0, 0, 0, 0});
       cl::Buffer example(runtime().context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, hit_points * sizeof(cs_float4), zeros.data());
       cl::Kernel kernel(program, "reintersect");
