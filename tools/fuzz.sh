@@ -25,7 +25,9 @@ shared="${CAUSTICA_SHARED_DIR:-$root/../shared}"
 
 bash "$root/tools/setup.sh" --fuzz
 if [[ ! -f $build/CMakeCache.txt ]]; then
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+  generator=()
+  command -v ninja >/dev/null && generator=(-G Ninja)
+  cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
     -DCAUSTICA_FUZZ=ON -DCAUSTICA_BUILD_TESTS=OFF -DCAUSTICA_BUILD_BENCHMARKS=OFF -DCAUSTICA_PYTHON=OFF >&2
 fi
 cmake --build "$build" -j "$(nproc 2>/dev/null || echo 2)" --target "${targets[@]}" >&2

@@ -28,7 +28,9 @@ limit=${CAUSTICA_OCLGRIND_TEST_SECONDS:-300}
 
 bash "$root/tools/setup.sh" --oclgrind
 if [[ ! -f $build/CMakeCache.txt ]]; then
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >&2
+  generator=()
+  command -v ninja >/dev/null && generator=(-G Ninja)
+  cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release >&2
 fi
 cmake --build "$build" -j "$(nproc 2>/dev/null || echo 2)" >&2
 

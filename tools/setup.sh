@@ -7,7 +7,7 @@
 # As root it runs apt-get; otherwise it prints the exact command to run.
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake ninja-build pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers clinfo
   libglm-dev libstb-dev nlohmann-json3-dev libcli11-dev libtinyexr-dev libtinyobjloader-dev libtinygltf-dev
   libgtest-dev libbenchmark-dev
@@ -19,7 +19,7 @@ packages=(
 # tools/fuzz.sh: clang with its libFuzzer and sanitizer runtimes (Debian's
 # clang-14; libclang_rt.fuzzer-x86_64.a is in libclang-rt-14-dev).
 if [[ ${1:-} == --fuzz ]]; then
-  packages=(clang libclang-rt-14-dev cmake pkg-config
+  packages=(clang libclang-rt-14-dev cmake ninja-build pkg-config
     libglm-dev libstb-dev nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libtinyexr-dev libcli11-dev
     ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers)
 fi
