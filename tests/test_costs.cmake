@@ -1,3 +1,4 @@
+cmake_policy(SET CMP0064 NEW)  # if(TEST name) (ctest reads this file without a project policy)
 # Written by tools/test_costs.sh from a ctest run (seconds per test, cold kernel
 # caches, 2 cores): included by ctest after the discovered tests
 # (tests/CMakeLists.txt), so that ctest -j starts the costly ones first.

@@ -1,21 +1,35 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages caustica builds and runs with, if missing
-# (the Python module's too: python3-dev, pybind11-dev, python3-numpy, and
-# for its tests and examples python3-pytest and python3-matplotlib)
-# (with --fuzz: those tools/fuzz.sh builds the fuzz targets with; with
-# --oclgrind: those plus the simulator tools/oclgrind.sh runs the tests on).
+# Installs the Debian 12 packages caustica builds and runs with, if missing.
 # As root it runs apt-get; otherwise it prints the exact command to run.
+#   tools/setup.sh            everything: the renderer's, the tests' and
+#                             benchmarks', gnuplot, the Python module's
+#                             (python3-dev, pybind11-dev, python3-numpy; for
+#                             its tests and examples python3-pytest and
+#                             python3-matplotlib)
+#   tools/setup.sh --render   the renderer's alone (./caustica render on a
+#                             fresh machine: 162 packages, 204 MB to download,
+#                             against 298 and 313 MB for everything;
+#                             docs/howto.md, "Build and test time"); OpenMPI
+#                             is among them (41 packages, 24 MB), so the
+#                             first binary already runs under mpirun
+#   tools/setup.sh --fuzz     what tools/fuzz.sh builds the fuzz targets with
+#   tools/setup.sh --oclgrind everything, and the simulator tools/oclgrind.sh
+#                             runs the tests on
 set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-clhpp-headers opencl-c-headers clinfo
   libglm-dev libstb-dev nlohmann-json3-dev libcli11-dev libtinyexr-dev libtinyobjloader-dev libtinygltf-dev
-  libgtest-dev libbenchmark-dev
-  gnuplot-nox
   openmpi-bin libopenmpi-dev
   libtbb12
-  python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
 )
+if [[ ${1:-} != --render ]]; then
+  packages+=(
+    libgtest-dev libbenchmark-dev
+    gnuplot-nox
+    python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
+  )
+fi
 # tools/fuzz.sh: clang with its libFuzzer and sanitizer runtimes (Debian's
 # clang-14; libclang_rt.fuzzer-x86_64.a is in libclang-rt-14-dev).
 if [[ ${1:-} == --fuzz ]]; then

@@ -13,6 +13,7 @@ data="$build/Testing/Temporary/CTestCostData.txt"
 [[ -f $data ]] || { echo "test_costs: no $data (run ctest in $build first)" >&2; exit 1; }
 out="$root/tests/test_costs.cmake"
 {
+  echo "cmake_policy(SET CMP0064 NEW)  # if(TEST name) (ctest reads this file without a project policy)"
   echo "# Written by tools/test_costs.sh from a ctest run (seconds per test, cold kernel"
   echo "# caches, 2 cores): included by ctest after the discovered tests"
   echo "# (tests/CMakeLists.txt), so that ctest -j starts the costly ones first."

@@ -148,7 +148,7 @@ void describe_session(const RenderArgs& a, const Session& session) {
     std::fprintf(stderr, "[caustica] kernel shape: %s (--kernel-shape %s)\n",
                  kernel_shape_name(session.settings.kernel_shape), kernel_shape_name(a.session.kernel_shape));
   std::fprintf(stderr, "[caustica] kernel build: %.1f ms (%s)\n", session.program.build_ms,
-               session.program.from_cache ? "cached" : "cold");
+               session.program.cache_state());
   std::fprintf(stderr, "[caustica] BVH build: %.2f ms, %zu nodes, SAH cost %.2f, depth %d\n", session.bvh.build_ms,
                session.bvh.nodes.size(), session.bvh.sah_cost, session.bvh.max_depth);
 }

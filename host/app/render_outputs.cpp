@@ -128,8 +128,7 @@ std::vector<std::pair<std::string, std::string>> report_header(const Session& se
   h.emplace_back("mode", buf);
   h.emplace_back("device", session.runtime->device_info().name + " (" +
                                session.runtime->device_info().platform_name + ")");
-  std::snprintf(buf, sizeof buf, "%.3f (%s)", session.program.build_ms / 1e3,
-                session.program.from_cache ? "cached" : "cold");
+  std::snprintf(buf, sizeof buf, "%.3f (%s)", session.program.build_ms / 1e3, session.program.cache_state());
   h.emplace_back("kernel_build_s", buf);
   std::snprintf(buf, sizeof buf, "%.3f", session.bvh.build_ms / 1e3);
   h.emplace_back("bvh_build_s", buf);

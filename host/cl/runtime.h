@@ -42,6 +42,13 @@ struct BuiltProgram {
   cl::Program program;
   double build_ms = 0.0;  // wall time of compile (cold) or cache load + link (warm)
   bool from_cache = false;
+  // Built from source by a platform that keeps its own program cache
+  // (PoCL): cold or from that cache, which this process cannot tell apart.
+  bool platform_cache = false;
+  // "cached", "cold", or "cold or from PoCL's cache": what -v and reports say.
+  const char* cache_state() const {
+    return from_cache ? "cached" : platform_cache ? "cold or from PoCL's cache" : "cold";
+  }
 };
 
 // Expands `#include "..."` directives against the embedded kernel files
@@ -124,6 +131,10 @@ class Runtime {
   cl::Context context_;
   cl::CommandQueue queue_;
   bool cache_enabled_ = true;
+  // PoCL keeps the programs it builds in its own cache (POCL_CACHE_DIR,
+  // keyed by source, options and device; unless POCL_KERNEL_CACHE=0): this
+  // runtime then keeps no binaries of its own (build_source says why).
+  bool platform_caches_programs_ = false;
   // Programs built in this process, by the cache key (source, options,
   // device): a second build of the same program is a lookup.
   std::map<uint64_t, cl::Program> built_;
