@@ -601,14 +601,17 @@ BuiltProgram Runtime::build_source(const std::string& name, const std::string& t
   // binary PoCL's cache would have served anyway (issue 44: 180 cold
   // programs in the test suite). Elsewhere (NVIDIA, Oclgrind) the binary
   // is kept here. A build that must be cold (the cache disabled: --no-cache,
-  // caustica bench) carries a comment PoCL's cache has never seen.
+  // caustica bench) defines a macro PoCL's cache has never seen (its key
+  // reads the options; a comment in the source would not do: it hashes the
+  // preprocessed text).
   const bool disk_cache = cache_enabled_ && !platform_caches_programs_;
   built.platform_cache = platform_caches_programs_ && cache_enabled_;
-  std::string build_text = source;
+  std::string build_options = options;
   if (platform_caches_programs_ && !cache_enabled_) {
     static std::atomic<uint64_t> cold_builds{0};
-    build_text = "// cold build " + std::to_string(uint64_t(getpid())) + "." + std::to_string(cold_builds++) + "." +
-                 std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()) + "\n" + source;
+    build_options += " -DCAUSTICA_COLD_BUILD=" + std::to_string(uint64_t(getpid())) + "_" +
+                     std::to_string(cold_builds++) + "_" +
+                     std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
   }
   if (disk_cache) {
     std::ifstream in(cache_file, std::ios::binary);
@@ -626,13 +629,13 @@ BuiltProgram Runtime::build_source(const std::string& name, const std::string& t
     }
   }
   if (!built.from_cache) {
-    cl::Program program(context_, build_text);
+    cl::Program program(context_, source);
     try {
-      program.build({info_.device}, options.c_str());
+      program.build({info_.device}, build_options.c_str());
     } catch (const cl::Error&) {
       std::string log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device);
       throw Error("OpenCL kernel build failed for " + name + " on " + info_.name + " with options [" + options +
-                  "]:\n" + map_build_log_lines(log, build_text));
+                  "]:\n" + map_build_log_lines(log, source));
     }
     built.program = program;
     if (disk_cache) {
