@@ -59,11 +59,7 @@ int main(int argc, char** argv) {
   // throw caustica::Error for values they refuse, and an exception escaping
   // main would abort with "terminate called" instead of a message.
   try {
-    try {
-      cli->app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      return cli->app.exit(e);
-    }
+    if (const int status = parse_command_line(*cli, argc, argv); status >= 0) return status;
     return run_command(*cli);
   } catch (const Error& e) {
     std::fprintf(stderr, "caustica: error: %s%s\n", rank_prefix(ranks.get()).c_str(), e.what());

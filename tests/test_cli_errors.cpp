@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "host/app/cli.h"
 #include "host/error.h"
 #include "tests/support/test_support.h"

@@ -35,6 +35,21 @@ int run_devices() {
 
 }  // namespace
 
+Cli::Cli()
+    : owned_app_(std::make_unique<CLI::App>("caustica: an OpenCL wavefront renderer for the coursework scene format")),
+      app(*owned_app_) {}
+
+Cli::~Cli() = default;
+
+int parse_command_line(Cli& cli, int argc, const char* const* argv) {
+  try {
+    cli.app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return cli.app.exit(e);
+  }
+  return -1;
+}
+
 std::unique_ptr<Cli> make_cli() {
   auto cli = std::make_unique<Cli>();
   Cli& c = *cli;

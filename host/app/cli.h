@@ -5,8 +5,6 @@
 // runs the checks each command makes before it reads or renders anything.
 #pragma once
 
-#include <CLI/CLI.hpp>
-
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +15,13 @@
 #include "host/app/merge_command.h"
 #include "host/app/render_command.h"
 #include "host/scene/sky_model.h"
+
+// CLI11 is declared, not included: main.cpp and the Python module reach
+// the parser through parse_command_line (docs/howto.md, "Build and test
+// time"); a unit that calls CLI::App itself includes <CLI/CLI.hpp>.
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace caustica {
 
@@ -39,7 +44,11 @@ struct PlotArgs {
 
 // Options bind to the members: a Cli is never copied or moved (make_cli).
 struct Cli {
-  CLI::App app{"caustica: an OpenCL wavefront renderer for the coursework scene format"};
+ private:
+  std::unique_ptr<CLI::App> owned_app_;
+
+ public:
+  CLI::App& app;
   RenderArgs render;
   MergeArgs merge;
   DenoiseArgs denoise;
@@ -51,12 +60,18 @@ struct Cli {
   CLI::App *render_cmd = nullptr, *devices_cmd = nullptr, *merge_cmd = nullptr, *denoise_cmd = nullptr,
            *bench_cmd = nullptr, *generate_cmd = nullptr, *sky_cmd = nullptr, *diff_cmd = nullptr,
            *plot_cmd = nullptr;
-  Cli() = default;
+  Cli();
+  ~Cli();
   Cli(const Cli&) = delete;
   Cli& operator=(const Cli&) = delete;
 };
 
 std::unique_ptr<Cli> make_cli();
+
+// Parses argv into `cli`: -1 when a command is to run, else the exit
+// status of what CLI11 already did (--help printed: 0; a parse error
+// printed: its code). Callbacks' caustica::Error passes through.
+int parse_command_line(Cli& cli, int argc, const char* const* argv);
 
 // After a successful parse: the checks the chosen command makes before it
 // reads a scene or an input, or renders (every option's value and the

@@ -6,6 +6,8 @@
 
 #include <new>
 
+#include <CLI/CLI.hpp>
+
 #include "host/cl/runtime.h"
 #include "host/error.h"
 #include "python/module/bindings.h"
