@@ -1,5 +1,5 @@
 // Constants the host code shares (one definition each, so units can also
-// be compiled together: CMAKE_UNITY_BUILD, docs/howto.md "Build time").
+// be compiled together: CMAKE_UNITY_BUILD, docs/howto.md "Build and test time").
 #pragma once
 
 namespace caustica {

@@ -17,7 +17,7 @@
 #include "host/app/session.h"
 
 // CLI11 is declared, not included: it is parsed only by the units that
-// add options (docs/howto.md, "Build time").
+// add options (docs/howto.md, "Build and test time").
 namespace CLI {
 class App;
 }  // namespace CLI

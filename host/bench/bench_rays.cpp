@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "host/error.h"
+#include "host/math_constants.h"
 #include "host/parallel.h"
 #include "host/lights/light_types.h"
 #include "kernels/shared/camera.h"
@@ -51,7 +52,7 @@ vec3 cosine_direction(vec3 n, uint64_t seed, uint64_t index) {
   const double u1 = double(h >> 40) * 0x1.0p-24;
   const double u2 = double((h >> 16) & 0xFFFFFF) * 0x1.0p-24;
   // Malley: uniform on the disc, projected up onto the hemisphere.
-  const double r = std::sqrt(u1), phi = 2.0 * 3.141592653589793 * u2;
+  const double r = std::sqrt(u1), phi = 2.0 * kPi * u2;
   const double x = r * std::cos(phi), y = r * std::sin(phi), z = std::sqrt(1.0 - u1);
   // Orthonormal basis around n without a branch on the axis (Duff et al. 2017).
   const glm::dvec3 nd(n);

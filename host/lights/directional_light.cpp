@@ -10,6 +10,7 @@
 // through that sphere's disk, luminance(E) pi R^2 (the environment light's
 // rule: host/lights/environment_light.cpp).
 #include "host/lights/light_types.h"
+#include "host/math_constants.h"
 #include "host/scene/scene_reader.h"
 
 namespace caustica {
@@ -28,7 +29,7 @@ void read_directional_light(const Reader& r, const json& l, const std::string& p
 
 float directional_light_power(const Light& l) {
   const double r = l.p0.w;
-  return float(3.14159265358979323846 * r * r * luminance(to_vec3(l.emitted)));
+  return float(kPi * r * r * luminance(to_vec3(l.emitted)));
 }
 
 Light with_scene_bounds(const Light& l, const Scene& scene) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "host/error.h"
+#include "host/math_constants.h"
 
 namespace caustica {
 
@@ -93,8 +94,7 @@ cs_float4 scene_bounding_sphere(const Scene& scene) {
 float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 float area_light_power(const Light& l) {
-  constexpr float kPi = 3.14159265358979f;
-  return ((l.flags & LIGHT_TWO_SIDED) ? 2.0f : 1.0f) * kPi * l.emitted.w * luminance(to_vec3(l.emitted));
+  return ((l.flags & LIGHT_TWO_SIDED) ? 2.0f : 1.0f) * kPiF * l.emitted.w * luminance(to_vec3(l.emitted));
 }
 
 LightType shape_light_type(uint32_t kind) {

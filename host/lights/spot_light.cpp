@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "host/lights/light_types.h"
+#include "host/math_constants.h"
 #include "host/scene/scene_reader.h"
 
 namespace caustica {
@@ -39,7 +40,7 @@ void read_spot_light(const Reader& r, const json& l, const std::string& path, Sc
 // 2 pi I ((1 - cos_i) + (cos_i - cos_o) / 3).
 float spot_light_power(const Light& l) {
   const double cos_outer = l.p1.w, cos_inner = l.p2.x;
-  const double solid = 2.0 * 3.14159265358979323846 * ((1.0 - cos_inner) + (cos_inner - cos_outer) / 3.0);
+  const double solid = 2.0 * kPi * ((1.0 - cos_inner) + (cos_inner - cos_outer) / 3.0);
   return float(solid * luminance(to_vec3(l.emitted)));
 }
 
@@ -57,7 +58,7 @@ LightBounds spot_tree_bounds(const Light& l) {
 
 Light spot_light_at(const glm::vec3& position, const glm::vec3& unit_direction, const glm::vec3& intensity,
                     double inner_degrees, double outer_degrees) {
-  const double to_radians = 3.14159265358979323846 / 180.0;
+  const double to_radians = kPi / 180.0;
   const double cos_inner = std::cos(inner_degrees * to_radians), cos_outer = std::cos(outer_degrees * to_radians);
   const double half_outer = 0.5 * outer_degrees * to_radians;
   Light s = delta_light_at(position, intensity);

@@ -8,6 +8,7 @@
 
 #include "host/error.h"
 #include "host/limits.h"
+#include "host/math_constants.h"
 
 namespace caustica {
 
@@ -130,7 +131,7 @@ std::string beyond_coordinate_limit(const glm::dvec3& p) {
 CameraGPU camera_for_image(const CameraDesc& camera, int width, int height) {
   if (width <= 0 || height <= 0) throw Error("camera: image size must be positive");
   const CameraBasis basis = camera_basis(camera);
-  const float tan_half = std::tan(camera.fov_y_degrees * 0.5f * 3.14159265358979f / 180.0f);
+  const float tan_half = std::tan(camera.fov_y_degrees * 0.5f * kPiF / 180.0f);
   const float aspect = float(width) / float(height);
   CameraGPU cam{};
   cam.position = to_float4(camera.position);
