@@ -248,6 +248,7 @@ TEST(ErrorReport, WriteThenReadRoundTripsExactly) {
   second.mse = 1e-9;
   second.relmse = kInf;
   second.mae = 0.0;
+  second.est_relmse_bound = 0.25;
   report.rows = {first, second};
   write_error_report(path, report);
   EXPECT_EQ(slurp(path),
@@ -255,9 +256,9 @@ TEST(ErrorReport, WriteThenReadRoundTripsExactly) {
             "# scene: scenes/a b.json\n"
             "# mode: path 64x64 sobol seed 3\n"
             "# empty: \n"
-            "seconds,spp,est_relmse,mse,relmse,mae,denoised_est_relmse,denoised_relmse\n"
-            "0.052,1,,,,,,\n"
-            "0.3333333333333333,2,0.1,1e-09,inf,0,,\n");
+            "seconds,spp,est_relmse,mse,relmse,mae,denoised_est_relmse,denoised_relmse,est_relmse_bound\n"
+            "0.052,1,,,,,,,\n"
+            "0.3333333333333333,2,0.1,1e-09,inf,0,,,0.25\n");
   const ErrorReport back = read_error_report(path);
   EXPECT_EQ(back.header, report.header);
   ASSERT_EQ(back.rows.size(), 2u);
@@ -268,6 +269,7 @@ TEST(ErrorReport, WriteThenReadRoundTripsExactly) {
     EXPECT_EQ(back.rows[i].mse, report.rows[i].mse);
     EXPECT_EQ(back.rows[i].relmse, report.rows[i].relmse);
     EXPECT_EQ(back.rows[i].mae, report.rows[i].mae);
+    EXPECT_EQ(back.rows[i].est_relmse_bound, report.rows[i].est_relmse_bound);
   }
 }
 

@@ -26,13 +26,14 @@ bool ErrorMonitor::on_pass(const Film& film, double seconds) {
   if (!geometric && !target_check) return true;
   while (next_power_ <= passes) next_power_ = next_power_ > std::numeric_limits<int>::max() / 2 ? passes + 1 : 2 * next_power_;
   measure(film, seconds);
-  if (options_.target_error <= 0.0 || !estimate_) return true;
-  if (*estimate_ <= options_.target_error) return false;
-  // Error falls as 1 / passes: the pass where the target is projected, at
-  // least the next one. The geometric schedule bounds the jump.
-  const double projected = std::ceil(passes * (*estimate_ / options_.target_error));
-  const double bound = options_.sparse_from > 0 ? 4.0 * passes : double(next_power_);
-  next_target_check_ = int(std::clamp(projected, double(passes + 1), std::max(bound, double(passes + 1))));
+  if (options_.target_error <= 0.0 || !bound_) return true;
+  if (*bound_ <= options_.target_error) return false;
+  // Error falls as 1 / passes: the pass where the bound is projected to
+  // reach the target, at least the next one. The geometric schedule bounds
+  // the jump.
+  const double projected = std::ceil(passes * (*bound_ / options_.target_error));
+  const double furthest = options_.sparse_from > 0 ? 4.0 * passes : double(next_power_);
+  next_target_check_ = int(std::clamp(projected, double(passes + 1), std::max(furthest, double(passes + 1))));
   if (options_.sparse_from > 0) next_power_ = std::numeric_limits<int>::max();  // the projection alone
   return true;
 }
@@ -47,10 +48,10 @@ void ErrorMonitor::finish(const Film& film, double seconds) {
 }
 
 std::optional<double> ErrorMonitor::seconds_to_target(double now) const {
-  if (options_.target_error <= 0.0 || !estimate_ || measured_passes_ == 0) return std::nullopt;
-  if (*estimate_ <= options_.target_error) return 0.0;
+  if (options_.target_error <= 0.0 || !bound_ || measured_passes_ == 0) return std::nullopt;
+  if (*bound_ <= options_.target_error) return 0.0;
   const double seconds_per_pass = measured_seconds_ / measured_passes_;
-  const double passes_needed = measured_passes_ * (*estimate_ / options_.target_error);
+  const double passes_needed = measured_passes_ * (*bound_ / options_.target_error);
   return std::max(0.0, passes_needed * seconds_per_pass - now);
 }
 
@@ -63,8 +64,11 @@ void ErrorMonitor::measure(const Film& film, double seconds) {
   ImageF mean = film.mean();
   if (film.has_half_buffer() && passes >= 2) {
     const ImageF separate = film.separate_variance();
-    estimate_ = estimated_rel_mse(mean, film.half_mean(), film.pixel_spp(), film.half_counts(), &separate);
+    const RelMseEstimate e = estimate_rel_mse(mean, film.half_mean(), film.pixel_spp(), film.half_counts(), &separate);
+    estimate_ = e.estimate;
+    bound_ = e.bound;
     row.est_relmse = estimate_;
+    row.est_relmse_bound = bound_;
   }
   if (options_.reference) {
     for (float& v : mean.rgb) v *= options_.exposure_scale;

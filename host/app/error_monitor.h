@@ -4,12 +4,16 @@
 // plot is evenly filled and the cost stays logarithmic in the sample count)
 // and after the last pass. Each one reads the film back once (mean, and the
 // odd-pass half when the film keeps it) and records the film's own relMSE
-// estimate (host/render/error_estimate.h) and, given a reference, the true
+// estimate and its 90% upper bound (host/render/error_estimate.h) and,
+// given a reference, the true
 // MSE, relMSE and MAE of the image as it would be written (linear, times the
 // exposure scale, which is what .pfm/.exr outputs and references hold).
-// With a target error, the next measurement is also placed where the
-// estimate, falling as 1 / passes, is projected to reach the target, so the
-// render stops at or just below it rather than at the next power of two.
+// With a target error the render stops when the bound, not the point
+// estimate, reaches it (a render must not stop on a figure that reads low
+// where light is rare, issue 45), and the next measurement is also placed
+// where the bound, falling as 1 / passes, is projected to reach the target,
+// so the render stops at or just below it rather than at the next power of
+// two.
 // A sparse monitor (MPI ranks with only a target error: each measurement
 // sums the ranks' films) measures first at `sparse_from` passes and then
 // only where the target is projected, at most 4x the passes apart.
@@ -36,7 +40,7 @@ struct ErrorMonitorOptions {
   std::string report_path;           // --report: "" none
   std::string plot_path;             // --plot: drawn from the report at the end; "" none
   std::optional<ImageF> reference;   // --reference, already checked against the image size
-  double target_error = 0.0;         // --target-error (estimated relMSE); 0: none
+  double target_error = 0.0;         // --target-error (the estimate's bound); 0: none
   int sparse_from = 0;               // > 0: sparse measurements from this pass count (rules above)
   float exposure_scale = 1.0f;       // what HDR outputs are multiplied by
   std::vector<std::pair<std::string, std::string>> header;  // report header lines (scene, mode, builds)
@@ -67,11 +71,12 @@ class ErrorMonitor {
   void finish(const Film& film, double seconds);
 
   const std::optional<double>& estimate() const { return estimate_; }  // latest estimated relMSE
+  const std::optional<double>& bound() const { return bound_; }        // and its 90% upper bound
   const std::optional<double>& true_rel_mse() const { return true_rel_mse_; }
   // --denoise: the latest denoised image's estimated and true relMSE.
   const std::optional<double>& denoised_estimate() const { return denoised_estimate_; }
   const std::optional<double>& denoised_true_rel_mse() const { return denoised_true_rel_mse_; }
-  // Seconds from `now` until the estimate is projected to reach the target
+  // Seconds from `now` until the bound is projected to reach the target
   // (error proportional to 1 / time); nullopt without a target or an estimate.
   std::optional<double> seconds_to_target(double now) const;
   double measurement_seconds() const { return measurement_s_; }
@@ -84,7 +89,7 @@ class ErrorMonitor {
 
   ErrorMonitorOptions options_;
   ErrorReport report_;
-  std::optional<double> estimate_, true_rel_mse_;
+  std::optional<double> estimate_, bound_, true_rel_mse_;
   std::optional<double> denoised_estimate_, denoised_true_rel_mse_;
   int next_power_ = 1;          // the next geometric measurement (passes)
   int next_target_check_ = 0;   // the pass where the target is projected; 0: none

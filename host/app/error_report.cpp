@@ -16,7 +16,21 @@
 namespace caustica {
 namespace {
 
-constexpr int kColumns = 8, kColumnsWithoutDenoised = 6;
+// A report's columns: the first `count` of kErrorReportColumns (older
+// reports have fewer).
+struct ColumnLayout {
+  const char* line;
+  size_t count;
+};
+constexpr ColumnLayout kLayouts[] = {{kErrorReportColumns, 9},
+                                     {kErrorReportColumnsWithoutBound, 8},
+                                     {kErrorReportColumnsWithoutDenoised, 6}};
+
+const ColumnLayout* layout_of(const std::string& line) {
+  for (const ColumnLayout& layout : kLayouts)
+    if (line == layout.line) return &layout;
+  return nullptr;
+}
 
 // Reader and writer share these rules, so whatever is written reads back.
 // Each returns an empty string when the entry is valid, else why not.
@@ -41,7 +55,7 @@ std::string check_row(const ErrorReportRow& row, const ErrorReportRow* previous)
   for (const auto& [name, v] :
        {std::pair{"est_relmse", &row.est_relmse}, std::pair{"mse", &row.mse}, std::pair{"relmse", &row.relmse},
         std::pair{"mae", &row.mae}, std::pair{"denoised_est_relmse", &row.denoised_est_relmse},
-        std::pair{"denoised_relmse", &row.denoised_relmse}})
+        std::pair{"denoised_relmse", &row.denoised_relmse}, std::pair{"est_relmse_bound", &row.est_relmse_bound}})
     if (std::string why = check_error_value(name, *v); !why.empty()) return why;
   return "";
 }
@@ -85,13 +99,11 @@ class Reader {
     return v;
   }
 
-  ErrorReportRow row(int line, const std::string& text, bool with_denoised) const {
+  ErrorReportRow row(int line, const std::string& text, const ColumnLayout& layout) const {
     const std::vector<std::string> f = split_fields(text);
-    const size_t columns = with_denoised ? kColumns : kColumnsWithoutDenoised;
-    if (f.size() != columns)
-      fail(line, "expected " + std::to_string(columns) + " comma-separated fields (" +
-                     (with_denoised ? kErrorReportColumns : kErrorReportColumnsWithoutDenoised) + "), found " +
-                     std::to_string(f.size()));
+    if (f.size() != layout.count)
+      fail(line, "expected " + std::to_string(layout.count) + " comma-separated fields (" + layout.line +
+                     "), found " + std::to_string(f.size()));
     ErrorReportRow r;
     if (!parse_number(f[0], r.seconds)) fail(line, "seconds '" + f[0] + "' is not a number");
     const char* spp_end = f[1].data() + f[1].size();
@@ -101,10 +113,11 @@ class Reader {
     r.mse = error_value(line, "mse", f[3]);
     r.relmse = error_value(line, "relmse", f[4]);
     r.mae = error_value(line, "mae", f[5]);
-    if (with_denoised) {
+    if (layout.count > 6) {
       r.denoised_est_relmse = error_value(line, "denoised_est_relmse", f[6]);
       r.denoised_relmse = error_value(line, "denoised_relmse", f[7]);
     }
+    if (layout.count > 8) r.est_relmse_bound = error_value(line, "est_relmse_bound", f[8]);
     return r;
   }
 
@@ -126,7 +139,7 @@ ErrorReport read_error_report(const std::string& path) {
   const Reader reader(path);
   ErrorReport report;
   enum class Part { Marker, Header, Rows } part = Part::Marker;
-  bool with_denoised = true;
+  const ColumnLayout* layout = &kLayouts[0];
   std::string line;
   int number = 0;
   while (std::getline(in, line)) {
@@ -136,9 +149,9 @@ ErrorReport read_error_report(const std::string& path) {
       if (line != kErrorReportMarker)
         reader.fail(number, "expected '" + std::string(kErrorReportMarker) + "' (not a caustica error report)");
       part = Part::Header;
-    } else if (part == Part::Header && (line == kErrorReportColumns || line == kErrorReportColumnsWithoutDenoised)) {
+    } else if (part == Part::Header && layout_of(line)) {
       part = Part::Rows;
-      with_denoised = line == kErrorReportColumns;
+      layout = layout_of(line);
     } else if (part == Part::Header) {
       const size_t colon = line.find(": ");
       if (line.rfind("# ", 0) != 0 || colon == std::string::npos)
@@ -151,7 +164,7 @@ ErrorReport read_error_report(const std::string& path) {
     } else {
       if (line.empty()) reader.fail(number, "blank line among the rows");
       if (line[0] == '#') reader.fail(number, "comment after the column line (header lines come first)");
-      ErrorReportRow row = reader.row(number, line, with_denoised);
+      ErrorReportRow row = reader.row(number, line, *layout);
       if (std::string why = check_row(row, report.rows.empty() ? nullptr : &report.rows.back()); !why.empty())
         reader.fail(number, why);
       report.rows.push_back(row);
@@ -179,7 +192,7 @@ void write_error_report(const std::string& path, const ErrorReport& report) {
       throw Error("cannot write error report '" + path + "': row " + std::to_string(i + 1) + ": " + why);
     out << format_number(r.seconds) << ',' << r.spp << ',' << field(r.est_relmse) << ',' << field(r.mse) << ','
         << field(r.relmse) << ',' << field(r.mae) << ',' << field(r.denoised_est_relmse) << ','
-        << field(r.denoised_relmse) << "\n";
+        << field(r.denoised_relmse) << ',' << field(r.est_relmse_bound) << "\n";
   }
 
   write_output_file(path, out.str(), "error report");

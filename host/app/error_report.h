@@ -6,9 +6,9 @@
 //   # scene: scenes/cornell_box.json
 //   # mode: path 512x512 sobol seed 0
 //   # reference: ref.pfm
-//   seconds,spp,est_relmse,mse,relmse,mae,denoised_est_relmse,denoised_relmse
-//   0.052,1,,,,,,
-//   0.101,2,0.43,0.012,0.39,0.05,,
+//   seconds,spp,est_relmse,mse,relmse,mae,denoised_est_relmse,denoised_relmse,est_relmse_bound
+//   0.052,1,,,,,,,
+//   0.101,2,0.43,0.012,0.39,0.05,,,2.1
 //
 // Line 1 is the marker; then any number of "# key: value" lines (keys are
 // [a-z0-9_]+ and unique, values one line, kept in file order); then the column
@@ -17,10 +17,12 @@
 // render's own relMSE estimate (empty when it cannot estimate, e.g. at 1 spp),
 // and true MSE, relMSE, MAE against a reference (empty without one), then,
 // for a render with --denoise, the denoised image's estimated relMSE
-// (host/denoise/film_denoise.h) and its true relMSE (empty otherwise;
-// reports written before these two columns, with six, still read). Error
+// (host/denoise/film_denoise.h) and its true relMSE (empty otherwise). Error
 // values are numbers >= 0 or "inf" (metrics.h reports NaN pixels as infinite
-// error). Numbers are written in the shortest form that reads back to the same
+// error). The last column is the render's upper bound on its relMSE (the
+// estimate's 90% bound, host/render/error_estimate.h; empty where there is no
+// estimate); reports written before it, with six or eight columns, still
+// read. Numbers are written in the shortest form that reads back to the same
 // double, so a report round-trips exactly. Every reading error names the file
 // and the line.
 #pragma once
@@ -38,6 +40,7 @@ struct ErrorReportRow {
   int64_t spp = 0;
   std::optional<double> est_relmse, mse, relmse, mae;
   std::optional<double> denoised_est_relmse, denoised_relmse;  // --denoise
+  std::optional<double> est_relmse_bound;  // the estimate's 90% upper bound
 };
 
 struct ErrorReport {
@@ -50,6 +53,9 @@ struct ErrorReport {
 
 constexpr const char* kErrorReportMarker = "# caustica error report";
 constexpr const char* kErrorReportColumns =
+    "seconds,spp,est_relmse,mse,relmse,mae,denoised_est_relmse,denoised_relmse,est_relmse_bound";
+// The column lines of older reports (without the bound; without --denoise's).
+constexpr const char* kErrorReportColumnsWithoutBound =
     "seconds,spp,est_relmse,mse,relmse,mae,denoised_est_relmse,denoised_relmse";
 constexpr const char* kErrorReportColumnsWithoutDenoised = "seconds,spp,est_relmse,mse,relmse,mae";
 

@@ -18,21 +18,13 @@ ImageF scaled(ImageF image, float scale) {
   return image;
 }
 
-// Each pixel's estimated relMSE: its channels' share of the film-wide
-// estimate (host/render/error_estimate.h), the photon map's own variance
-// included, averaged over the channels.
+// Each pixel's estimated relMSE: its share of the film's point estimate
+// (host/render/error_estimate.h), the photon map's own variance included,
+// averaged over the channels.
 std::vector<double> pixel_error_map(const Film& film, const ImageF& mean) {
   if (!film.has_half_buffer() || film.passes() < 2) return {};
   const ImageF separate = film.separate_variance();
-  std::vector<double> map = pixel_rel_mse(mean, film.half_mean(), film.pixel_spp(), film.half_counts());
-  for (size_t p = 0; p < map.size(); ++p) {
-    for (size_t i = 3 * p; i < 3 * p + 3; ++i) {
-      const double m = mean.rgb[i];
-      map[p] += separate.rgb[i] / (m * m + kRelMseEpsilon);
-    }
-    map[p] /= 3.0;
-  }
-  return map;
+  return pixel_rel_mse_estimate(mean, film.half_mean(), film.pixel_spp(), film.half_counts(), &separate);
 }
 
 }  // namespace
@@ -53,6 +45,8 @@ HeldRender::HeldRender(RenderArgs args) : args_(std::move(args)) {
     spp_ = film.passes();
     pixel_spp_ = film.pixel_spp();
     error_map_ = pixel_error_map(film, passes_.colour);
+    caustics_ = film.separate_image();
+    if (caustics_) caustics_variance_ = film.separate_variance();
     state_ = result.shown->state();
     state_->identity = render_identity(scene_hash(session.scene), session.mode, session.settings,
                                        bvh_quality_name(args_.session.bvh_quality));
@@ -62,6 +56,7 @@ HeldRender::HeldRender(RenderArgs args) : args_(std::move(args)) {
     pixel_spp_.assign(image_.pixel_count(), 1u);
   }
   error_estimate_ = run->monitor->estimate();
+  error_bound_ = run->monitor->bound();
   stats_ = run->stats;
   seconds_ = result.seconds;
   stopped_by_caller_ = run->stopped_by_caller;
@@ -81,6 +76,14 @@ HeldPasses HeldRender::passes() const {
   }
   out.variance = passes_.variance;
   for (float& v : out.variance) v *= exposure * exposure;
+  if (caustics_) {
+    out.caustics = scaled(*caustics_, exposure);
+    out.caustics_variance.resize(caustics_variance_.pixel_count());
+    for (size_t p = 0; p < out.caustics_variance.size(); ++p) {
+      const float* v = &caustics_variance_.rgb[3 * p];
+      out.caustics_variance[p] = (v[0] + v[1] + v[2]) / 3.0f * exposure * exposure;
+    }
+  }
   return out;
 }
 

@@ -37,6 +37,12 @@ struct HeldPasses {
   std::optional<ImageF> albedo, normal;
   std::vector<float> depth;     // empty without the aux passes
   std::vector<float> variance;  // each pixel's estimated variance (times the exposure scale squared)
+  // With the photon pass: its caustic radiance (a part of the image, times
+  // the exposure scale) and that estimate's own variance (its noise and
+  // squared bias, a part of `variance`), to tell the two estimators'
+  // errors apart (docs/error.md).
+  std::optional<ImageF> caustics;
+  std::vector<float> caustics_variance;
 };
 
 class HeldRender {
@@ -53,6 +59,7 @@ class HeldRender {
   // The film's own relMSE estimate (nullopt before 2 passes or without the
   // half buffer) and each pixel's share (their mean is the estimate).
   const std::optional<double>& error_estimate() const { return error_estimate_; }
+  const std::optional<double>& error_bound() const { return error_bound_; }  // its 90% upper bound
   const std::vector<double>& error_map() const { return error_map_; }
   const RenderStats& stats() const { return stats_; }
   double seconds() const { return seconds_; }  // since the first sample
@@ -74,7 +81,9 @@ class HeldRender {
   std::optional<ImageF> denoised_;  // path with --denoise: the main image
   int spp_ = 1;
   std::vector<uint32_t> pixel_spp_;
-  std::optional<double> error_estimate_;
+  std::optional<double> error_estimate_, error_bound_;
+  std::optional<ImageF> caustics_;  // the photon map's caustic radiance and its variance (HeldPasses)
+  ImageF caustics_variance_;
   std::vector<double> error_map_;
   RenderStats stats_;
   double seconds_ = 0.0;

@@ -26,7 +26,7 @@ struct Point {
 
 struct Series {
   std::string name;
-  std::vector<Point> truth, estimate;
+  std::vector<Point> truth, estimate, bound;
   std::vector<Point> denoised_truth, denoised_estimate;  // --denoise renders
 };
 
@@ -62,12 +62,12 @@ void plot_error_reports(const std::vector<std::string>& csv_paths, const std::st
     const ErrorReport report = read_error_report(path);
     const std::string stem = std::filesystem::path(path).stem().string();
     Series s{stem_count[stem] > 1 ? path : stem, drawable(report, &ErrorReportRow::relmse),
-             drawable(report, &ErrorReportRow::est_relmse), drawable(report, &ErrorReportRow::denoised_relmse),
-             drawable(report, &ErrorReportRow::denoised_est_relmse)};
+             drawable(report, &ErrorReportRow::est_relmse), drawable(report, &ErrorReportRow::est_relmse_bound),
+             drawable(report, &ErrorReportRow::denoised_relmse), drawable(report, &ErrorReportRow::denoised_est_relmse)};
     if (s.truth.empty() && s.estimate.empty())
       throw Error("error report '" + path + "' has no positive relMSE to plot (the estimate needs at least 2 spp; "
                   "the true relMSE needs a reference)");
-    for (const auto* points : {&s.truth, &s.estimate, &s.denoised_truth, &s.denoised_estimate})
+    for (const auto* points : {&s.truth, &s.estimate, &s.bound, &s.denoised_truth, &s.denoised_estimate})
       for (const Point& p : *points) t_min = std::min(t_min, p.seconds), t_max = std::max(t_max, p.seconds);
     series.push_back(std::move(s));
   }
@@ -104,6 +104,7 @@ void plot_error_reports(const std::vector<std::string>& csv_paths, const std::st
     } curves[] = {
         {&s.truth, "t", "with linespoints lw 2 pt 7 ps 0.6", " (true)"},
         {&s.estimate, "e", "with lines lw 2 dt 2", " (estimated)"},
+        {&s.bound, "b", "with lines lw 1 dt 3", " (estimate's 90% bound)"},
         {&s.denoised_truth, "dt", "with linespoints lw 1.5 pt 5 ps 0.6", " denoised (true)"},
         {&s.denoised_estimate, "de", "with linespoints lw 1.5 dt 3 pt 4 ps 0.6", " denoised (estimated)"},
     };

@@ -159,7 +159,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   render_cmd->add_option("--plot", a.plot, "draw the --report as error against time (.png/.svg, through gnuplot)")
       ->check(non_empty_path());
   render_cmd->add_option("--target-error", a.target_error,
-                         "path: stop when the estimated relMSE reaches E (with --time/--spp: whichever first)")
+                         "path: stop when the estimated relMSE's 90% upper bound reaches E, not the point estimate, which "
+                         "reads low where light is rare (with --time/--spp: whichever first)")
       ->check(finite_positive());
   render_cmd->add_option_function<std::string>(
       "--caustics", [&a](const std::string& m) { a.session.caustics = parse_caustics_mode(m); },

@@ -54,6 +54,7 @@ void ProgressReporter::update(const PassProgress& p) {
   std::string error;
   if (monitor_ && monitor_->estimate()) {
     error = ", relMSE ~" + format_error(*monitor_->estimate());
+    if (monitor_->bound()) error += " (<= " + format_error(*monitor_->bound()) + " at 90%)";
     if (to_target) error += " (target in " + format_seconds(*to_target) + ")";
   }
   std::fprintf(stderr, "%s[caustica] %.2f/%s spp, %.3g samples/s, %.2f Mrays/s%s, %.1f s elapsed, %s left%s",
@@ -228,11 +229,14 @@ void print_written(const RenderArgs& a, const RenderPlan& plan, const RenderStat
                    const ErrorMonitor& monitor) {
   std::string accuracy;
   if (monitor.estimate()) accuracy += ", estimated relMSE " + format_error(*monitor.estimate());
+  if (monitor.bound()) accuracy += " (<= " + format_error(*monitor.bound()) + " at 90%)";
   if (monitor.true_rel_mse()) accuracy += ", relMSE against the reference " + format_error(*monitor.true_rel_mse());
   if (monitor.denoised_estimate()) accuracy += "; denoised: estimated relMSE " + format_error(*monitor.denoised_estimate());
   if (monitor.denoised_true_rel_mse())
     accuracy += std::string(monitor.denoised_estimate() ? "," : "; denoised:") + " relMSE against the reference " +
                 format_error(*monitor.denoised_true_rel_mse());
+  if (a.target_error > 0.0 && monitor.bound() && *monitor.bound() <= a.target_error)
+    accuracy += "; stopped on the bound reaching --target-error " + format_error(a.target_error);
   std::string resumed;
   if (plan.resume) resumed = ", resumed from " + std::to_string(plan.resumed_passes) + " spp in " + a.resume;
   std::fprintf(stderr, "[caustica] %s%s (%dx%d, %d spp%s) in %.2f s%s\n", a.write_output ? "wrote " : "rendered",

@@ -1,5 +1,8 @@
 #include "host/render/error_estimate.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "host/error.h"
 #include "host/image/metrics.h"
 
@@ -66,6 +69,62 @@ double estimated_rel_mse(const ImageF& mean, const ImageF& half_mean, const std:
       sum += separate_variance->rgb[i] / (m * m + kRelMseEpsilon);
     }
   return mean.rgb.empty() ? 0.0 : sum / double(mean.rgb.size());
+}
+
+namespace {
+// Each pixel's point and bound terms, summed over its channels (rules in
+// the header).
+struct PixelTerms {
+  std::vector<double> point, bound;
+};
+
+PixelTerms pixel_terms(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
+                       const std::vector<uint32_t>& half_counts, const ImageF* separate_variance) {
+  check_sizes(mean, half_mean, spp.size(), half_counts.size());
+  if (separate_variance && separate_variance->rgb.size() != mean.rgb.size())
+    throw Error("error estimate: the separate variance's size differs from the film's");
+  PixelTerms terms{std::vector<double>(spp.size(), 0.0), std::vector<double>(spp.size(), 0.0)};
+  for (size_t p = 0; p < spp.size(); ++p) {
+    const bool has_half = half_counts[p] > 0 && half_counts[p] < spp[p];
+    const double weight = has_half ? double(half_counts[p]) / double(spp[p] - half_counts[p]) : 0.0;
+    for (size_t i = 3 * p; i < 3 * p + 3; ++i) {
+      const double m = mean.rgb[i], d = m - half_mean.rgb[i];
+      const double v = d * d * weight + (separate_variance ? double(separate_variance->rgb[i]) : 0.0);
+      if (!(v > 0.0)) continue;
+      const double m2 = m * m;
+      terms.point[p] += v / (std::max(m2 - v, 0.4 * m2) + kRelMseEpsilon);
+      terms.bound[p] += v / (std::max(m2 - 3.0 * v, 0.0) + kRelMseEpsilon);
+    }
+  }
+  return terms;
+}
+}  // namespace
+
+RelMseEstimate estimate_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
+                                const std::vector<uint32_t>& half_counts, const ImageF* separate_variance) {
+  const PixelTerms terms = pixel_terms(mean, half_mean, spp, half_counts, separate_variance);
+  RelMseEstimate out;
+  if (mean.rgb.empty()) return out;
+  double point = 0.0, bound = 0.0, bound_squares = 0.0;
+  for (size_t p = 0; p < terms.point.size(); ++p) {
+    point += terms.point[p];
+    bound += terms.bound[p];
+    bound_squares += terms.bound[p] * terms.bound[p];
+  }
+  // The bound's own spread: sum * 1.28 sqrt(2 / n_eff), n_eff = sum^2 /
+  // sum of squares, is 1.28 sqrt(2 sum of squares).
+  const double spread = 1.28 * std::sqrt(2.0 * bound_squares);
+  out.estimate = point / double(mean.rgb.size());
+  out.bound = (bound + spread) / double(mean.rgb.size());
+  return out;
+}
+
+std::vector<double> pixel_rel_mse_estimate(const ImageF& mean, const ImageF& half_mean,
+                                           const std::vector<uint32_t>& spp, const std::vector<uint32_t>& half_counts,
+                                           const ImageF* separate_variance) {
+  std::vector<double> map = pixel_terms(mean, half_mean, spp, half_counts, separate_variance).point;
+  for (double& e : map) e /= 3.0;
+  return map;
 }
 
 double estimated_rel_mse(const ImageF& mean, const ImageF& half_mean, int passes, int half_passes,

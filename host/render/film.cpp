@@ -575,6 +575,13 @@ ImageF Film::separate_variance() const {
   return variance;
 }
 
+std::optional<ImageF> Film::separate_image() const {
+  if (!separate_ || passes_ == 0) return std::nullopt;
+  ImageF image(options_.width, options_.height);
+  separate_->add_to(image, spp_);
+  return image;
+}
+
 double Film::underflow_share(uint64_t underflow) const {
   if (underflow == 0) return 0.0;
   const ImageF sums = read_sums(0);

@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -254,6 +255,9 @@ class Film {
   AuxImages aux_half_mean() const;
   // The separate estimate's per-pixel variance (zero without one).
   ImageF separate_variance() const;
+  // The separate estimate alone (the photon map's caustic radiance, part of
+  // mean()); nullopt without one.
+  std::optional<ImageF> separate_image() const;
   FilmCounts counts() const;
   // The most light `underflow` contributions rounded to 0 could have held
   // (2^-45 each), as a share of the image's light (the accumulated sums'

@@ -1,5 +1,6 @@
 #include "host/render/photon_pass.h"
 
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -591,7 +592,7 @@ double PhotonPass::caustic_total(const std::vector<uint32_t>& spp) const {
 }
 
 void PhotonPass::add_variance_to(ImageF& variance, const std::vector<uint32_t>& spp) const {
-  if (gather_mode_ != PhotonGather::PerPixel || gathered_ < 2) return;
+  if (gather_mode_ != PhotonGather::PerPixel || gathered_ == 0) return;
   const std::vector<SppmPixel> px = read_pixels();
   const double n = gathered_;
   const int width = variance.width, height = variance.height;
@@ -604,16 +605,25 @@ void PhotonPass::add_variance_to(ImageF& variance, const std::vector<uint32_t>& 
     // A map's estimate L_k has variance c / r_k^2; c from the spread of the
     // maps' estimates (passes without a visible point add L = 0 and r = 0),
     // and the pixel's estimate, a mean over n maps at its current radius r,
-    // c / (n r^2).
+    // c / (n r^2). At least a density estimate's own Poisson noise, L^2 / N
+    // for the N photons it holds: the only figure a single map gives
+    // (issue 45: an estimate of one map had reported no error at all),
+    // and a floor where a few maps happen to agree.
     const double r2_sum = px[i].sum_r2;
     const float sum[3] = {px[i].sum_l.x, px[i].sum_l.y, px[i].sum_l.z};
     const float sum2[3] = {px[i].sum_l2.x, px[i].sum_l2.y, px[i].sum_l2.z};
     const float tau[3] = {px[i].tau.x, px[i].tau.y, px[i].tau.z};
     for (int c = 0; c < 3; ++c) {
-      const double mean = sum[c] / n;
-      const double spread = std::max(0.0, (sum2[c] - mean * mean * r2_sum) / (n - 1.0));
-      noise[3 * i + c] = share * share * spread / (n * double(px[i].radius2));
       radiance[3 * i + c] = share * tau[c] / (n * M_PI * px[i].radius2);
+      const double poisson =
+          px[i].photons > 0.0f ? radiance[3 * i + c] * radiance[3 * i + c] / double(px[i].photons) : 0.0;
+      double spread = 0.0;
+      if (n >= 2.0) {
+        const double mean = sum[c] / n;
+        spread = share * share * std::max(0.0, (sum2[c] - mean * mean * r2_sum) / (n - 1.0)) /
+                 (n * double(px[i].radius2));
+      }
+      noise[3 * i + c] = std::max(spread, poisson);
     }
   }
   // Its bias: a disk of radius r averages L to L + r^2 / 8 lap L, and the

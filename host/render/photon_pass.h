@@ -169,7 +169,10 @@ class PhotonPass final : public SeparateEstimate {
   // `variance`. Noise: a map's own estimate L_k = beta sum_k / (pi r_k^2)
   // has variance about c / r_k^2 (its photons go as r_k^2); c = (sum L_k^2
   // r_k^2 - Lbar^2 sum r_k^2) / (n - 1) over n maps, and the pixel's
-  // estimate, a mean of n maps at its current radius r, has c / (n r^2).
+  // estimate, a mean of n maps at its current radius r, has c / (n r^2);
+  // at least L^2 / N, a density estimate's Poisson noise for the N photons
+  // it holds (the one figure a single map gives: before issue 45 a render
+  // of one map reported no photon-map error at all).
   // Bias: (r / r_0)^2 / 8 times the caustic image's Laplacian (a disk's
   // average of L is L + r^2 lap L / 8; r_0, one footprint, is about a
   // pixel), squared, less the Laplacian's own noise. Times add_to's share

@@ -4,7 +4,7 @@
     scene = caustica.load("scenes/cornell_box.json")
     r = caustica.render(scene, spp=64, seed=3)
     r.image            # H x W x 3 float32, linear (the .pfm's values)
-    r.error_estimate   # the render's own relMSE estimate
+    r.error_estimate   # the render's own relMSE estimate (r.error_bound: its 90% upper bound)
     r.save("cornell.png")
 
 Every option of ``caustica render`` is a keyword of :func:`render`, with the
@@ -178,7 +178,10 @@ class Render:
         """What the film has besides the image: ``spp`` (H x W sample counts)
         always; ``variance`` with the error estimate; ``albedo``, ``normal``,
         ``depth`` with the aux passes (``denoise=True``, an .exr output or
-        ``aov_dir``); ``beauty`` (the raw film) when the image is denoised."""
+        ``aov_dir``); ``beauty`` (the raw film) when the image is denoised;
+        with the photon pass, ``caustics`` (its caustic radiance, a part of
+        the image) and ``caustics_variance`` (that estimate's own noise and
+        squared bias, a part of ``variance``)."""
         return self._native.aovs
 
     @property
@@ -186,6 +189,13 @@ class Render:
         """The film's own relMSE estimate (None before 2 spp, without the
         error estimate, or in binary and phong, which are exact)."""
         return self._native.error_estimate
+
+    @property
+    def error_bound(self) -> Optional[float]:
+        """The 90% upper bound on the render's relMSE, what ``target_error``
+        stops on (None where there is no estimate); it stays well above
+        the estimate while a pixel rests on a few rare bright samples."""
+        return self._native.error_bound
 
     @property
     def error_map(self) -> Optional[np.ndarray]:
@@ -260,7 +270,7 @@ def render(scene: Union[Scene, PathLike], *, mode: Optional[str] = None, spp: Op
     light_sampler: "auto" (default: the light tree above 3 lights), "tree", "power", "uniform"
     device: an OpenCL device index, name substring, "cpu" or "gpu" (see devices())
     width, height: the image size (one keeps the camera's aspect)
-    target_error: stop when the estimated relMSE reaches it
+    target_error: stop when the estimated relMSE's 90% upper bound reaches it
     denoise: the image is denoised (Intel Open Image Denoise)
     error_estimate: False leaves out the half buffer (no estimate, no adaptive sampling)
     output, report, plot, spp_map, checkpoint, aov_dir, ...: files, as the CLI writes them

@@ -89,6 +89,7 @@ py::list report_rows(const HeldRender& r) {
     d["mae"] = optional_number(row.mae);
     d["denoised_est_relmse"] = optional_number(row.denoised_est_relmse);
     d["denoised_relmse"] = optional_number(row.denoised_relmse);
+    d["est_relmse_bound"] = optional_number(row.est_relmse_bound);
     rows.append(d);
   }
   return rows;
@@ -103,6 +104,8 @@ py::dict aovs(const HeldRender& r) {
   if (p.normal) d["normal"] = to_numpy(*p.normal);
   if (!p.depth.empty()) d["depth"] = plane_array(p.depth, w, h);
   if (!p.variance.empty()) d["variance"] = plane_array(p.variance, w, h);
+  if (p.caustics) d["caustics"] = to_numpy(*p.caustics);
+  if (!p.caustics_variance.empty()) d["caustics_variance"] = plane_array(p.caustics_variance, w, h);
   d["spp"] = counts_array(r.pixel_spp(), w, h);
   return d;
 }
@@ -186,6 +189,7 @@ void bind_render(py::module_& m) {
         return d;
       })
       .def_property_readonly("error_estimate", [](const PyRender& r) { return optional_number(r.held->error_estimate()); })
+      .def_property_readonly("error_bound", [](const PyRender& r) { return optional_number(r.held->error_bound()); })
       .def_property_readonly("error_map", [](const PyRender& r) -> py::object {
         const std::vector<double>& map = r.held->error_map();
         if (map.empty()) return py::none();
