@@ -3,7 +3,8 @@
 the figures of docs/error.md; not part of the tests or CI).
 
 For each scene and each way of rendering it, caustica renders the scene
-once per seed up to --spp samples per pixel, measuring itself against a
+once per seed up to --spp samples per pixel (the photon pass forced on:
+--pm-spp; the Cornell box: --cornell-spp), measuring itself against a
 long path-traced reference (`reference=`, the rows of `Render.report`: at
 2, 4, 8, ... spp the true relMSE, the film's point estimate and its 90%
 upper bound, host/render/error_estimate.h). From those rows:
@@ -27,7 +28,7 @@ upper bound, host/render/error_estimate.h). From those rows:
     seed and the median, for each variant (gnuplot).
 
     cmake --build build --target caustica_python   # build/python/caustica
-    bench/error_honesty.py --seeds 16              # the defaults: docs/error.md's run
+    /usr/bin/python3 bench/error_honesty.py        # docs/error.md's run (16 seeds; about 30 min on 2 cores)
 
 Scenes (--scenes): stiff_ground and caustics (their references are
 committed in tests/references/), cornell_box (the same), and `community`,
@@ -101,11 +102,18 @@ def run(args, name, config, variant, seed, reference_path):
     scene = caustica.load(os.path.join(ROOT, config["scene"]) if not os.path.isabs(config["scene"])
                           else config["scene"])
     w, h = config["size"]
-    options = dict(width=w, height=h, spp=args.spp, seed=seed, reference=reference_path, quiet=True)
+    spp = spp_of(args, name, variant)
+    options = dict(width=w, height=h, spp=spp, seed=seed, reference=reference_path, quiet=True)
     if "mode" in config:
         options["mode"] = config["mode"]
     options.update(VARIANTS[variant])
     return caustica.render(scene, **options)
+
+
+def spp_of(args, name, variant):
+    if name == "cornell_box":
+        return args.cornell_spp
+    return args.pm_spp if variant == "pm" else args.spp
 
 
 def main():
@@ -113,7 +121,9 @@ def main():
     parser.add_argument("--scenes", nargs="+", default=list(SCENES))
     parser.add_argument("--variants", nargs="+", default=list(VARIANTS))
     parser.add_argument("--seeds", type=int, default=16)
-    parser.add_argument("--spp", type=int, default=1024)
+    parser.add_argument("--spp", type=int, default=4096, help="defaults and pt: samples per pixel")
+    parser.add_argument("--pm-spp", type=int, default=1024, help="pm (the photon pass every pass costs most)")
+    parser.add_argument("--cornell-spp", type=int, default=1024)
     parser.add_argument("--community-reference-spp", type=int, default=65536)
     parser.add_argument("--out-dir", default=os.path.join(ROOT, "bench", "error_honesty"))
     args = parser.parse_args()
@@ -157,7 +167,7 @@ def main():
                     caustic_images.append(aovs["caustics"].astype(np.float64))
                     caustic_variances.append(aovs["caustics_variance"][..., None].astype(np.float64))
             if len(images) >= 2:
-                split_lines.append(split_line(name, variant, args.spp, reference, weight, values, images,
+                split_lines.append(split_line(name, variant, spp_of(args, name, variant), reference, weight, values, images,
                                               caustic_images, variances, caustic_variances))
 
     with open(os.path.join(args.out_dir, "ratios.csv"), "w", newline="") as f:

@@ -61,17 +61,22 @@ void ErrorMonitor::measure(const Film& film, double seconds) {
   ErrorReportRow row;
   row.seconds = std::max(seconds, report_.rows.empty() ? 0.0 : report_.rows.back().seconds);
   row.spp = passes;
+  // The image as written (times the exposure scale): the estimate, like the
+  // true relMSE, is of it (relMSE's eps is not scale-free).
+  const float scale = options_.exposure_scale;
   ImageF mean = film.mean();
+  for (float& v : mean.rgb) v *= scale;
   if (film.has_half_buffer() && passes >= 2) {
-    const ImageF separate = film.separate_variance();
-    const RelMseEstimate e = estimate_rel_mse(mean, film.half_mean(), film.pixel_spp(), film.half_counts(), &separate);
+    ImageF half = film.half_mean(), separate = film.separate_variance();
+    for (float& v : half.rgb) v *= scale;
+    for (float& v : separate.rgb) v *= scale * scale;
+    const RelMseEstimate e = estimate_rel_mse(mean, half, film.pixel_spp(), film.half_counts(), &separate);
     estimate_ = e.estimate;
     bound_ = e.bound;
     row.est_relmse = estimate_;
     row.est_relmse_bound = bound_;
   }
   if (options_.reference) {
-    for (float& v : mean.rgb) v *= options_.exposure_scale;
     row.mse = caustica::mse(mean, *options_.reference);
     row.relmse = rel_mse(mean, *options_.reference);
     row.mae = mean_abs_error(mean, *options_.reference);

@@ -3,11 +3,11 @@
 // Rules: measurements are taken after passes 1, 2, 4, 8, ... (so a log-log
 // plot is evenly filled and the cost stays logarithmic in the sample count)
 // and after the last pass. Each one reads the film back once (mean, and the
-// odd-pass half when the film keeps it) and records the film's own relMSE
-// estimate and its 90% upper bound (host/render/error_estimate.h) and,
-// given a reference, the true
-// MSE, relMSE and MAE of the image as it would be written (linear, times the
-// exposure scale, which is what .pfm/.exr outputs and references hold).
+// odd-pass half when the film keeps it) and records, of the image as it
+// would be written (linear, times the exposure scale, which is what
+// .pfm/.exr outputs and references hold), the film's own relMSE estimate
+// and its 90% upper bound (host/render/error_estimate.h) and, given a
+// reference, the true MSE, relMSE and MAE.
 // With a target error the render stops when the bound, not the point
 // estimate, reaches it (a render must not stop on a figure that reads low
 // where light is rare, issue 45), and the next measurement is also placed

@@ -21,10 +21,13 @@ ImageF scaled(ImageF image, float scale) {
 // Each pixel's estimated relMSE: its share of the film's point estimate
 // (host/render/error_estimate.h), the photon map's own variance included,
 // averaged over the channels.
-std::vector<double> pixel_error_map(const Film& film, const ImageF& mean) {
+// Of the image as written (times the exposure scale), as the monitor's.
+std::vector<double> pixel_error_map(const Film& film, const ImageF& mean, float exposure) {
   if (!film.has_half_buffer() || film.passes() < 2) return {};
-  const ImageF separate = film.separate_variance();
-  return pixel_rel_mse_estimate(mean, film.half_mean(), film.pixel_spp(), film.half_counts(), &separate);
+  ImageF half = film.half_mean(), separate = film.separate_variance();
+  for (float& v : half.rgb) v *= exposure;
+  for (float& v : separate.rgb) v *= exposure * exposure;
+  return pixel_rel_mse_estimate(scaled(mean, exposure), half, film.pixel_spp(), film.half_counts(), &separate);
 }
 
 }  // namespace
@@ -44,7 +47,7 @@ HeldRender::HeldRender(RenderArgs args) : args_(std::move(args)) {
     image_ = scaled(denoised_ ? *denoised_ : passes_.colour, display_.exposure_scale);
     spp_ = film.passes();
     pixel_spp_ = film.pixel_spp();
-    error_map_ = pixel_error_map(film, passes_.colour);
+    error_map_ = pixel_error_map(film, passes_.colour, display_.exposure_scale);
     caustics_ = film.separate_image();
     if (caustics_) caustics_variance_ = film.separate_variance();
     state_ = result.shown->state();

@@ -35,6 +35,22 @@ def test_error_map_averages_to_the_estimate(path_render):
     assert r.error_estimate is not None and r.error_estimate > 0
     assert r.error_map.shape == (24, 32)
     assert r.error_map.mean() == pytest.approx(r.error_estimate, rel=1e-9)
+    # The 90% bound target_error stops on (docs/error.md): never below the estimate.
+    assert r.error_bound is not None and r.error_bound >= r.error_estimate
+
+
+def test_the_photon_pass_shows_its_own_image_and_variance():
+    r = caustica.render(caustica.load(pathlib.Path(__file__).parents[2] / "scenes" / "caustics.json"), width=32,
+                        height=24, spp=8, caustics="on", adaptive=False, quiet=True)
+    aovs = r.aovs
+    assert aovs["caustics"].shape == (24, 32, 3) and aovs["caustics_variance"].shape == (24, 32)
+    assert aovs["caustics"].max() > 0 and (aovs["caustics"] >= 0).all()
+    # Parts of the image and of its variance: never more than the whole.
+    assert (aovs["caustics"] <= r.image + 1e-6).all()
+    assert (aovs["caustics_variance"] <= aovs["variance"] * (1 + 1e-5) + 1e-12).all()
+    off = caustica.render(caustica.load(pathlib.Path(__file__).parents[2] / "scenes" / "caustics.json"), width=32,
+                          height=24, spp=2, caustics="off", quiet=True)
+    assert "caustics" not in off.aovs and "caustics_variance" not in off.aovs
 
 
 def test_stats_count_every_sample_and_ray(path_render):
@@ -51,6 +67,8 @@ def test_report_rows_follow_the_error_monitor(path_render):
     assert [row["spp"] for row in rows] == [1, 2, 4, 8, 16]
     assert rows[0]["est_relmse"] is None  # no estimate from one pass
     assert rows[-1]["est_relmse"] == pytest.approx(path_render.error_estimate)
+    assert rows[0]["est_relmse_bound"] is None
+    assert rows[-1]["est_relmse_bound"] == pytest.approx(path_render.error_bound)
     assert all(rows[i]["seconds"] <= rows[i + 1]["seconds"] for i in range(len(rows) - 1))
 
 
