@@ -2,6 +2,9 @@
 # caches, 2 cores): included by ctest after the discovered tests
 # (tests/CMakeLists.txt), so that ctest -j starts the costly ones first. A name
 # no test has (a test renamed, the Python tests without pytest) is ignored.
+set_tests_properties("ErrorBound.TheCornellBoxEstimateStaysWithinThirtyPercent" PROPERTIES COST 21)
+set_tests_properties("ErrorBound.CoversTheTruthOfAGlassAndAMirrorCaustic" PROPERTIES COST 18)
+set_tests_properties("ErrorBound.CoversTheTruthWhereASmallLightIsSeenThroughGlassAndInAMirror" PROPERTIES COST 17)
 set_tests_properties("CommunityPhotons.GathersReadBoundedPhotonsOnEverySceneWithCasters" PROPERTIES COST 165)
 set_tests_properties("KernelShapes.EveryCommittedSceneGivesTheSameBitsInBothShapes" PROPERTIES COST 106)
 set_tests_properties("FeatureCombinations.EveryCombinationBuildsAndBinds" PROPERTIES COST 80)
