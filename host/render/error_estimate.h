@@ -87,7 +87,9 @@ std::vector<double> pixel_rel_mse_estimate(const ImageF& mean, const ImageF& hal
                                            const std::vector<uint32_t>& spp, const std::vector<uint32_t>& half_counts,
                                            const ImageF* separate_variance = nullptr);
 
-// The classic estimate (the own-mean denominator M^2 + eps): relMSE of `mean` (all `passes`) estimated from `half_mean` (the mean of
+// The classic estimate (the own-mean denominator M^2 + eps; what adaptive
+// sampling, the caustics balance and the denoiser's guide noise weigh):
+// relMSE of `mean` (all `passes`) estimated from `half_mean` (the mean of
 // `half_passes` of them, 0 < half_passes < passes). NaN pixels (the film
 // never holds any) would make it NaN.
 // `separate_variance` (optional, same size): the per-pixel variance of an
@@ -100,8 +102,9 @@ double estimated_rel_mse(const ImageF& mean, const ImageF& half_mean, int passes
 // pixel).
 double estimated_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
                          const std::vector<uint32_t>& half_counts, const ImageF* separate_variance = nullptr);
-// Each pixel's share of it before the mean over pixels: its three channels'
-// (M - B)^2 n_B / n_A / (M^2 + eps), summed (no separate variance).
+// Each pixel's share of the classic estimate before the mean over pixels:
+// its three channels' (M - B)^2 n_B / n_A / (M^2 + eps), summed (no
+// separate variance).
 std::vector<double> pixel_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
                                   const std::vector<uint32_t>& half_counts);
 // Each pixel's estimated variance of its mean, (M - B)^2 n_B / n_A averaged

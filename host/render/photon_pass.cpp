@@ -1,6 +1,5 @@
 #include "host/render/photon_pass.h"
 
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
