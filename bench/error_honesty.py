@@ -10,20 +10,22 @@ long path-traced reference (`reference=`, the rows of `Render.report`: at
 upper bound, host/render/error_estimate.h). From those rows:
 
   * ratios.csv: every row of every seed (scene, variant, seed, spp, truth,
-    estimate, bound), the truth less the reference's own noise (its
-    variance at the reference's spp, estimated from the last row's
-    per-pixel variance: below 2% of every truth here);
+    estimate, bound), the truth less the reference's own noise: the
+    per-sample variance of path tracing alone (the `pt` renders' last
+    rows, mean over seeds: the reference is path traced) over the
+    reference's spp;
   * summary.md: per scene, variant and spp, the median truth over seeds,
     the median and range of estimate / truth, the share of seeds whose
     bound covers the truth, and the median bound / truth;
-  * split.md: with the photon pass forced on and uniform sampling, the
-    true error at each measured spp split into the path tracer's variance,
-    the photon map's variance and their bias (mean over seeds less the
-    reference; the path tracer is unbiased, so it is the photon map's),
-    next to the same split of the estimate (the photon map's share is its
-    `caustics_variance`, the rest the half buffer's); every term is
-    sum (x / (ref^2 + 0.01)) / (3 pixels), so the shares add up to the
-    truth's mean over seeds;
+  * split.md: for each variant at its last spp, the true error split
+    into the path tracer's variance, the photon map's variance and the
+    bias (mean over seeds less the reference, less its own variance and
+    the reference's noise: the path tracer is unbiased, so it is the photon
+    map's, or the mass of paths no seed found), next to the same split of
+    the estimate (the photon map's share is its `caustics_variance`, the
+    rest the half buffer's); every term is sum (x / (ref^2 + 0.01)) /
+    (3 pixels), so the shares add up to the truth's mean over seeds (less
+    the reference's noise);
   * SCENE.png: estimate / truth and bound / truth against spp, a point per
     seed and the median, for each variant (gnuplot).
 
@@ -67,9 +69,9 @@ SCENES = {
     "cornell_box": dict(scene="scenes/cornell_box.json", size=(128, 128),
                         reference="tests/references/cornell_box_128_8192spp.pfm", reference_spp=8192),
 }
-VARIANTS = {
-    "defaults": {},
+VARIANTS = {  # pt first: its renders measure the reference's own noise for all three
     "pt": dict(caustics="off", adaptive=False),
+    "defaults": {},
     "pm": dict(caustics="on", adaptive=False),
 }
 
@@ -144,31 +146,39 @@ def main():
         reference = read_pfm(reference_path)
         weight = 1.0 / (reference * reference + EPS)
         values = reference.size
-        for variant in args.variants:
+        reference_noise, noise_image = None, None  # the reference's own relMSE and per-pixel variance
+        for variant in sorted(args.variants, key=list(VARIANTS).index):
             if name == "cornell_box" and variant != "defaults":
                 continue  # no caustics: the variants render the same thing
             images, caustic_images, variances, caustic_variances = [], [], [], []
+            reports, per_sample = [], []
             for seed in range(args.seeds):
                 print(f"{name} {variant} seed {seed}", file=sys.stderr)
                 r = run(args, name, config, variant, seed, reference_path)
                 aovs = r.aovs
-                # The reference's own noise at each row: its per-sample
-                # variance (the last row's, times its spp) over its spp.
-                per_sample = aovs["variance"][..., None] * aovs["spp"][..., None]
-                reference_noise = float(np.sum(per_sample / reference_spp * weight)) / values
-                for row in r.report:
-                    if row["est_relmse"] is None or row["relmse"] is None:
-                        continue
-                    truth = max(row["relmse"] - reference_noise, 1e-30)
-                    rows.append((name, variant, seed, row["spp"], truth, row["est_relmse"], row["est_relmse_bound"]))
+                reports.append(r.report)
+                # Each pixel's per-sample variance: its mean's variance at
+                # the last row times its spp.
+                per_sample.append(aovs["variance"][..., None] * aovs["spp"][..., None])
                 images.append(r.image.astype(np.float64))
                 variances.append(aovs["variance"][..., None].astype(np.float64))
                 if "caustics" in aovs:
                     caustic_images.append(aovs["caustics"].astype(np.float64))
                     caustic_variances.append(aovs["caustics_variance"][..., None].astype(np.float64))
+            # The reference's own noise: path tracing's per-sample variance
+            # over the reference's spp (without pt renders, this variant's).
+            if reference_noise is None or variant == "pt":
+                noise_image = np.mean(per_sample, axis=0) / reference_spp
+                reference_noise = float(np.sum(noise_image * weight)) / values
+            for seed, report in enumerate(reports):
+                for row in report:
+                    if row["est_relmse"] is None or row["relmse"] is None:
+                        continue
+                    truth = max(row["relmse"] - reference_noise, 1e-30)
+                    rows.append((name, variant, seed, row["spp"], truth, row["est_relmse"], row["est_relmse_bound"]))
             if len(images) >= 2:
-                split_lines.append(split_line(name, variant, spp_of(args, name, variant), reference, weight, values, images,
-                                              caustic_images, variances, caustic_variances))
+                split_lines.append(split_line(name, variant, spp_of(args, name, variant), reference, noise_image, weight,
+                                              values, images, caustic_images, variances, caustic_variances))
 
     with open(os.path.join(args.out_dir, "ratios.csv"), "w", newline="") as f:
         out = csv.writer(f)
@@ -186,11 +196,12 @@ def main():
     plot(rows, args.out_dir)
 
 
-def split_line(name, variant, spp, reference, weight, values, images, caustic_images, variances, caustic_variances):
+def split_line(name, variant, spp, reference, noise_image, weight, values, images, caustic_images, variances,
+               caustic_variances):
     k = len(images)
     images = np.array(images)
     term = lambda x: float(np.sum(x * weight)) / values  # noqa: E731
-    truth = np.mean([term((im - reference) ** 2) for im in images])
+    truth = np.mean([term((im - reference) ** 2) for im in images]) - term(noise_image)
     if caustic_images:
         caustics = np.array(caustic_images)
         paths = images - caustics
@@ -198,7 +209,7 @@ def split_line(name, variant, spp, reference, weight, values, images, caustic_im
         est_pm = np.mean([term(v) for v in caustic_variances])
     else:
         pt_var, pm_var, est_pm = term(images.var(0, ddof=1)), 0.0, 0.0
-    bias2 = term(np.maximum((images.mean(0) - reference) ** 2 - images.var(0, ddof=1) / k, 0.0))
+    bias2 = term(np.maximum((images.mean(0) - reference) ** 2 - images.var(0, ddof=1) / k - noise_image, 0.0))
     est_all = np.mean([term(v) for v in variances])
     return (f"| {name} | {variant} | {spp} | {truth:.3g} | {pt_var:.3g} | {pm_var:.3g} | {bias2:.3g} | "
             f"{est_all:.3g} | {est_all - est_pm:.3g} | {est_pm:.3g} |\n")

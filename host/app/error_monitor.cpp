@@ -67,10 +67,13 @@ void ErrorMonitor::measure(const Film& film, double seconds) {
   ImageF mean = film.mean();
   for (float& v : mean.rgb) v *= scale;
   if (film.has_half_buffer() && passes >= 2) {
-    ImageF half = film.half_mean(), separate = film.separate_variance();
+    ImageF half = film.half_mean(), separate = film.separate_variance(),
+           separate_for_bound = film.separate_variance(kBoundBiasWeight);
     for (float& v : half.rgb) v *= scale;
-    for (float& v : separate.rgb) v *= scale * scale;
-    const RelMseEstimate e = estimate_rel_mse(mean, half, film.pixel_spp(), film.half_counts(), &separate);
+    for (ImageF* s : {&separate, &separate_for_bound})
+      for (float& v : s->rgb) v *= scale * scale;
+    const RelMseEstimate e =
+        estimate_rel_mse(mean, half, film.pixel_spp(), film.half_counts(), &separate, &separate_for_bound);
     estimate_ = e.estimate;
     bound_ = e.bound;
     row.est_relmse = estimate_;

@@ -53,7 +53,10 @@
 //    sqrt(2 / n_eff), n_eff = (sum e_p)^2 / sum e_p^2 over the pixels'
 //    terms (how many pixels the error really rests on: a chi-square sum of
 //    n_eff terms has relative deviation sqrt(2 / n_eff); 1.28, the
-//    one-sided 90% normal quantile).
+//    one-sided 90% normal quantile). The photon map's squared bias counts
+//    kBoundBiasWeight = 4 times in the bound (its own variance, passed
+//    separately): its Laplacian term read 2.6x low at caustics.json's sharp
+//    caustic edges at 1024 passes (1.2x high on stiff_ground's).
 // Measured over 16 seeds on scenes/stiff_ground.json, caustics.json, a
 // community caustic scene and the Cornell box (docs/error.md), the bound
 // covers the true relMSE in at least 90% of renders past 16 spp; the point
@@ -72,15 +75,22 @@
 
 namespace caustica {
 
+// How many times the photon map's squared bias counts in the bound.
+constexpr double kBoundBiasWeight = 4.0;
+
 // What the film says of its own relMSE (rules above).
 struct RelMseEstimate {
   double estimate = 0.0;  // the point estimate
   double bound = 0.0;     // its 90% upper bound
 };
 // The film's point estimate and bound, with each pixel's counts and the
-// separate estimate's variance (optional) as for estimated_rel_mse.
+// separate estimate's variance (optional) as for estimated_rel_mse;
+// `separate_for_bound`, the same with its squared bias times
+// kBoundBiasWeight (Film::separate_variance(kBoundBiasWeight); nullptr:
+// `separate_variance` serves both).
 RelMseEstimate estimate_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
-                                const std::vector<uint32_t>& half_counts, const ImageF* separate_variance = nullptr);
+                                const std::vector<uint32_t>& half_counts, const ImageF* separate_variance = nullptr,
+                                const ImageF* separate_for_bound = nullptr);
 // Each pixel's point estimate, averaged over its channels: the image's
 // mean of it is estimate_rel_mse's point estimate.
 std::vector<double> pixel_rel_mse_estimate(const ImageF& mean, const ImageF& half_mean,

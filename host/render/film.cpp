@@ -569,9 +569,9 @@ ImageF Film::half_mean() const {
   return image;
 }
 
-ImageF Film::separate_variance() const {
+ImageF Film::separate_variance(double bias_weight) const {
   ImageF variance(options_.width, options_.height);
-  if (separate_ && passes_ > 0) separate_->add_variance_to(variance, spp_);
+  if (separate_ && passes_ > 0) separate_->add_variance_to(variance, spp_, bias_weight);
   return variance;
 }
 

@@ -108,8 +108,10 @@ class SeparateEstimate {
   // `spp`: each pixel's samples in the film's passes.
   virtual void add_to(ImageF& image, const std::vector<uint32_t>& spp) const = 0;
   // Adds the estimate's own per-pixel expected squared error (variance and
-  // squared bias, for the error estimate); nothing if it has none to add.
-  virtual void add_variance_to(ImageF& /*variance*/, const std::vector<uint32_t>& /*spp*/) const {}
+  // squared bias, the latter times `bias_weight`, for the error estimate);
+  // nothing if it has none to add.
+  virtual void add_variance_to(ImageF& /*variance*/, const std::vector<uint32_t>& /*spp*/,
+                               double /*bias_weight*/) const {}
 };
 
 // Whether the film sums of a group of processes must be added as 128-bit
@@ -253,8 +255,10 @@ class Film {
   // aux_passes; the half also half_buffer and two passes).
   AuxImages aux_mean() const;
   AuxImages aux_half_mean() const;
-  // The separate estimate's per-pixel variance (zero without one).
-  ImageF separate_variance() const;
+  // The separate estimate's per-pixel variance (zero without one), its
+  // squared bias times `bias_weight` (the error estimate's bound weighs it
+  // more: host/render/error_estimate.h).
+  ImageF separate_variance(double bias_weight = 1.0) const;
   // The separate estimate alone (the photon map's caustic radiance, part of
   // mean()); nullopt without one.
   std::optional<ImageF> separate_image() const;

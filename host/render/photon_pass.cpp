@@ -590,7 +590,7 @@ double PhotonPass::caustic_total(const std::vector<uint32_t>& spp) const {
   return total;
 }
 
-void PhotonPass::add_variance_to(ImageF& variance, const std::vector<uint32_t>& spp) const {
+void PhotonPass::add_variance_to(ImageF& variance, const std::vector<uint32_t>& spp, double bias_weight) const {
   if (gather_mode_ != PhotonGather::PerPixel || gathered_ == 0) return;
   const std::vector<SppmPixel> px = read_pixels();
   const double n = gathered_;
@@ -645,7 +645,7 @@ void PhotonPass::add_variance_to(ImageF& variance, const std::vector<uint32_t>& 
           lap_noise += noise[3 * j + c];
         }
         const double bias = rho2 / 8.0;
-        noise[3 * i + c] += bias * bias * std::max(0.0, lap * lap - lap_noise);
+        noise[3 * i + c] += bias_weight * bias * bias * std::max(0.0, lap * lap - lap_noise);
       }
     }
   for (size_t i = 0; i < 3 * pixel_count_; ++i) variance.rgb[i] += float(noise[i]);
