@@ -209,7 +209,9 @@ def split_line(name, variant, spp, reference, noise_image, weight, values, image
         est_pm = np.mean([term(v) for v in caustic_variances])
     else:
         pt_var, pm_var, est_pm = term(images.var(0, ddof=1)), 0.0, 0.0
-    bias2 = term(np.maximum((images.mean(0) - reference) ** 2 - images.var(0, ddof=1) / k - noise_image, 0.0))
+    # Summed before the clamp: a clamp per pixel would count every pixel's
+    # noise above 0 as bias.
+    bias2 = max(term((images.mean(0) - reference) ** 2 - images.var(0, ddof=1) / k - noise_image), 0.0)
     est_all = np.mean([term(v) for v in variances])
     return (f"| {name} | {variant} | {spp} | {truth:.3g} | {pt_var:.3g} | {pm_var:.3g} | {bias2:.3g} | "
             f"{est_all:.3g} | {est_all - est_pm:.3g} | {est_pm:.3g} |\n")

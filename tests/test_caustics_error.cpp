@@ -3,7 +3,7 @@
 // (path tracing alone at 131072 spp; test_caustics.cpp says how it was
 // made). The film's half-buffer estimate sees only the passes' noise; the
 // photon map's caustic radiance is added to mean and half alike, so its own
-// variance comes from the SPPM statistics (photon_pass.h, add_variance_to).
+// variance comes from the SPPM statistics (photon_pass.h, add_error_to).
 // Checked where the photon map is the estimate, the caustic region (the
 // glass sphere's focus and the mirror's patch): the estimate with the
 // photon map's variance stays within 2x of the true relMSE (the mean over

@@ -67,11 +67,17 @@ void ErrorMonitor::measure(const Film& film, double seconds) {
   ImageF mean = film.mean();
   for (float& v : mean.rgb) v *= scale;
   if (film.has_half_buffer() && passes >= 2) {
-    ImageF half = film.half_mean(), separate = film.separate_variance(),
-           separate_for_bound = film.separate_variance(kBoundBiasWeight);
+    ImageF half = film.half_mean();
     for (float& v : half.rgb) v *= scale;
-    for (ImageF* s : {&separate, &separate_for_bound})
-      for (float& v : s->rgb) v *= scale * scale;
+    // The photon map's error: its variance plus its squared bias, weighed
+    // kBoundBiasWeight times for the bound.
+    const Film::SeparateError error = film.separate_error();
+    ImageF separate = error.variance, separate_for_bound = error.variance;
+    for (size_t i = 0; i < separate.rgb.size(); ++i) {
+      separate.rgb[i] = (error.variance.rgb[i] + error.bias2.rgb[i]) * scale * scale;
+      separate_for_bound.rgb[i] =
+          float((error.variance.rgb[i] + kBoundBiasWeight * error.bias2.rgb[i]) * scale * scale);
+    }
     const RelMseEstimate e =
         estimate_rel_mse(mean, half, film.pixel_spp(), film.half_counts(), &separate, &separate_for_bound);
     estimate_ = e.estimate;

@@ -86,7 +86,7 @@ struct RelMseEstimate {
 // The film's point estimate and bound, with each pixel's counts and the
 // separate estimate's variance (optional) as for estimated_rel_mse;
 // `separate_for_bound`, the same with its squared bias times
-// kBoundBiasWeight (Film::separate_variance(kBoundBiasWeight); nullptr:
+// kBoundBiasWeight (from Film::separate_error(); nullptr:
 // `separate_variance` serves both).
 RelMseEstimate estimate_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
                                 const std::vector<uint32_t>& half_counts, const ImageF* separate_variance = nullptr,

@@ -569,10 +569,16 @@ ImageF Film::half_mean() const {
   return image;
 }
 
-ImageF Film::separate_variance(double bias_weight) const {
-  ImageF variance(options_.width, options_.height);
-  if (separate_ && passes_ > 0) separate_->add_variance_to(variance, spp_, bias_weight);
-  return variance;
+Film::SeparateError Film::separate_error() const {
+  SeparateError error{ImageF(options_.width, options_.height), ImageF(options_.width, options_.height)};
+  if (separate_ && passes_ > 0) separate_->add_error_to(error.variance, error.bias2, spp_);
+  return error;
+}
+
+ImageF Film::separate_variance() const {
+  SeparateError error = separate_error();
+  for (size_t i = 0; i < error.variance.rgb.size(); ++i) error.variance.rgb[i] += error.bias2.rgb[i];
+  return std::move(error.variance);
 }
 
 std::optional<ImageF> Film::separate_image() const {

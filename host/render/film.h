@@ -107,11 +107,10 @@ class SeparateEstimate {
   virtual ~SeparateEstimate() = default;
   // `spp`: each pixel's samples in the film's passes.
   virtual void add_to(ImageF& image, const std::vector<uint32_t>& spp) const = 0;
-  // Adds the estimate's own per-pixel expected squared error (variance and
-  // squared bias, the latter times `bias_weight`, for the error estimate);
-  // nothing if it has none to add.
-  virtual void add_variance_to(ImageF& /*variance*/, const std::vector<uint32_t>& /*spp*/,
-                               double /*bias_weight*/) const {}
+  // Adds the estimate's own per-pixel expected squared error, for the error
+  // estimate: its variance to `variance` and its squared bias to `bias2`
+  // (same size); nothing if it has none to add.
+  virtual void add_error_to(ImageF& /*variance*/, ImageF& /*bias2*/, const std::vector<uint32_t>& /*spp*/) const {}
 };
 
 // Whether the film sums of a group of processes must be added as 128-bit
@@ -255,10 +254,14 @@ class Film {
   // aux_passes; the half also half_buffer and two passes).
   AuxImages aux_mean() const;
   AuxImages aux_half_mean() const;
-  // The separate estimate's per-pixel variance (zero without one), its
-  // squared bias times `bias_weight` (the error estimate's bound weighs it
-  // more: host/render/error_estimate.h).
-  ImageF separate_variance(double bias_weight = 1.0) const;
+  // The separate estimate's per-pixel expected squared error (zero without
+  // one): its variance and its squared bias, apart (the error estimate's
+  // bound weighs the bias more: host/render/error_estimate.h), and their sum.
+  struct SeparateError {
+    ImageF variance, bias2;
+  };
+  SeparateError separate_error() const;
+  ImageF separate_variance() const;
   // The separate estimate alone (the photon map's caustic radiance, part of
   // mean()); nullopt without one.
   std::optional<ImageF> separate_image() const;

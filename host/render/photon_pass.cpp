@@ -590,11 +590,12 @@ double PhotonPass::caustic_total(const std::vector<uint32_t>& spp) const {
   return total;
 }
 
-void PhotonPass::add_variance_to(ImageF& variance, const std::vector<uint32_t>& spp, double bias_weight) const {
+void PhotonPass::add_error_to(ImageF& variance, ImageF& bias2, const std::vector<uint32_t>& spp) const {
   if (gather_mode_ != PhotonGather::PerPixel || gathered_ == 0) return;
   const std::vector<SppmPixel> px = read_pixels();
   const double n = gathered_;
   const int width = variance.width, height = variance.height;
+  if (bias2.width != width || bias2.height != height) return;
   if (size_t(width) * size_t(height) != pixel_count_) return;
   // The variance of each pixel's caustic radiance (its noise).
   std::vector<double> noise(3 * pixel_count_, 0.0), radiance(3 * pixel_count_, 0.0);
@@ -630,7 +631,9 @@ void PhotonPass::add_variance_to(ImageF& variance, const std::vector<uint32_t>& 
   // (r / r_0)^2 / 8 times the image's 5-point Laplacian; its square less
   // the Laplacian's own noise (the neighbours' variances plus 16 times the
   // pixel's) estimates the squared bias (Hachisuka et al. 2010 estimate
-  // SPPM's bias from the Laplacian the same way).
+  // SPPM's bias from the Laplacian the same way). Kept apart from the
+  // noise, which the neighbours' Laplacians read.
+  std::vector<double> squared_bias(3 * pixel_count_, 0.0);
   auto at = [&](int x, int y) { return size_t(y) * size_t(width) + size_t(x); };
   for (int y = 1; y + 1 < height; ++y)
     for (int x = 1; x + 1 < width; ++x) {
@@ -645,10 +648,13 @@ void PhotonPass::add_variance_to(ImageF& variance, const std::vector<uint32_t>& 
           lap_noise += noise[3 * j + c];
         }
         const double bias = rho2 / 8.0;
-        noise[3 * i + c] += bias_weight * bias * bias * std::max(0.0, lap * lap - lap_noise);
+        squared_bias[3 * i + c] = bias * bias * std::max(0.0, lap * lap - lap_noise);
       }
     }
-  for (size_t i = 0; i < 3 * pixel_count_; ++i) variance.rgb[i] += float(noise[i]);
+  for (size_t i = 0; i < 3 * pixel_count_; ++i) {
+    variance.rgb[i] += float(noise[i]);
+    bias2.rgb[i] += float(squared_bias[i]);
+  }
 }
 
 void PhotonPass::add_to(ImageF& image, const std::vector<uint32_t>& spp) const {

@@ -175,12 +175,12 @@ class PhotonPass final : public SeparateEstimate {
   // of one map reported no photon-map error at all).
   // Bias: (r / r_0)^2 / 8 times the caustic image's Laplacian (a disk's
   // average of L is L + r^2 lap L / 8; r_0, one footprint, is about a
-  // pixel), squared, less the Laplacian's own noise, times `bias_weight`
-  // (1; the error estimate's bound asks for more, host/render/error_estimate.h).
+  // pixel), squared, less the Laplacian's own noise (the noise alone: a
+  // pixel's squared bias is kept apart from what its neighbours read).
   // Times add_to's share squared. On scenes/caustics.json this keeps the caustic region's
   // estimate within 0.8-1.6x of the true relMSE from 16 to 256 passes
   // (tests/test_caustics_error.cpp); without it, 0.1-0.2x.
-  void add_variance_to(ImageF& variance, const std::vector<uint32_t>& spp, double bias_weight) const override;
+  void add_error_to(ImageF& variance, ImageF& bias2, const std::vector<uint32_t>& spp) const override;
   // What shade_surface_path writes: "visible_points".
   KernelArgs& bind_visible_points(KernelArgs& args) const { return args.arg("visible_points", visible_points_); }
   // Adds the caustic radiance to the film's image: tau / (maps pi r^2), the
