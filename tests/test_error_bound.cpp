@@ -64,8 +64,8 @@ TEST(ErrorBound, TheFormulasOnHandMadePixels) {
   {
     const double m = 2.05, v = 4.0;
     const RelMseEstimate e = one_pixel(float(m), 0.05f, 4, 2);
-    // M^2 - V = 0.2025 is below 0.4 M^2: the floor holds it.
-    EXPECT_NEAR(e.estimate, v / (0.4 * m * m + kRelMseEpsilon), 1e-4);
+    // M^2 - V = 0.2025 is below M^2 / 2: the floor holds it.
+    EXPECT_NEAR(e.estimate, v / (0.5 * m * m + kRelMseEpsilon), 1e-4);
     // The bound weighs it as if dark: V / eps, n_eff = 1.
     EXPECT_NEAR(e.bound, v / kRelMseEpsilon * (1.0 + 1.28 * std::sqrt(2.0)), 1e-2);
   }

@@ -95,7 +95,7 @@ PixelTerms pixel_terms(const ImageF& mean, const ImageF& half_mean, const std::v
       const double passes = d * d * weight;
       const double v = passes + (separate_variance ? double(separate_variance->rgb[i]) : 0.0);
       const double u = passes + (separate_for_bound ? double(separate_for_bound->rgb[i]) : 0.0);
-      if (v > 0.0) terms.point[p] += v / (std::max(m2 - v, 0.4 * m2) + kRelMseEpsilon);
+      if (v > 0.0) terms.point[p] += v / (std::max(m2 - v, 0.5 * m2) + kRelMseEpsilon);
       if (u > 0.0) terms.bound[p] += u / (std::max(m2 - 3.0 * u, 0.0) + kRelMseEpsilon);
     }
   }

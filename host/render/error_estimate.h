@@ -37,15 +37,15 @@
 // should weigh: the true relMSE divides by the converged value mu^2, which
 // may be far darker. So the film reports two figures from the same
 // per-pixel V = (M - B)^2 n_B / n_A (+ the separate estimate's variance):
-//  - the point estimate divides by max(M^2 - V, 0.4 M^2) + eps: M^2 - V
+//  - the point estimate divides by max(M^2 - V, M^2 / 2) + eps: M^2 - V
 //    estimates mu^2 without bias (E[M^2] = mu^2 + Var M), which for a
 //    pixel of one hit among dark samples (M = m0 + F/n, V = (F/n)^2) gives
 //    m0^2 + 2 m0 F/n, between its dark and its bright value; the floor
-//    keeps such a pixel from counting more than 2.5x its own-mean value (a
-//    smooth pixel, V << M^2, stays where it was). 0.4 by measurement
-//    (docs/error.md): a floor of 1/4 read 2.0x high on stiff_ground at
-//    1024 spp, 1/2 read 0.47x on caustics.json with the photon pass
-//    forced on;
+//    keeps such a pixel from counting more than 2x its own-mean value (a
+//    smooth pixel, V << M^2, stays where it was). 1/2 by measurement
+//    (docs/error.md): the medians of every variant stay within 0.53-1.86x
+//    of the truth; a floor of 0.4 read 2.03x on stiff_ground at 1024 spp,
+//    1/4 2.3x;
 //  - the 90% upper bound divides by max(M^2 - 3V, 0) + eps: a pixel whose
 //    mean rests on about three samples or fewer (V >= M^2 / 3) could
 //    converge to anything from 0 to M, so it is weighed as if dark; and
