@@ -70,18 +70,19 @@ TEST(ErrorBound, TheFormulasOnHandMadePixels) {
     // The bound weighs it as if dark: V / eps, n_eff = 1.
     EXPECT_NEAR(e.bound, v / kRelMseEpsilon * (1.0 + 1.28 * std::sqrt(2.0)), 1e-2);
   }
-  // The photon map's variance (a separate estimate): the bound reads its
-  // own copy, whose squared bias counts kBoundBiasWeight times.
+  // The photon map's error (a separate estimate), its variance and its
+  // squared bias apart: the point estimate reads their sum, 0.01, the
+  // bound the bias kBoundBiasWeight = 4 times, 0.04.
   {
-    ImageF mean(1, 1), half(1, 1), separate(1, 1), for_bound(1, 1);
+    ImageF mean(1, 1), half(1, 1), separate(1, 1), bias2(1, 1), none(1, 1);
     mean.rgb = {1.0f, 1.0f, 1.0f};
     half.rgb = mean.rgb;  // the passes agree: V is the separate estimate's alone
     separate.rgb = {0.01f, 0.01f, 0.01f};
-    for_bound.rgb = {0.04f, 0.04f, 0.04f};
-    const RelMseEstimate e = estimate_rel_mse(mean, half, {4}, {2}, &separate, &for_bound);
+    bias2.rgb = separate.rgb;
+    const RelMseEstimate e = estimate_rel_mse(mean, half, {4}, {2}, &none, &bias2);
     EXPECT_NEAR(e.estimate, 0.01 / (1.0 - 0.01 + kRelMseEpsilon), 1e-7);
     EXPECT_NEAR(e.bound, 0.04 / (1.0 - 0.12 + kRelMseEpsilon) * (1.0 + 1.28 * std::sqrt(2.0)), 1e-6);
-    // Without a copy for the bound, the one variance serves both.
+    // A variance without bias counts once in both.
     EXPECT_NEAR(estimate_rel_mse(mean, half, {4}, {2}, &separate).bound,
                 0.01 / (1.0 - 0.03 + kRelMseEpsilon) * (1.0 + 1.28 * std::sqrt(2.0)), 1e-7);
   }

@@ -61,31 +61,19 @@ void ErrorMonitor::measure(const Film& film, double seconds) {
   ErrorReportRow row;
   row.seconds = std::max(seconds, report_.rows.empty() ? 0.0 : report_.rows.back().seconds);
   row.spp = passes;
-  // The image as written (times the exposure scale): the estimate, like the
-  // true relMSE, is of it (relMSE's eps is not scale-free).
-  const float scale = options_.exposure_scale;
   ImageF mean = film.mean();
-  for (float& v : mean.rgb) v *= scale;
   if (film.has_half_buffer() && passes >= 2) {
-    ImageF half = film.half_mean();
-    for (float& v : half.rgb) v *= scale;
-    // The photon map's error: its variance plus its squared bias, weighed
-    // kBoundBiasWeight times for the bound.
-    const Film::SeparateError error = film.separate_error();
-    ImageF separate = error.variance, separate_for_bound = error.variance;
-    for (size_t i = 0; i < separate.rgb.size(); ++i) {
-      separate.rgb[i] = (error.variance.rgb[i] + error.bias2.rgb[i]) * scale * scale;
-      separate_for_bound.rgb[i] =
-          float((error.variance.rgb[i] + kBoundBiasWeight * error.bias2.rgb[i]) * scale * scale);
-    }
-    const RelMseEstimate e =
-        estimate_rel_mse(mean, half, film.pixel_spp(), film.half_counts(), &separate, &separate_for_bound);
+    // Of the image as written (times the exposure scale), as the truth.
+    const Film::SeparateError separate = film.separate_error();
+    const RelMseEstimate e = estimate_rel_mse(mean, film.half_mean(), film.pixel_spp(), film.half_counts(),
+                                              &separate.variance, &separate.bias2, options_.exposure_scale);
     estimate_ = e.estimate;
     bound_ = e.bound;
     row.est_relmse = estimate_;
     row.est_relmse_bound = bound_;
   }
   if (options_.reference) {
+    for (float& v : mean.rgb) v *= options_.exposure_scale;
     row.mse = caustica::mse(mean, *options_.reference);
     row.relmse = rel_mse(mean, *options_.reference);
     row.mae = mean_abs_error(mean, *options_.reference);

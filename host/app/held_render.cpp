@@ -22,12 +22,11 @@ ImageF scaled(ImageF image, float scale) {
 // (host/render/error_estimate.h), the photon map's own variance included,
 // averaged over the channels.
 // Of the image as written (times the exposure scale), as the monitor's.
-std::vector<double> pixel_error_map(const Film& film, const ImageF& mean, float exposure) {
+std::vector<double> pixel_error_map(const Film& film, const ImageF& mean, const Film::SeparateError& separate,
+                                    float exposure) {
   if (!film.has_half_buffer() || film.passes() < 2) return {};
-  ImageF half = film.half_mean(), separate = film.separate_variance();
-  for (float& v : half.rgb) v *= exposure;
-  for (float& v : separate.rgb) v *= exposure * exposure;
-  return pixel_rel_mse_estimate(scaled(mean, exposure), half, film.pixel_spp(), film.half_counts(), &separate);
+  return pixel_rel_mse_estimate(mean, film.half_mean(), film.pixel_spp(), film.half_counts(), &separate.variance,
+                                &separate.bias2, exposure);
 }
 
 }  // namespace
@@ -47,9 +46,11 @@ HeldRender::HeldRender(RenderArgs args) : args_(std::move(args)) {
     image_ = scaled(denoised_ ? *denoised_ : passes_.colour, display_.exposure_scale);
     spp_ = film.passes();
     pixel_spp_ = film.pixel_spp();
-    error_map_ = pixel_error_map(film, passes_.colour, display_.exposure_scale);
+    // The photon map's error, read once: for the error map and its own pass.
+    const Film::SeparateError separate = film.separate_error();
+    error_map_ = pixel_error_map(film, passes_.colour, separate, display_.exposure_scale);
     caustics_ = film.separate_image();
-    if (caustics_) caustics_variance_ = film.separate_variance();
+    if (caustics_) caustics_variance_ = separate.total();
     state_ = result.shown->state();
     state_->identity = render_identity(scene_hash(session.scene), session.mode, session.settings,
                                        bvh_quality_name(args_.session.bvh_quality));

@@ -80,21 +80,21 @@ struct PixelTerms {
 
 PixelTerms pixel_terms(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
                        const std::vector<uint32_t>& half_counts, const ImageF* separate_variance,
-                       const ImageF* separate_for_bound) {
+                       const ImageF* separate_bias2, float exposure) {
   check_sizes(mean, half_mean, spp.size(), half_counts.size());
-  if (!separate_for_bound) separate_for_bound = separate_variance;
-  for (const ImageF* separate : {separate_variance, separate_for_bound})
+  for (const ImageF* separate : {separate_variance, separate_bias2})
     if (separate && separate->rgb.size() != mean.rgb.size())
-      throw Error("error estimate: the separate variance's size differs from the film's");
+      throw Error("error estimate: the separate estimate's size differs from the film's");
+  const double scale = exposure, scale2 = scale * scale;
   PixelTerms terms{std::vector<double>(spp.size(), 0.0), std::vector<double>(spp.size(), 0.0)};
   for (size_t p = 0; p < spp.size(); ++p) {
     const bool has_half = half_counts[p] > 0 && half_counts[p] < spp[p];
     const double weight = has_half ? double(half_counts[p]) / double(spp[p] - half_counts[p]) : 0.0;
     for (size_t i = 3 * p; i < 3 * p + 3; ++i) {
-      const double m = mean.rgb[i], d = m - half_mean.rgb[i], m2 = m * m;
-      const double passes = d * d * weight;
-      const double v = passes + (separate_variance ? double(separate_variance->rgb[i]) : 0.0);
-      const double u = passes + (separate_for_bound ? double(separate_for_bound->rgb[i]) : 0.0);
+      const double m = scale * mean.rgb[i], d = m - scale * half_mean.rgb[i], m2 = m * m;
+      const double noise = d * d * weight + (separate_variance ? scale2 * separate_variance->rgb[i] : 0.0);
+      const double bias2 = separate_bias2 ? scale2 * separate_bias2->rgb[i] : 0.0;
+      const double v = noise + bias2, u = noise + kBoundBiasWeight * bias2;
       if (v > 0.0) terms.point[p] += v / (std::max(m2 - v, 0.5 * m2) + kRelMseEpsilon);
       if (u > 0.0) terms.bound[p] += u / (std::max(m2 - 3.0 * u, 0.0) + kRelMseEpsilon);
     }
@@ -105,8 +105,9 @@ PixelTerms pixel_terms(const ImageF& mean, const ImageF& half_mean, const std::v
 
 RelMseEstimate estimate_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
                                 const std::vector<uint32_t>& half_counts, const ImageF* separate_variance,
-                                const ImageF* separate_for_bound) {
-  const PixelTerms terms = pixel_terms(mean, half_mean, spp, half_counts, separate_variance, separate_for_bound);
+                                const ImageF* separate_bias2, float exposure) {
+  const PixelTerms terms =
+      pixel_terms(mean, half_mean, spp, half_counts, separate_variance, separate_bias2, exposure);
   RelMseEstimate out;
   if (mean.rgb.empty()) return out;
   double point = 0.0, bound = 0.0, bound_squares = 0.0;
@@ -125,8 +126,10 @@ RelMseEstimate estimate_rel_mse(const ImageF& mean, const ImageF& half_mean, con
 
 std::vector<double> pixel_rel_mse_estimate(const ImageF& mean, const ImageF& half_mean,
                                            const std::vector<uint32_t>& spp, const std::vector<uint32_t>& half_counts,
-                                           const ImageF* separate_variance) {
-  std::vector<double> map = pixel_terms(mean, half_mean, spp, half_counts, separate_variance, nullptr).point;
+                                           const ImageF* separate_variance, const ImageF* separate_bias2,
+                                           float exposure) {
+  std::vector<double> map =
+      pixel_terms(mean, half_mean, spp, half_counts, separate_variance, separate_bias2, exposure).point;
   for (double& e : map) e /= 3.0;
   return map;
 }

@@ -54,9 +54,11 @@
 //    terms (how many pixels the error really rests on: a chi-square sum of
 //    n_eff terms has relative deviation sqrt(2 / n_eff); 1.28, the
 //    one-sided 90% normal quantile). The photon map's squared bias counts
-//    kBoundBiasWeight = 4 times in the bound (its own variance, passed
-//    separately): its Laplacian term read 2.6x low at caustics.json's sharp
+//    kBoundBiasWeight = 4 times in the bound (it is passed apart from its
+//    variance): its Laplacian term read 2.6x low at caustics.json's sharp
 //    caustic edges at 1024 passes (1.2x high on stiff_ground's).
+// Both are of the image as written: the film times the exposure scale
+// (relMSE's eps is not scale-free), which the functions below apply.
 // Measured over 16 seeds on scenes/stiff_ground.json, caustics.json, a
 // community caustic scene and the Cornell box (docs/error.md), the bound
 // covers the true relMSE in at least 90% of renders past 16 spp; the point
@@ -83,19 +85,20 @@ struct RelMseEstimate {
   double estimate = 0.0;  // the point estimate
   double bound = 0.0;     // its 90% upper bound
 };
-// The film's point estimate and bound, with each pixel's counts and the
-// separate estimate's variance (optional) as for estimated_rel_mse;
-// `separate_for_bound`, the same with its squared bias times
-// kBoundBiasWeight (from Film::separate_error(); nullptr:
-// `separate_variance` serves both).
+// The film's point estimate and bound, of the film (its mean, half mean
+// and each pixel's counts) times `exposure`, with the separate estimate's
+// error (optional, the film's size, from Film::separate_error): its
+// variance and its squared bias, which the bound weighs kBoundBiasWeight
+// times.
 RelMseEstimate estimate_rel_mse(const ImageF& mean, const ImageF& half_mean, const std::vector<uint32_t>& spp,
                                 const std::vector<uint32_t>& half_counts, const ImageF* separate_variance = nullptr,
-                                const ImageF* separate_for_bound = nullptr);
+                                const ImageF* separate_bias2 = nullptr, float exposure = 1.0f);
 // Each pixel's point estimate, averaged over its channels: the image's
 // mean of it is estimate_rel_mse's point estimate.
 std::vector<double> pixel_rel_mse_estimate(const ImageF& mean, const ImageF& half_mean,
                                            const std::vector<uint32_t>& spp, const std::vector<uint32_t>& half_counts,
-                                           const ImageF* separate_variance = nullptr);
+                                           const ImageF* separate_variance = nullptr,
+                                           const ImageF* separate_bias2 = nullptr, float exposure = 1.0f);
 
 // The classic estimate (the own-mean denominator M^2 + eps; what adaptive
 // sampling, the caustics balance and the denoiser's guide noise weigh):

@@ -575,11 +575,13 @@ Film::SeparateError Film::separate_error() const {
   return error;
 }
 
-ImageF Film::separate_variance() const {
-  SeparateError error = separate_error();
-  for (size_t i = 0; i < error.variance.rgb.size(); ++i) error.variance.rgb[i] += error.bias2.rgb[i];
-  return std::move(error.variance);
+ImageF Film::SeparateError::total() const {
+  ImageF sum = variance;
+  for (size_t i = 0; i < sum.rgb.size(); ++i) sum.rgb[i] += bias2.rgb[i];
+  return sum;
 }
+
+ImageF Film::separate_variance() const { return separate_error().total(); }
 
 std::optional<ImageF> Film::separate_image() const {
   if (!separate_ || passes_ == 0) return std::nullopt;

@@ -259,6 +259,7 @@ class Film {
   // bound weighs the bias more: host/render/error_estimate.h), and their sum.
   struct SeparateError {
     ImageF variance, bias2;
+    ImageF total() const;  // variance + bias2: its expected squared error
   };
   SeparateError separate_error() const;
   ImageF separate_variance() const;
